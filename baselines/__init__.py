@@ -1,0 +1,1 @@
+"""Package baselines (see README)."""

@@ -1,0 +1,1 @@
+"""Package lfe (see README)."""
