@@ -1,0 +1,116 @@
+"""Clause-truth precomputation: one pass over each trace gives every candidate clause's truth.
+
+Clause layout for ``n_g`` global candidates and ``n`` subtasks (``n_clauses = n_g + n + n*n``):
+
+- ``j``                 : ``G(tau_j)``
+- ``n_g + w``           : ``pi_w -> F(omega_w)``
+- ``n_g + n + a*n + b`` : ``pi_a -> (!omega_b U omega_a)``  (diagonal ``a == b`` unused, true)
+"""
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "clause_index_global",
+    "clause_index_eventual",
+    "clause_index_order",
+    "n_clauses",
+    "clause_truth",
+    "pack_rows",
+]
+
+
+def n_clauses(n_g, n):
+    """Number of clause slots for ``n_g`` global candidates and ``n`` subtasks."""
+    return n_g + n + n * n
+
+
+def clause_index_global(j, n_g, n):
+    """Slot of ``G(tau_j)``."""
+    return j
+
+
+def clause_index_eventual(w, n_g, n):
+    """Slot of ``pi_w -> F(omega_w)``."""
+    return n_g + w
+
+
+def clause_index_order(a, b, n_g, n):
+    """Slot of ``pi_a -> (!omega_b U omega_a)`` (*a precedes b*)."""
+    return n_g + n + a * n + b
+
+
+def clause_truth(traces, roles):
+    """Truth of every candidate clause on every demonstration.
+
+    Parameters
+    ----------
+    traces : Traces
+    roles : Roles
+
+    Returns
+    -------
+    truth : ndarray of shape (n_demos, n_clauses), dtype uint8
+    """
+    return _clause_truth(
+        traces.data, traces.offsets, roles.global_idx, roles.subtask_idx, roles.condition_idx
+    )
+
+
+@njit(cache=True, nogil=True)
+def _clause_truth(data, offsets, g_idx, s_idx, c_idx):
+    n_demos = offsets.shape[0] - 1
+    n_props = data.shape[1]
+    n_g = g_idx.shape[0]
+    n = s_idx.shape[0]
+    out = np.zeros((n_demos, n_g + n + n * n), dtype=np.uint8)
+    always = np.empty(n_props, dtype=np.uint8)
+    first = np.empty(n_props, dtype=np.int64)
+    for i in range(n_demos):
+        start, stop = offsets[i], offsets[i + 1]
+        length = stop - start
+        for p in range(n_props):
+            always[p] = 1
+            first[p] = length  # "never"
+        for t in range(length):
+            row = data[start + t]
+            for p in range(n_props):
+                if row[p]:
+                    if first[p] == length:
+                        first[p] = t
+                else:
+                    always[p] = 0
+        for j in range(n_g):
+            out[i, j] = always[g_idx[j]]
+        for w in range(n):
+            c = c_idx[w]
+            active = c < 0 or data[start, c] != 0
+            out[i, n_g + w] = 1 if (not active or first[s_idx[w]] < length) else 0
+        base = n_g + n
+        for a in range(n):
+            c = c_idx[a]
+            active = c < 0 or data[start, c] != 0
+            fa = first[s_idx[a]]
+            for b in range(n):
+                if a == b:
+                    out[i, base + a * n + b] = 1
+                elif not active:
+                    out[i, base + a * n + b] = 1
+                else:
+                    # !b U a: a happens, and b does not happen strictly before the first a.
+                    ok = fa < length and first[s_idx[b]] >= fa
+                    out[i, base + a * n + b] = 1 if ok else 0
+    return out
+
+
+@njit(cache=True, nogil=True)
+def pack_rows(bits):
+    """Pack a 0/1 matrix ``(n_rows, n_cols)`` into uint64 words ``(n_rows, ceil(n_cols/64))``."""
+    n_rows, n_cols = bits.shape
+    n_words = (n_cols + 63) // 64
+    out = np.zeros((n_rows, n_words), dtype=np.uint64)
+    for r in range(n_rows):
+        for c in range(n_cols):
+            if bits[r, c]:
+                out[r, c >> 6] |= np.uint64(1) << np.uint64(c & 63)
+    return out

@@ -1,0 +1,386 @@
+"""`BSIClassifier`: Bayesian Specification Inference as a scikit-learn classifier."""
+
+import numbers
+import warnings
+
+import numpy as np
+from sklearn.base import BaseEstimator, ClassifierMixin
+from sklearn.exceptions import ConvergenceWarning
+from sklearn.utils import check_random_state
+from sklearn.utils.parallel import Parallel, delayed
+from sklearn.utils.validation import check_is_fitted
+
+from bsi_sklearn._clauses import clause_truth
+from bsi_sklearn._validation import (
+    check_consistent_traces,
+    check_labels,
+    check_traces,
+    resolve_roles,
+)
+from bsi_sklearn.exact import count_hypotheses, exact_posterior
+from bsi_sklearn.likelihood import LIKELIHOODS, likelihood_code, resolve_log_epsilon
+from bsi_sklearn.mcmc import deduplicate_demos, run_chain, score_states, split_rhat
+from bsi_sklearn.posterior import Posterior
+from bsi_sklearn.priors import PRIORS, prior_code
+
+__all__ = ["BSIClassifier"]
+
+_INFERENCE = ("auto", "exact", "mcmc")
+_RHAT_WARN = 1.05
+
+
+class BSIClassifier(ClassifierMixin, BaseEstimator):
+    """Bayesian Specification Inference classifier (Shah et al., 2019).
+
+    Infers a posterior over LTL formulas
+    ``G(tau) & (pi_w -> F omega_w) & (pi_a -> (!omega_b U omega_a))`` from demonstrations (boolean
+    proposition traces) labelled acceptable (1) or not (0), and classifies new demonstrations by
+    posterior voting: ``predict_proba(X)[:, 1]`` is the posterior mass of the formulas a trace
+    satisfies.
+
+    Parameters
+    ----------
+    prior : {"linear_chain", "sets_of_chains", "forest"}, default="sets_of_chains"
+        Prior over the order structure: Prior 1 (one permutation of all subtasks), Prior 2 (sets
+        of disjoint chains) or Prior 3 (forest of subtasks).
+    likelihood : {"cb", "ci"}, default="cb"
+        Complexity-based (size principle) or complexity-independent likelihood.
+    global_candidates : list of str or int, default=None
+        Propositions that may be required to hold always (the set T). ``None``: all.
+    subtasks : list of str or int, default=None
+        Subtask-completion propositions (the set Omega). ``None``: all.
+    conditions : dict, default=None
+        Subtask -> condition proposition ``pi_w`` (read at t = 0). Subtasks without an entry
+        have ``pi_w = true``.
+    p_global : float, default=0.8
+        Prior inclusion probability of each ``G`` clause.
+    p_eventual : float, default=0.8
+        Prior inclusion probability of each eventual clause.
+    p_part : float, default=0.3
+        Probability of starting a new chain after each subtask (Prior 2).
+    n_new : float, default=5.0
+        Weight of a new tree (Prior 3).
+    epsilon : float, default=None
+        Likelihood of a misclassified demonstration, in (0, 1). ``None`` uses the paper's
+        ``log eps = -4 log(2) (|T| + |Omega| + |Omega|(|Omega|-1)/2)``.
+    inference : {"auto", "exact", "mcmc"}, default="auto"
+        ``"auto"`` enumerates the posterior exactly when the support has at most
+        ``max_exact_hypotheses`` hypotheses, and samples with MCMC otherwise.
+    n_samples : int, default=10_000
+        MCMC steps recorded per chain, after ``burn_in``.
+    burn_in : int, default=100
+        MCMC steps discarded at the start of every chain.
+    n_chains : int, default=4
+        Independent MCMC chains, each started from a draw of the prior.
+    max_exact_hypotheses : int, default=2_000_000
+        Largest support enumerated exactly.
+    tol : float, default=1e-9
+        Posterior mass exact inference may drop (its least probable hypotheses); the mass
+        actually dropped is ``posterior_.dropped_mass``.
+    binarize : float, default=None
+        When set, trace values ``> binarize`` are true; otherwise traces must be 0/1 or bool.
+    pos_label : int, str or bool, default=None
+        The acceptable label, needed when labels are not 0/1 or booleans.
+    n_jobs : int, default=None
+        Chains run in parallel threads (the numba kernels release the GIL).
+    random_state : int, RandomState instance or None, default=None
+        Seeds of the chains are drawn from it; results do not depend on ``n_jobs``.
+    verbose : int, default=0
+        Progress bar over chains when > 0.
+
+    Attributes
+    ----------
+    classes_ : ndarray of shape (2,)
+        ``[unacceptable, acceptable]`` labels; ``[0, 1]`` for 0/1 labels and positive-only fits.
+    n_features_in_ : int
+        Number of propositions.
+    feature_names_in_ : ndarray of str
+        Proposition names, when the demonstrations were DataFrames with string columns.
+    posterior_ : Posterior
+        The inferred posterior over unique specifications.
+    map_specification_ : Specification
+        The most probable specification.
+    n_unique_specifications_ : int
+        Number of specifications in ``posterior_``.
+    inference_ : str
+        ``"exact"`` or ``"mcmc"``: what ``fit`` did.
+    n_hypotheses_ : int
+        Size of the prior's support.
+    log_epsilon_ : float
+        ``log(epsilon)`` used by the likelihood.
+    mcmc_diagnostics_ : dict or None
+        For MCMC: ``acceptance_rate`` (fraction of steps that changed the state, per chain and
+        mean), ``rhat`` (split-R-hat of the log posterior across chains), ``n_visited``,
+        ``sample_frequencies`` (frequency of each posterior specification among the samples).
+        ``None`` after exact inference.
+
+    See Also
+    --------
+    bsi_sklearn.Specification : the formulas of the posterior.
+
+    Notes
+    -----
+    The MCMC sampler discovers the posterior's support; the probabilities it reports are the
+    exact posterior restricted to the specifications its chains visited, renormalised, which is
+    far closer to the exact posterior than sample frequencies (kept in ``mcmc_diagnostics_``).
+
+    References
+    ----------
+    A. Shah, P. Kamath, S. Li, P. Craven, K. Lande, J. A. Shah. Supervised Bayesian
+    Specification Inference from Demonstrations. 2019.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from bsi_sklearn import BSIClassifier
+    >>> # propositions: safe, a_done, b_done; every demonstration does a before b, safely
+    >>> X = [np.array([[1, 0, 0], [1, 1, 0], [1, 1, 1]]),
+    ...      np.array([[1, 0, 0], [1, 0, 0], [1, 1, 0], [1, 1, 1]])]
+    >>> clf = BSIClassifier(global_candidates=[0], subtasks=[1, 2], random_state=0).fit(X)
+    >>> print(clf.map_specification_.to_ltl())
+    G(0) & F(1) & F(2) & (!2 U 1)
+    >>> clf.predict([np.array([[1, 0, 1], [1, 1, 1]])])
+    array([0])
+    """
+
+    def __init__(self, *, prior="sets_of_chains", likelihood="cb", global_candidates=None,
+                 subtasks=None, conditions=None, p_global=0.8, p_eventual=0.8, p_part=0.3,
+                 n_new=5.0, epsilon=None, inference="auto", n_samples=10_000, burn_in=100,
+                 n_chains=4, max_exact_hypotheses=2_000_000, tol=1e-9, binarize=None,
+                 pos_label=None, n_jobs=None, random_state=None, verbose=0):
+        self.prior = prior
+        self.likelihood = likelihood
+        self.global_candidates = global_candidates
+        self.subtasks = subtasks
+        self.conditions = conditions
+        self.p_global = p_global
+        self.p_eventual = p_eventual
+        self.p_part = p_part
+        self.n_new = n_new
+        self.epsilon = epsilon
+        self.inference = inference
+        self.n_samples = n_samples
+        self.burn_in = burn_in
+        self.n_chains = n_chains
+        self.max_exact_hypotheses = max_exact_hypotheses
+        self.tol = tol
+        self.binarize = binarize
+        self.pos_label = pos_label
+        self.n_jobs = n_jobs
+        self.random_state = random_state
+        self.verbose = verbose
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.three_d_array = True
+        tags.input_tags.two_d_array = True
+        tags.classifier_tags.multi_class = False
+        tags.target_tags.required = False
+        tags.non_deterministic = False
+        return tags
+
+    # ------------------------------------------------------------------ validation
+    def _check_params(self):
+        def option(name, allowed):
+            value = getattr(self, name)
+            if not isinstance(value, str) or value not in allowed:
+                raise ValueError(f"{name} must be one of {list(allowed)}, got {value!r}")
+
+        def real(name, low, high, low_open=False, high_open=False, allow_none=False):
+            value = getattr(self, name)
+            if value is None and allow_none:
+                return
+            if not isinstance(value, numbers.Real) or isinstance(value, bool) or \
+                    not np.isfinite(value):
+                raise ValueError(f"{name} must be a real number, got {value!r}")
+            if value < low or value > high or (low_open and value == low) or \
+                    (high_open and value == high):
+                lo, hi = "(" if low_open else "[", ")" if high_open else "]"
+                raise ValueError(f"{name} must be in {lo}{low}, {high}{hi}, got {value!r}")
+
+        def integer(name, low, allow_none=False):
+            value = getattr(self, name)
+            if value is None and allow_none:
+                return
+            if not isinstance(value, numbers.Integral) or isinstance(value, bool) or value < low:
+                raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
+
+        option("prior", PRIORS)
+        option("likelihood", LIKELIHOODS)
+        option("inference", _INFERENCE)
+        for name in ("p_global", "p_eventual", "p_part"):
+            real(name, 0.0, 1.0)
+        real("n_new", 0.0, np.inf, low_open=True)
+        real("epsilon", 0.0, 1.0, low_open=True, high_open=True, allow_none=True)
+        real("tol", 0.0, 1.0, high_open=True)
+        integer("n_samples", 1)
+        integer("burn_in", 0)
+        integer("n_chains", 1)
+        integer("max_exact_hypotheses", 0)
+        integer("verbose", 0)
+        if self.n_jobs is not None and (not isinstance(self.n_jobs, numbers.Integral)
+                                        or isinstance(self.n_jobs, bool) or self.n_jobs == 0):
+            raise ValueError(f"n_jobs must be None or a non-zero integer, got {self.n_jobs!r}")
+
+    # ------------------------------------------------------------------ fit
+    def fit(self, X, y=None):
+        """Infer the posterior over specifications from demonstrations.
+
+        Parameters
+        ----------
+        X : list of array-like or DataFrame, or ndarray
+            Demonstrations (see DESIGN section 1): a list of ``(T_i, n_props)`` boolean traces
+            or DataFrames, a 3-D array ``(n_demos, T, n_props)``, or a 2-D array whose rows are
+            traces of length one.
+        y : array-like of shape (n_demos,), default=None
+            1 (acceptable) or 0 (unacceptable). ``None`` or all ones: learn from positives only.
+
+        Returns
+        -------
+        self : BSIClassifier
+        """
+        self._check_params()
+        name = type(self).__name__
+        traces = check_traces(X, binarize=self.binarize, estimator_name=name)
+        y01, classes = check_labels(y, traces.n_demos, self.pos_label)
+        roles = resolve_roles(self.global_candidates, self.subtasks, self.conditions,
+                              traces.n_props, traces.feature_names)
+        n_g, n = roles.n_globals, roles.n_subtasks
+        truth = clause_truth(traces, roles)
+        log_eps = resolve_log_epsilon(self.epsilon, n_g, n)
+        n_hyp = count_hypotheses(self.prior, n_g, n)
+        inference = self.inference
+        if inference == "auto":
+            inference = "exact" if n_hyp <= self.max_exact_hypotheses else "mcmc"
+        elif inference == "exact" and n_hyp > self.max_exact_hypotheses:
+            raise ValueError(
+                f"inference='exact' needs {n_hyp:,} hypotheses ({n_g} global candidates, {n} "
+                f"subtasks, prior={self.prior!r}), above max_exact_hypotheses="
+                f"{self.max_exact_hypotheses:,}; raise max_exact_hypotheses or use 'mcmc'"
+            )
+        args = (n_g, n, prior_code(self.prior), float(self.p_global), float(self.p_eventual),
+                float(self.p_part), float(self.n_new), float(log_eps),
+                likelihood_code(self.likelihood))
+        if inference == "exact":
+            self.posterior_, self.mcmc_diagnostics_ = self._fit_exact(truth, y01, roles, args)
+        else:
+            rng = check_random_state(self.random_state)
+            seeds = rng.randint(np.iinfo(np.int32).max, size=self.n_chains)
+            self.posterior_, self.mcmc_diagnostics_ = self._fit_mcmc(
+                truth, y01, roles, args, seeds
+            )
+            if self.mcmc_diagnostics_["rhat"] > _RHAT_WARN:
+                warnings.warn(
+                    f"MCMC chains disagree: split-R-hat of the log posterior is "
+                    f"{self.mcmc_diagnostics_['rhat']:.3f} > {_RHAT_WARN}; increase n_samples "
+                    "or n_chains",
+                    ConvergenceWarning,
+                    stacklevel=2,
+                )
+        self.classes_ = classes
+        self.n_features_in_ = traces.n_props
+        if traces.feature_names is not None:
+            self.feature_names_in_ = traces.feature_names
+        elif hasattr(self, "feature_names_in_"):
+            del self.feature_names_in_
+        self.inference_ = inference
+        self.n_hypotheses_ = n_hyp
+        self.log_epsilon_ = float(log_eps)
+        self.map_specification_ = self.posterior_.specification(0)
+        self.n_unique_specifications_ = len(self.posterior_)
+        return self
+
+    def _fit_exact(self, truth, y01, roles, args):
+        n_g, n, code, p_g, p_e, p_part, n_new, log_eps, lik = args
+        res = exact_posterior(truth, y01, n_g, n, code, p_g, p_e, p_part, n_new, log_eps, lik,
+                              tol=float(self.tol))
+        probs = np.exp(res.log_prob)
+        probs /= probs.sum()
+        post = Posterior(res.structures, res.tau_masks, res.w1_masks, probs, roles,
+                         clause_marginals=res.clause_marginals, dropped_mass=res.dropped_mass)
+        return post, None
+
+    def _fit_mcmc(self, truth, y01, roles, args, seeds):
+        n_g, n, code, p_g, p_e, p_part, n_new, log_eps, lik = args
+        truth_t, w_pos, w_neg = deduplicate_demos(truth, y01)
+        seeds_iter = seeds
+        if self.verbose:
+            from tqdm.auto import tqdm
+
+            seeds_iter = tqdm(seeds, desc="MCMC chains", unit="chain")
+        results = Parallel(n_jobs=self.n_jobs, prefer="threads")(
+            delayed(run_chain)(int(seed), truth_t, w_pos, w_neg, n_g, n, code, self.prior,
+                               p_g, p_e, p_part, n_new, log_eps, lik, int(self.n_samples),
+                               int(self.burn_in))
+            for seed in seeds_iter
+        )
+        states = np.concatenate([r[0] for r in results], axis=0)
+        traces = np.stack([r[1] for r in results])
+        moves = np.array([r[2] for r in results])
+        uniq, counts = np.unique(states, axis=0, return_counts=True)
+        scores = score_states(uniq, truth_t, w_pos, w_neg, n_g, n, code, p_g, p_e, p_part,
+                              n_new, log_eps, lik)
+        # Sort by decreasing posterior; ties keep np.unique's canonical order.
+        order = np.argsort(-scores, kind="stable")
+        uniq, counts, scores = uniq[order], counts[order], scores[order]
+        probs = np.exp(scores - scores.max())
+        probs /= probs.sum()
+        post = Posterior(uniq[:, n_g + n:], uniq[:, :n_g].astype(bool),
+                         uniq[:, n_g:n_g + n].astype(bool), probs, roles)
+        diagnostics = {
+            "rhat": split_rhat(traces) if traces.shape[1] >= 4 else float("nan"),
+            "acceptance_rate": float(moves.mean()),
+            "acceptance_rate_per_chain": moves,
+            "n_chains": len(seeds),
+            "n_samples": int(self.n_samples),
+            "burn_in": int(self.burn_in),
+            "n_visited": len(uniq),
+            "sample_frequencies": counts / counts.sum(),
+            "log_posterior_traces": traces,
+            "seeds": np.asarray(seeds),
+        }
+        if not np.isfinite(diagnostics["rhat"]) and traces.shape[1] >= 4:
+            diagnostics["rhat"] = float("inf")
+        return post, diagnostics
+
+    # ------------------------------------------------------------------ predict
+    def _validated(self, X):
+        check_is_fitted(self)
+        traces = check_traces(X, binarize=self.binarize, estimator_name=type(self).__name__)
+        check_consistent_traces(traces, self.n_features_in_,
+                                getattr(self, "feature_names_in_", None), type(self).__name__)
+        return traces
+
+    def predict_proba(self, X):
+        """Posterior voting: probability that each demonstration is acceptable.
+
+        Parameters
+        ----------
+        X : demonstrations, in any format accepted by :meth:`fit`.
+
+        Returns
+        -------
+        proba : ndarray of shape (n_demos, 2)
+            Column 1 is the posterior mass of the specifications a demonstration satisfies;
+            columns follow ``classes_``.
+        """
+        return self.posterior_.predict_proba(self._validated(X))
+
+    def predict_log_proba(self, X):
+        """Logarithm of :meth:`predict_proba`."""
+        with np.errstate(divide="ignore"):
+            return np.log(self.predict_proba(X))
+
+    def predict(self, X):
+        """Acceptable (``classes_[1]``) when ``predict_proba(X)[:, 1] >= 0.5``.
+
+        Parameters
+        ----------
+        X : demonstrations, in any format accepted by :meth:`fit`.
+
+        Returns
+        -------
+        y_pred : ndarray of shape (n_demos,)
+        """
+        proba = self.predict_proba(X)
+        return self.classes_[(proba[:, 1] >= 0.5).astype(int)]

@@ -1,0 +1,452 @@
+"""Gibbs-within-MCMC sampler over (tau, W1, order structure), in numba.
+
+Each step picks one coordinate uniformly: an inclusion bit of tau or W1 (Gibbs flip), or a
+subtask whose place in the order structure is redrawn among *all* places it could go (Gibbs
+re-insertion), each candidate weighted by prior x likelihood. Every move is an exact Gibbs update
+of its block, so no Hastings ratio is needed; together they reach every hypothesis.
+
+The sampler keeps, per (deduplicated) demonstration, the number of clauses of the current
+hypothesis it violates; a demonstration satisfies the hypothesis when that count is zero. Traces
+are never read: only the precomputed clause-truth matrix is.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from bsi_sklearn.likelihood import log_likelihood
+from bsi_sklearn.priors import log_prior_structure, log_prior_subset, sample_hypothesis
+
+__all__ = ["run_chain", "deduplicate_demos", "split_rhat", "score_states"]
+
+
+def deduplicate_demos(truth, y01):
+    """Collapse demonstrations with identical clause-truth rows into weighted unique rows.
+
+    Returns
+    -------
+    truth_t : ndarray (n_clauses, n_unique) uint8
+        Transposed unique rows (clause-major for the kernel's inner loops).
+    w_pos, w_neg : ndarray (n_unique,) float64
+        Numbers of acceptable / unacceptable demonstrations behind every unique row.
+    """
+    rows, inverse = np.unique(truth, axis=0, return_inverse=True)
+    inverse = inverse.ravel()
+    w_pos = np.bincount(inverse, weights=(y01 == 1).astype(float), minlength=len(rows))
+    w_neg = np.bincount(inverse, weights=(y01 == 0).astype(float), minlength=len(rows))
+    return np.ascontiguousarray(rows.T), w_pos, w_neg
+
+
+@njit(cache=True, nogil=True)
+def _sat_counts(viol, w_pos, w_neg):
+    ps = 0.0
+    ns = 0.0
+    for d in range(viol.shape[0]):
+        if viol[d] == 0:
+            ps += w_pos[d]
+            ns += w_neg[d]
+    return ps, ns
+
+
+@njit(cache=True, nogil=True)
+def _draw(lw, k, rng):
+    # Sample index i < k with probability proportional to exp(lw[i]).
+    mx = -np.inf
+    for i in range(k):
+        if lw[i] > mx:
+            mx = lw[i]
+    total = 0.0
+    for i in range(k):
+        total += math.exp(lw[i] - mx)
+    u = rng.random() * total
+    acc = 0.0
+    for i in range(k):
+        acc += math.exp(lw[i] - mx)
+        if u < acc:
+            return i
+    # Fall back to the last candidate with non-zero weight (rounding at the top end).
+    for i in range(k - 1, -1, -1):
+        if lw[i] > -np.inf:
+            return i
+    return k - 1
+
+
+@njit(cache=True, nogil=True)
+def _add_pair(viol, truth_t, c, sign):
+    for d in range(viol.shape[0]):
+        if truth_t[c, d] == 0:
+            viol[d] += sign
+
+
+@njit(cache=True, nogil=True)
+def _flip_move(c, inc, lp_in, lp_out, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj,
+               log_eps, lik_code, rng):
+    # Gibbs update of one inclusion bit: returns the new bit.
+    ps_out = 0.0
+    ns_out = 0.0
+    ps_in = 0.0
+    ns_in = 0.0
+    for d in range(viol.shape[0]):
+        base = viol[d]
+        if inc and truth_t[c, d] == 0:
+            base -= 1
+        if base == 0:
+            ps_out += w_pos[d]
+            ns_out += w_neg[d]
+            if truth_t[c, d]:
+                ps_in += w_pos[d]
+                ns_in += w_neg[d]
+    n_out = n_conj - inc
+    lw = np.empty(2)
+    lw[0] = lp_out + log_likelihood(ps_out, ns_out, n_pos, n_neg, n_out, log_eps, lik_code)
+    lw[1] = lp_in + log_likelihood(ps_in, ns_in, n_pos, n_neg, n_out + 1, log_eps, lik_code)
+    new = _draw(lw, 2, rng)
+    if new != inc:
+        _add_pair(viol, truth_t, c, 1 if new else -1)
+    return new
+
+
+@njit(cache=True, nogil=True)
+def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base,
+                n, code, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_head, cand_pos):
+    # Prior 1 / 2: take v out of its chain and redraw its place. Returns the new n_conj.
+    D = viol.shape[0]
+    child = np.full(n, -1, dtype=np.int64)
+    for u in range(n):
+        if parent[u] >= 0:
+            child[parent[u]] = u
+    # Remove v's pairs: (ancestor, v) and (v, descendant).
+    a = parent[v]
+    while a >= 0:
+        _add_pair(viol, truth_t, base + a * n + v, -1)
+        n_conj -= 1
+        a = parent[a]
+    d_ = child[v]
+    while d_ >= 0:
+        _add_pair(viol, truth_t, base + v * n + d_, -1)
+        n_conj -= 1
+        d_ = child[d_]
+    if child[v] >= 0:
+        parent[child[v]] = parent[v]
+    if parent[v] >= 0:
+        child[parent[v]] = child[v]
+    parent[v] = -1
+    child[v] = -1
+    # Candidates: every position of every remaining chain, plus a new chain (Prior 2).
+    k = 0
+    m_rem = 0
+    for h in range(n):
+        if h == v or parent[h] >= 0:
+            continue
+        m_rem += 1
+    for h in range(n):
+        if h == v or parent[h] >= 0:
+            continue
+        L = 0
+        u = h
+        for d in range(D):
+            cur[d] = viol[d]
+        while u >= 0:
+            c = base + v * n + u
+            for d in range(D):
+                if truth_t[c, d] == 0:
+                    cur[d] += 1
+            L += 1
+            u = child[u]
+        m_new = m_rem
+        lp = log_prior_structure_chains(n, m_new, code, p_part)
+        u = h
+        for p in range(L + 1):
+            ps, ns = _sat_counts(cur, w_pos, w_neg)
+            lw[k] = lp + log_likelihood(ps, ns, n_pos, n_neg, n_conj + L, log_eps, lik_code)
+            cand_head[k] = h
+            cand_pos[k] = p
+            k += 1
+            if u >= 0:
+                ca = base + u * n + v
+                cb = base + v * n + u
+                for d in range(D):
+                    cur[d] += (1 - truth_t[ca, d]) - (1 - truth_t[cb, d])
+                u = child[u]
+    if code == 1 or k == 0:
+        ps, ns = _sat_counts(viol, w_pos, w_neg)
+        lw[k] = log_prior_structure_chains(n, m_rem + 1, code, p_part) + log_likelihood(
+            ps, ns, n_pos, n_neg, n_conj, log_eps, lik_code)
+        cand_head[k] = -1
+        cand_pos[k] = 0
+        k += 1
+    j = _draw(lw, k, rng)
+    h = cand_head[j]
+    if h < 0:
+        return n_conj
+    p = cand_pos[j]
+    u = h
+    prev = -1
+    i = 0
+    while u >= 0:
+        if i < p:
+            _add_pair(viol, truth_t, base + u * n + v, 1)
+        else:
+            _add_pair(viol, truth_t, base + v * n + u, 1)
+        n_conj += 1
+        if i == p - 1:
+            prev = u
+        i += 1
+        u = child[u]
+    # Splice v in after prev (or at the head).
+    nxt = h if prev < 0 else child[prev]
+    parent[v] = prev
+    if nxt >= 0:
+        parent[nxt] = v
+    return n_conj
+
+
+@njit(cache=True, nogil=True)
+def log_prior_structure_chains(n, m, code, p_part):
+    """Log prior of a chain structure with ``m`` chains over ``n`` subtasks (Priors 1, 2)."""
+    if code == 0:
+        if m != 1:
+            return -np.inf
+        return -math.lgamma(n + 1.0)
+    lp = math.lgamma(m + 1.0) - math.lgamma(n + 1.0)
+    if m - 1 > 0:
+        lp += (m - 1) * math.log(p_part) if p_part > 0 else -np.inf
+    if n - m > 0:
+        lp += (n - m) * math.log(1.0 - p_part) if p_part < 1 else -np.inf
+    return lp
+
+
+@njit(cache=True, nogil=True)
+def _forest_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base,
+                 n, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_head, in_s, cost):
+    # Prior 3: prune the subtree rooted at v and regraft it anywhere outside it.
+    D = viol.shape[0]
+    size_s = 0
+    for u in range(n):
+        a = u
+        while a >= 0 and a != v:
+            a = parent[a]
+        in_s[u] = 1 if a == v else 0
+        size_s += in_s[u]
+    # Remove (ancestor of v, s) pairs.
+    a = parent[v]
+    while a >= 0:
+        for s in range(n):
+            if in_s[s]:
+                _add_pair(viol, truth_t, base + a * n + s, -1)
+                n_conj -= 1
+        a = parent[a]
+    parent[v] = -1
+    # cost[a, d]: violations added by making a an ancestor of the whole subtree.
+    for a in range(n):
+        if in_s[a]:
+            continue
+        for d in range(D):
+            cost[a, d] = 0
+        for s in range(n):
+            if in_s[s]:
+                c = base + a * n + s
+                for d in range(D):
+                    if truth_t[c, d] == 0:
+                        cost[a, d] += 1
+    k = 0
+    for u in range(-1, n):
+        if u >= 0 and in_s[u]:
+            continue
+        for d in range(D):
+            cur[d] = viol[d]
+        depth = 0
+        a = u
+        while a >= 0:
+            for d in range(D):
+                cur[d] += cost[a, d]
+            depth += 1
+            a = parent[a]
+        parent[v] = u
+        lp = log_prior_structure(parent, 2, p_part, n_new)
+        parent[v] = -1
+        ps, ns = _sat_counts(cur, w_pos, w_neg)
+        lw[k] = lp + log_likelihood(ps, ns, n_pos, n_neg, n_conj + depth * size_s,
+                                    log_eps, lik_code)
+        cand_head[k] = u
+        k += 1
+    j = _draw(lw, k, rng)
+    u = cand_head[j]
+    parent[v] = u
+    a = u
+    while a >= 0:
+        for d in range(D):
+            viol[d] += cost[a, d]
+        n_conj += size_s
+        a = parent[a]
+    return n_conj
+
+
+@njit(cache=True, nogil=True)
+def _log_prior_total(tau, w1, parent, code, p_global, p_eventual, p_part, n_new):
+    return (log_prior_subset(tau.sum(), tau.shape[0], p_global)
+            + log_prior_subset(w1.sum(), w1.shape[0], p_eventual)
+            + log_prior_structure(parent, code, p_part, n_new))
+
+
+@njit(cache=True, nogil=True)
+def _init_viol(tau, w1, parent, truth_t, n_g, n):
+    D = truth_t.shape[1]
+    viol = np.zeros(D, dtype=np.int64)
+    n_conj = 0
+    for j in range(n_g):
+        if tau[j]:
+            _add_pair(viol, truth_t, j, 1)
+            n_conj += 1
+    for w in range(n):
+        if w1[w]:
+            _add_pair(viol, truth_t, n_g + w, 1)
+            n_conj += 1
+    for v in range(n):
+        a = parent[v]
+        while a >= 0:
+            _add_pair(viol, truth_t, n_g + n + a * n + v, 1)
+            n_conj += 1
+            a = parent[a]
+    return viol, n_conj
+
+
+@njit(cache=True, nogil=True)
+def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global,
+                  p_eventual, p_part, n_new, log_eps, lik_code, n_steps, burn_in, rng):
+    D = truth_t.shape[1]
+    n_pos = w_pos.sum()
+    n_neg = w_neg.sum()
+    viol, n_conj = _init_viol(tau, w1, parent, truth_t, n_g, n)
+    base = n_g + n
+    n_coord = n_g + n + (n if n > 1 else 0)
+    n_keep = n_steps - burn_in
+    states = np.empty((n_keep, n_g + 2 * n), dtype=np.int16)
+    trace_lp = np.empty(n_keep)
+    cur = np.empty(D, dtype=np.int64)
+    lw = np.empty(2 * n + 2)
+    cand_head = np.empty(2 * n + 2, dtype=np.int64)
+    cand_pos = np.empty(2 * n + 2, dtype=np.int64)
+    in_s = np.zeros(n, dtype=np.int64)
+    cost = np.zeros((n, D), dtype=np.int64)
+    old_parent = parent.copy()
+    lg_in, lg_out = math.log(p_global) if p_global > 0 else -np.inf, \
+        math.log1p(-p_global) if p_global < 1 else -np.inf
+    le_in, le_out = math.log(p_eventual) if p_eventual > 0 else -np.inf, \
+        math.log1p(-p_eventual) if p_eventual < 1 else -np.inf
+    moved = 0
+    for step in range(n_steps):
+        changed = False
+        if n_coord > 0:
+            i = int(rng.random() * n_coord)
+            if i >= n_coord:
+                i = n_coord - 1
+            if i < n_g:
+                new = _flip_move(i, tau[i], lg_in, lg_out, viol, truth_t, w_pos, w_neg,
+                                 n_pos, n_neg, n_conj, log_eps, lik_code, rng)
+                if new != tau[i]:
+                    n_conj += 1 if new else -1
+                    tau[i] = new
+                    changed = True
+            elif i < n_g + n:
+                w = i - n_g
+                new = _flip_move(n_g + w, w1[w], le_in, le_out, viol, truth_t, w_pos, w_neg,
+                                 n_pos, n_neg, n_conj, log_eps, lik_code, rng)
+                if new != w1[w]:
+                    n_conj += 1 if new else -1
+                    w1[w] = new
+                    changed = True
+            else:
+                v = i - n_g - n
+                old_parent[:] = parent
+                if code == 2:
+                    n_conj = _forest_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg,
+                                          n_conj, base, n, p_part, n_new, log_eps, lik_code,
+                                          rng, cur, lw, cand_head, in_s, cost)
+                else:
+                    n_conj = _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg,
+                                         n_conj, base, n, code, p_part, n_new, log_eps,
+                                         lik_code, rng, cur, lw, cand_head, cand_pos)
+                for u in range(n):
+                    if parent[u] != old_parent[u]:
+                        changed = True
+                        break
+        if changed:
+            moved += 1
+        if step >= burn_in:
+            r = step - burn_in
+            for j in range(n_g):
+                states[r, j] = tau[j]
+            for w in range(n):
+                states[r, n_g + w] = w1[w]
+                states[r, n_g + n + w] = parent[w]
+            ps, ns = _sat_counts(viol, w_pos, w_neg)
+            trace_lp[r] = _log_prior_total(tau, w1, parent, code, p_global, p_eventual,
+                                           p_part, n_new) + \
+                log_likelihood(ps, ns, n_pos, n_neg, n_conj, log_eps, lik_code)
+    return states, trace_lp, moved / max(n_steps, 1)
+
+
+def run_chain(seed, truth_t, w_pos, w_neg, n_g, n, prior_code, prior_name, p_global,
+              p_eventual, p_part, n_new, log_eps, lik_code, n_samples, burn_in):
+    """Run one chain from a prior draw; return recorded states, log posterior trace, move rate.
+
+    States are rows ``[tau (n_g), w1 (n), parent (n)]`` of int16.
+    """
+    rng = np.random.default_rng(seed)
+    tau, w1, parent = sample_hypothesis(prior_name, n_g, n, rng, p_global, p_eventual,
+                                        p_part, n_new)
+    return _chain_kernel(tau.astype(np.int64), w1.astype(np.int64), parent, truth_t, w_pos,
+                         w_neg, n_g, n, prior_code, p_global, p_eventual, p_part, n_new,
+                         log_eps, lik_code, burn_in + n_samples, burn_in, rng)
+
+
+@njit(cache=True, nogil=True)
+def score_states(states, truth_t, w_pos, w_neg, n_g, n, code, p_global, p_eventual, p_part,
+                 n_new, log_eps, lik_code):
+    """Exact unnormalised log posterior of every state row."""
+    n_pos = w_pos.sum()
+    n_neg = w_neg.sum()
+    out = np.empty(states.shape[0])
+    for r in range(states.shape[0]):
+        tau = states[r, :n_g].astype(np.int64)
+        w1 = states[r, n_g:n_g + n].astype(np.int64)
+        parent = states[r, n_g + n:].astype(np.int64)
+        viol, n_conj = _init_viol(tau, w1, parent, truth_t, n_g, n)
+        ps, ns = _sat_counts(viol, w_pos, w_neg)
+        out[r] = _log_prior_total(tau, w1, parent, code, p_global, p_eventual, p_part,
+                                  n_new) + log_likelihood(ps, ns, n_pos, n_neg, n_conj,
+                                                          log_eps, lik_code)
+    return out
+
+
+def split_rhat(traces):
+    """Split-R-hat (Gelman et al., BDA3) of a scalar across chains.
+
+    Parameters
+    ----------
+    traces : ndarray of shape (n_chains, n_draws)
+
+    Returns
+    -------
+    float
+        1.0 when every draw is identical (a chain that never moves off a sharp mode); ``inf``
+        when chains sit on different constant values.
+    """
+    traces = np.asarray(traces, dtype=float)
+    n_draws = traces.shape[1]
+    half = n_draws // 2
+    if half < 2:
+        return float("nan")
+    split = np.concatenate([traces[:, :half], traces[:, half:2 * half]], axis=0)
+    finite = np.isfinite(split)
+    if not finite.all():
+        return float("nan")
+    means = split.mean(axis=1)
+    within = split.var(axis=1, ddof=1).mean()
+    between = half * means.var(ddof=1)
+    if within == 0:
+        return 1.0 if between == 0 else float("inf")
+    var_plus = (half - 1) / half * within + between / half
+    return float(np.sqrt(var_plus / within))

@@ -1,0 +1,282 @@
+"""`Posterior`: a categorical distribution over unique canonical specifications."""
+
+import math
+
+import numpy as np
+import pandas as pd
+from numba import njit
+
+from bsi_sklearn._clauses import clause_truth, pack_rows
+from bsi_sklearn._validation import Traces, check_traces
+from bsi_sklearn.specification import Specification
+
+__all__ = ["Posterior"]
+
+
+@njit(cache=True, nogil=True)
+def _clause_masks(structures, tau_masks, w1_masks, n_g, n):
+    n_h = structures.shape[0]
+    n_cl = n_g + n + n * n
+    n_words = (n_cl + 63) // 64
+    out = np.zeros((n_h, n_words), dtype=np.uint64)
+    one = np.uint64(1)
+    for h in range(n_h):
+        for j in range(n_g):
+            if tau_masks[h, j]:
+                out[h, j >> 6] |= one << np.uint64(j & 63)
+        for w in range(n):
+            if w1_masks[h, w]:
+                c = n_g + w
+                out[h, c >> 6] |= one << np.uint64(c & 63)
+        for v in range(n):
+            a = structures[h, v]
+            while a >= 0:
+                c = n_g + n + a * n + v
+                out[h, c >> 6] |= one << np.uint64(c & 63)
+                a = structures[h, a]
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _vote(masks, probs, truth_words):
+    # P(acceptable) of every demonstration: mass of specifications whose clauses all hold.
+    n_d = truth_words.shape[0]
+    out = np.zeros(n_d)
+    for i in range(n_d):
+        acc = 0.0
+        for h in range(masks.shape[0]):
+            ok = True
+            for w in range(masks.shape[1]):
+                if masks[h, w] & ~truth_words[i, w]:
+                    ok = False
+                    break
+            if ok:
+                acc += probs[h]
+        out[i] = acc
+    return out
+
+
+class Posterior:
+    """Posterior over specifications, sorted by decreasing probability.
+
+    Built by :class:`~bsi_sklearn.BSIClassifier`; not usually constructed by hand.
+
+    Parameters
+    ----------
+    structures : ndarray of shape (n_specs, n_subtasks)
+        Parent array of every specification's order forest (-1 for roots).
+    tau_masks : ndarray of shape (n_specs, n_globals), bool
+        Which global candidates every specification includes.
+    w1_masks : ndarray of shape (n_specs, n_subtasks), bool
+        Which eventual clauses every specification includes.
+    probabilities : ndarray of shape (n_specs,)
+        Normalised probabilities, in decreasing order.
+    roles : Roles
+        Proposition roles the hypotheses refer to.
+    clause_marginals : ndarray of shape (n_clauses,), default=None
+        Inclusion probability of every candidate clause slot; computed from the specifications
+        when omitted (exact inference passes marginals over the full support).
+    dropped_mass : float, default=0.0
+        Posterior mass left out of ``specifications`` (exact inference with ``tol``).
+
+    Attributes
+    ----------
+    specifications : list of Specification
+    probabilities : ndarray
+    dropped_mass : float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from bsi_sklearn import BSIClassifier
+    >>> X = [np.array([[1, 1, 0], [1, 0, 1]]), np.array([[1, 1, 0], [1, 1, 1]])]
+    >>> clf = BSIClassifier(prior="sets_of_chains", random_state=0).fit(X)
+    >>> post = clf.posterior_
+    >>> post.top(1)[0][0] == clf.map_specification_
+    True
+    >>> float(post.probabilities.sum())
+    1.0
+    """
+
+    def __init__(self, structures, tau_masks, w1_masks, probabilities, roles,
+                 clause_marginals=None, dropped_mass=0.0):
+        self._structures = np.ascontiguousarray(structures, dtype=np.int64)
+        self._tau = np.ascontiguousarray(tau_masks, dtype=bool)
+        self._w1 = np.ascontiguousarray(w1_masks, dtype=bool)
+        self.probabilities = np.asarray(probabilities, dtype=float)
+        self.roles = roles
+        self.dropped_mass = float(dropped_mass)
+        self._masks = _clause_masks(
+            self._structures, self._tau, self._w1, roles.n_globals, roles.n_subtasks
+        )
+        if clause_marginals is None:
+            clause_marginals = self._marginals_from_specs()
+        self._marginals = np.asarray(clause_marginals, dtype=float)
+        self._specs = None
+
+    # ------------------------------------------------------------------ containers
+    def __len__(self):
+        return len(self.probabilities)
+
+    def __repr__(self):
+        return (
+            f"Posterior(n_specifications={len(self)}, map={self.specification(0)}, "
+            f"p_map={self.probabilities[0]:.4g})"
+        )
+
+    def specification(self, i):
+        """The ``i``-th most probable specification."""
+        return self._build_spec(i)
+
+    @property
+    def specifications(self):
+        """All specifications, most probable first (built on first access)."""
+        if self._specs is None:
+            self._specs = [self._build_spec(i) for i in range(len(self))]
+        return self._specs
+
+    def top(self, k=5):
+        """The ``k`` most probable specifications as ``(Specification, probability)`` pairs."""
+        k = int(k)
+        if k < 1:
+            raise ValueError(f"k must be a positive integer, got {k}")
+        return [(self._build_spec(i), float(self.probabilities[i]))
+                for i in range(min(k, len(self)))]
+
+    def to_frame(self, k=None):
+        """The posterior as a DataFrame: rank, LTL formula, probability, conjunct counts.
+
+        Parameters
+        ----------
+        k : int, default=None
+            Keep only the ``k`` most probable specifications.
+        """
+        n = len(self) if k is None else min(int(k), len(self))
+        specs = [self._build_spec(i) for i in range(n)]
+        return pd.DataFrame(
+            {
+                "specification": specs,
+                "ltl": [s.to_ltl() for s in specs],
+                "probability": self.probabilities[:n],
+                "n_globals": [len(s.globals) for s in specs],
+                "n_eventuals": [len(s.eventuals) for s in specs],
+                "n_orders": [len(s.orders) for s in specs],
+            },
+            index=pd.RangeIndex(n, name="rank"),
+        )
+
+    # ------------------------------------------------------------------ summaries
+    def entropy(self):
+        """Shannon entropy (nats) of the distribution over unique specifications."""
+        p = self.probabilities[self.probabilities > 0]
+        return float(-(p * np.log(p)).sum())
+
+    def clause_keys(self):
+        """Key of every candidate clause, in the order of :meth:`clause_marginals`."""
+        g, s = self.roles.global_names(), self.roles.subtask_names()
+        keys = [("G", p) for p in g] + [("F", w) for w in s]
+        keys += [("U", a, b) for a in s for b in s if a != b]
+        return keys
+
+    def clause_marginals(self):
+        """Posterior inclusion probability of every candidate clause.
+
+        Returns
+        -------
+        pandas.Series
+            Indexed by clause keys ``("G", p)``, ``("F", w)``, ``("U", a, b)``.
+        """
+        n_g, n = self.roles.n_globals, self.roles.n_subtasks
+        idx = list(range(n_g + n)) + [
+            n_g + n + a * n + b for a in range(n) for b in range(n) if a != b
+        ]
+        return pd.Series(
+            self._marginals[idx],
+            index=pd.Index(self.clause_keys(), tupleize_cols=False, name="clause"),
+            name="inclusion_probability",
+        )
+
+    def _marginals_from_specs(self):
+        n_cl = self.roles.n_globals + self.roles.n_subtasks + self.roles.n_subtasks ** 2
+        bits = np.unpackbits(
+            self._masks.view(np.uint8), axis=1, bitorder="little"
+        )[:, :n_cl].astype(float)
+        return self.probabilities @ bits
+
+    # ------------------------------------------------------------------ prediction
+    def satisfaction(self, X):
+        """Boolean matrix ``(n_specs, n_demos)``: which specification each demonstration meets.
+
+        Costs ``n_specs * n_demos``; meant for inspection of small posteriors.
+        """
+        words = self._truth_words(X)
+        m = self._masks
+        return ~((m[:, None, :] & ~words[None, :, :]) != 0).any(axis=2)
+
+    def predict_proba(self, X):
+        """Posterior voting: column 1 is the mass of specifications each trace satisfies.
+
+        Parameters
+        ----------
+        X : demonstrations (any format of DESIGN section 1) or a validated ``Traces``.
+
+        Returns
+        -------
+        ndarray of shape (n_demos, 2)
+        """
+        p1 = np.clip(_vote(self._masks, self.probabilities, self._truth_words(X)), 0.0, 1.0)
+        return np.column_stack([1.0 - p1, p1])
+
+    def _truth_words(self, X):
+        traces = X if isinstance(X, Traces) else check_traces(X, estimator_name="Posterior")
+        n_props = len(self.roles.names)
+        if traces.n_props != n_props:
+            raise ValueError(
+                f"X has {traces.n_props} propositions, but the posterior was inferred over "
+                f"{n_props}"
+            )
+        return pack_rows(clause_truth(traces, self.roles))
+
+    # ------------------------------------------------------------------ internals
+    def _build_spec(self, i):
+        if self._specs is not None:
+            return self._specs[i]
+        r = self.roles
+        g, s = r.global_names(), r.subtask_names()
+        parent = self._structures[i]
+        orders = []
+        for v in range(len(parent)):
+            a = parent[v]
+            while a >= 0:
+                orders.append((s[a], s[v]))
+                a = parent[a]
+        return Specification(
+            globals=[g[j] for j in np.flatnonzero(self._tau[i])],
+            eventuals=[s[w] for w in np.flatnonzero(self._w1[i])],
+            orders=orders,
+            conditions=r.condition_names(),
+        )
+
+
+def total_variation(p, q):
+    """Total-variation distance between two posteriors (over specifications).
+
+    Parameters
+    ----------
+    p, q : Posterior or mapping Specification -> probability
+
+    Examples
+    --------
+    >>> from bsi_sklearn import Specification
+    >>> a, b = Specification(globals=[0]), Specification()
+    >>> total_variation({a: 0.5, b: 0.5}, {a: 1.0})
+    0.5
+    """
+    def as_dict(d):
+        if isinstance(d, Posterior):
+            return dict(zip(d.specifications, d.probabilities))
+        return dict(d)
+
+    p, q = as_dict(p), as_dict(q)
+    keys = set(p) | set(q)
+    return 0.5 * math.fsum(abs(p.get(k, 0.0) - q.get(k, 0.0)) for k in keys)
