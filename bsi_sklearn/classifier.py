@@ -19,7 +19,13 @@ from bsi_sklearn._validation import (
 )
 from bsi_sklearn.exact import count_hypotheses, exact_posterior
 from bsi_sklearn.likelihood import LIKELIHOODS, likelihood_code, resolve_log_epsilon
-from bsi_sklearn.mcmc import deduplicate_demos, run_chain, score_states, split_rhat
+from bsi_sklearn.mcmc import (
+    deduplicate_demos,
+    run_chain,
+    score_states,
+    split_rhat,
+    unique_states,
+)
 from bsi_sklearn.posterior import Posterior
 from bsi_sklearn.priors import PRIORS, prior_code
 
@@ -314,10 +320,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
                                int(self.burn_in))
             for seed in seeds_iter
         )
-        states = np.concatenate([r[0] for r in results], axis=0)
-        traces = np.stack([r[1] for r in results])
-        moves = np.array([r[2] for r in results])
-        uniq, counts = np.unique(states, axis=0, return_counts=True)
+        uniq, counts = unique_states(np.concatenate([r[0] for r in results], axis=0),
+                                     np.concatenate([r[1] for r in results]))
+        traces = np.stack([r[2] for r in results])
+        moves = np.array([r[3] for r in results])
         scores = score_states(uniq, truth_t, w_pos, w_neg, n_g, n, code, p_g, p_e, p_part,
                               n_new, log_eps, lik)
         # Sort by decreasing posterior; ties keep np.unique's canonical order.
@@ -331,6 +337,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
             "rhat": split_rhat(traces) if traces.shape[1] >= 4 else float("nan"),
             "acceptance_rate": float(moves.mean()),
             "acceptance_rate_per_chain": moves,
+            "n_updates": int(sum(r[4] for r in results)),
             "n_chains": len(seeds),
             "n_samples": int(self.n_samples),
             "burn_in": int(self.burn_in),

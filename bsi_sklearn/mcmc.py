@@ -18,7 +18,24 @@ from numba import njit
 from bsi_sklearn.likelihood import log_likelihood
 from bsi_sklearn.priors import log_prior_structure, log_prior_subset, sample_hypothesis
 
-__all__ = ["run_chain", "deduplicate_demos", "split_rhat", "score_states"]
+__all__ = ["run_chain", "deduplicate_demos", "split_rhat", "score_states", "unique_states"]
+
+
+def unique_states(states, counts):
+    """Unique state rows (sorted canonically) and the number of samples of each."""
+    if len(states) == 0:
+        return states, counts
+    # Rows of small ints: shift to non-negative and pack into one integer key when they fit.
+    shifted = states.astype(np.int64) + 1
+    bits = max(int(shifted.max()).bit_length(), 1)
+    if bits * states.shape[1] <= 63:
+        weights = np.left_shift(1, bits * np.arange(states.shape[1] - 1, -1, -1))
+        keys = shifted @ weights
+        _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+    else:
+        _, first, inverse = np.unique(states, axis=0, return_index=True, return_inverse=True)
+    total = np.bincount(inverse.ravel(), weights=counts, minlength=len(first))
+    return states[first], total.astype(np.int64)
 
 
 def deduplicate_demos(truth, y01):
@@ -82,7 +99,7 @@ def _add_pair(viol, truth_t, c, sign):
 @njit(cache=True, nogil=True)
 def _flip_move(c, inc, lp_in, lp_out, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj,
                log_eps, lik_code, rng):
-    # Gibbs update of one inclusion bit: returns the new bit.
+    # Gibbs update of one inclusion bit: returns the new bit and the new log-likelihood.
     ps_out = 0.0
     ns_out = 0.0
     ps_in = 0.0
@@ -98,21 +115,32 @@ def _flip_move(c, inc, lp_in, lp_out, viol, truth_t, w_pos, w_neg, n_pos, n_neg,
                 ps_in += w_pos[d]
                 ns_in += w_neg[d]
     n_out = n_conj - inc
-    lw = np.empty(2)
-    lw[0] = lp_out + log_likelihood(ps_out, ns_out, n_pos, n_neg, n_out, log_eps, lik_code)
-    lw[1] = lp_in + log_likelihood(ps_in, ns_in, n_pos, n_neg, n_out + 1, log_eps, lik_code)
-    new = _draw(lw, 2, rng)
+    ll_out = log_likelihood(ps_out, ns_out, n_pos, n_neg, n_out, log_eps, lik_code)
+    ll_in = log_likelihood(ps_in, ns_in, n_pos, n_neg, n_out + 1, log_eps, lik_code)
+    lw_out = lp_out + ll_out
+    lw_in = lp_in + ll_in
+    # P(in) = 1 / (1 + exp(lw_out - lw_in)), computed without overflow.
+    if lw_in == -np.inf:
+        new = 0
+    elif lw_out == -np.inf:
+        new = 1
+    else:
+        diff = lw_out - lw_in
+        p_in = 1.0 / (1.0 + math.exp(diff)) if diff < 700.0 else 0.0
+        new = 1 if rng.random() < p_in else 0
     if new != inc:
         _add_pair(viol, truth_t, c, 1 if new else -1)
-    return new
+    return new, (ll_in if new else ll_out)
 
 
 @njit(cache=True, nogil=True)
 def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base,
-                n, code, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_head, cand_pos):
-    # Prior 1 / 2: take v out of its chain and redraw its place. Returns the new n_conj.
+                n, code, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_lp, cand_head,
+                cand_pos, child):
+    # Prior 1 / 2: take v out of its chain and redraw its place.
+    # Returns (n_conj, log prior of the structure, log-likelihood) of the new state.
     D = viol.shape[0]
-    child = np.full(n, -1, dtype=np.int64)
+    child[:] = -1
     for u in range(n):
         if parent[u] >= 0:
             child[parent[u]] = u
@@ -159,6 +187,7 @@ def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, ba
         u = h
         for p in range(L + 1):
             ps, ns = _sat_counts(cur, w_pos, w_neg)
+            cand_lp[k] = lp
             lw[k] = lp + log_likelihood(ps, ns, n_pos, n_neg, n_conj + L, log_eps, lik_code)
             cand_head[k] = h
             cand_pos[k] = p
@@ -171,15 +200,15 @@ def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, ba
                 u = child[u]
     if code == 1 or k == 0:
         ps, ns = _sat_counts(viol, w_pos, w_neg)
-        lw[k] = log_prior_structure_chains(n, m_rem + 1, code, p_part) + log_likelihood(
-            ps, ns, n_pos, n_neg, n_conj, log_eps, lik_code)
+        cand_lp[k] = log_prior_structure_chains(n, m_rem + 1, code, p_part)
+        lw[k] = cand_lp[k] + log_likelihood(ps, ns, n_pos, n_neg, n_conj, log_eps, lik_code)
         cand_head[k] = -1
         cand_pos[k] = 0
         k += 1
     j = _draw(lw, k, rng)
     h = cand_head[j]
     if h < 0:
-        return n_conj
+        return n_conj, cand_lp[j], lw[j] - cand_lp[j]
     p = cand_pos[j]
     u = h
     prev = -1
@@ -199,7 +228,7 @@ def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, ba
     parent[v] = prev
     if nxt >= 0:
         parent[nxt] = v
-    return n_conj
+    return n_conj, cand_lp[j], lw[j] - cand_lp[j]
 
 
 @njit(cache=True, nogil=True)
@@ -219,7 +248,8 @@ def log_prior_structure_chains(n, m, code, p_part):
 
 @njit(cache=True, nogil=True)
 def _forest_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base,
-                 n, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_head, in_s, cost):
+                 n, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_lp, cand_head, in_s,
+                 cost):
     # Prior 3: prune the subtree rooted at v and regraft it anywhere outside it.
     D = viol.shape[0]
     size_s = 0
@@ -267,6 +297,7 @@ def _forest_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, b
         lp = log_prior_structure(parent, 2, p_part, n_new)
         parent[v] = -1
         ps, ns = _sat_counts(cur, w_pos, w_neg)
+        cand_lp[k] = lp
         lw[k] = lp + log_likelihood(ps, ns, n_pos, n_neg, n_conj + depth * size_s,
                                     log_eps, lik_code)
         cand_head[k] = u
@@ -280,7 +311,7 @@ def _forest_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, b
             viol[d] += cost[a, d]
         n_conj += size_s
         a = parent[a]
-    return n_conj
+    return n_conj, cand_lp[j], lw[j] - cand_lp[j]
 
 
 @njit(cache=True, nogil=True)
@@ -314,85 +345,101 @@ def _init_viol(tau, w1, parent, truth_t, n_g, n):
 
 @njit(cache=True, nogil=True)
 def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global,
-                  p_eventual, p_part, n_new, log_eps, lik_code, n_steps, burn_in, rng):
+                  p_eventual, p_part, n_new, log_eps, lik_code, n_sweeps, burn_in, rng):
+    # One sweep updates every coordinate once (tau bits, W1 bits, every subtask's place);
+    # the state is recorded after each sweep past burn-in.
     D = truth_t.shape[1]
     n_pos = w_pos.sum()
     n_neg = w_neg.sum()
     viol, n_conj = _init_viol(tau, w1, parent, truth_t, n_g, n)
     base = n_g + n
-    n_coord = n_g + n + (n if n > 1 else 0)
-    n_keep = n_steps - burn_in
+    n_keep = n_sweeps - burn_in
     states = np.empty((n_keep, n_g + 2 * n), dtype=np.int16)
     trace_lp = np.empty(n_keep)
     cur = np.empty(D, dtype=np.int64)
     lw = np.empty(2 * n + 2)
+    cand_lp = np.empty(2 * n + 2)
     cand_head = np.empty(2 * n + 2, dtype=np.int64)
     cand_pos = np.empty(2 * n + 2, dtype=np.int64)
+    child = np.empty(n, dtype=np.int64)
     in_s = np.zeros(n, dtype=np.int64)
     cost = np.zeros((n, D), dtype=np.int64)
     old_parent = parent.copy()
-    lg_in, lg_out = math.log(p_global) if p_global > 0 else -np.inf, \
-        math.log1p(-p_global) if p_global < 1 else -np.inf
-    le_in, le_out = math.log(p_eventual) if p_eventual > 0 else -np.inf, \
-        math.log1p(-p_eventual) if p_eventual < 1 else -np.inf
+    lg_in = math.log(p_global) if p_global > 0 else -np.inf
+    lg_out = math.log1p(-p_global) if p_global < 1 else -np.inf
+    le_in = math.log(p_eventual) if p_eventual > 0 else -np.inf
+    le_out = math.log1p(-p_eventual) if p_eventual < 1 else -np.inf
+    lp_sub = (log_prior_subset(tau.sum(), n_g, p_global)
+              + log_prior_subset(w1.sum(), n, p_eventual))
+    lp_struct = log_prior_structure(parent, code, p_part, n_new)
+    ps, ns = _sat_counts(viol, w_pos, w_neg)
+    ll = log_likelihood(ps, ns, n_pos, n_neg, n_conj, log_eps, lik_code)
     moved = 0
-    for step in range(n_steps):
-        changed = False
-        if n_coord > 0:
-            i = int(rng.random() * n_coord)
-            if i >= n_coord:
-                i = n_coord - 1
-            if i < n_g:
-                new = _flip_move(i, tau[i], lg_in, lg_out, viol, truth_t, w_pos, w_neg,
+    updates = 0
+    counts = np.zeros(n_keep, dtype=np.int64)
+    k = -1
+    last_moved = -1
+    for sweep in range(n_sweeps):
+        for j in range(n_g):
+            new, ll = _flip_move(j, tau[j], lg_in, lg_out, viol, truth_t, w_pos, w_neg,
                                  n_pos, n_neg, n_conj, log_eps, lik_code, rng)
-                if new != tau[i]:
-                    n_conj += 1 if new else -1
-                    tau[i] = new
-                    changed = True
-            elif i < n_g + n:
-                w = i - n_g
-                new = _flip_move(n_g + w, w1[w], le_in, le_out, viol, truth_t, w_pos, w_neg,
+            if new != tau[j]:
+                n_conj += 1 if new else -1
+                lp_sub += (lg_in - lg_out) if new else (lg_out - lg_in)
+                tau[j] = new
+                moved += 1
+        for w in range(n):
+            new, ll = _flip_move(n_g + w, w1[w], le_in, le_out, viol, truth_t, w_pos, w_neg,
                                  n_pos, n_neg, n_conj, log_eps, lik_code, rng)
-                if new != w1[w]:
-                    n_conj += 1 if new else -1
-                    w1[w] = new
-                    changed = True
-            else:
-                v = i - n_g - n
+            if new != w1[w]:
+                n_conj += 1 if new else -1
+                lp_sub += (le_in - le_out) if new else (le_out - le_in)
+                w1[w] = new
+                moved += 1
+        updates += n_g + n
+        if n > 1:
+            for v in range(n):
                 old_parent[:] = parent
                 if code == 2:
-                    n_conj = _forest_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg,
-                                          n_conj, base, n, p_part, n_new, log_eps, lik_code,
-                                          rng, cur, lw, cand_head, in_s, cost)
+                    n_conj, lp_struct, ll = _forest_move(
+                        v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base, n,
+                        p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_lp, cand_head,
+                        in_s, cost)
                 else:
-                    n_conj = _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg,
-                                         n_conj, base, n, code, p_part, n_new, log_eps,
-                                         lik_code, rng, cur, lw, cand_head, cand_pos)
+                    n_conj, lp_struct, ll = _chain_move(
+                        v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base, n,
+                        code, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_lp,
+                        cand_head, cand_pos, child)
                 for u in range(n):
                     if parent[u] != old_parent[u]:
-                        changed = True
+                        moved += 1
                         break
-        if changed:
-            moved += 1
-        if step >= burn_in:
-            r = step - burn_in
+            updates += n
+        if sweep >= burn_in:
+            r = sweep - burn_in
+            trace_lp[r] = lp_sub + lp_struct + ll
+            if k >= 0 and moved == last_moved:
+                counts[k] += 1  # run-length: the state did not change during this sweep
+                continue
+            k += 1
+            last_moved = moved
+            counts[k] = 1
             for j in range(n_g):
-                states[r, j] = tau[j]
+                states[k, j] = tau[j]
             for w in range(n):
-                states[r, n_g + w] = w1[w]
-                states[r, n_g + n + w] = parent[w]
-            ps, ns = _sat_counts(viol, w_pos, w_neg)
-            trace_lp[r] = _log_prior_total(tau, w1, parent, code, p_global, p_eventual,
-                                           p_part, n_new) + \
-                log_likelihood(ps, ns, n_pos, n_neg, n_conj, log_eps, lik_code)
-    return states, trace_lp, moved / max(n_steps, 1)
+                states[k, n_g + w] = w1[w]
+                states[k, n_g + n + w] = parent[w]
+    return states[:k + 1], counts[:k + 1], trace_lp, moved / max(updates, 1), updates
 
 
 def run_chain(seed, truth_t, w_pos, w_neg, n_g, n, prior_code, prior_name, p_global,
               p_eventual, p_part, n_new, log_eps, lik_code, n_samples, burn_in):
-    """Run one chain from a prior draw; return recorded states, log posterior trace, move rate.
+    """Run one chain from a prior draw.
 
-    States are rows ``[tau (n_g), w1 (n), parent (n)]`` of int16.
+    A sample is one Gibbs sweep (every coordinate updated once). Returns the recorded states,
+    run-length encoded (rows ``[tau (n_g), w1 (n), parent (n)]`` of int16 and how many
+    consecutive samples each row stands for), the log posterior after every sweep, the fraction
+    of coordinate updates that changed the state, and the number of updates.
     """
     rng = np.random.default_rng(seed)
     tau, w1, parent = sample_hypothesis(prior_name, n_g, n, rng, p_global, p_eventual,
