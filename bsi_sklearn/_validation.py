@@ -90,7 +90,7 @@ def _to_bool(arr, where, binarize):
     if bad.any():
         t, p = map(int, np.argwhere(bad)[0])
         raise ValueError(
-            f"{where} has value {arr[t, p]!r} at step {t}, proposition {p}; traces must be "
+            f"{where} has value {arr[t, p].item()!r} at step {t}, proposition {p}; traces must be "
             "0/1 or boolean (set binarize=<threshold> to threshold numeric data)"
         )
     return arr.astype(np.uint8)

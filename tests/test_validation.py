@@ -1,0 +1,113 @@
+import numpy as np
+import pandas as pd
+import pytest
+
+from bsi_sklearn import BSIClassifier
+from bsi_sklearn._validation import check_labels, check_traces, resolve_roles
+
+
+def test_formats_agree():
+    rng = np.random.default_rng(0)
+    arr3 = rng.integers(0, 2, size=(4, 3, 2))
+    from_3d = check_traces(arr3)
+    from_list = check_traces([a for a in arr3])
+    from_frames = check_traces([pd.DataFrame(a, columns=["p", "q"]) for a in arr3])
+    assert np.array_equal(from_3d.data, from_list.data)
+    assert np.array_equal(from_3d.data, from_frames.data)
+    assert list(from_frames.feature_names) == ["p", "q"]
+    flat = check_traces(rng.integers(0, 2, size=(5, 3)))
+    assert flat.n_demos == 5 and list(flat.lengths) == [1] * 5
+    ragged = check_traces([np.ones((2, 2)), np.zeros((5, 2))])
+    assert list(ragged.lengths) == [2, 5]
+
+
+@pytest.mark.parametrize(
+    "X, match",
+    [
+        ([], "at least one demonstration"),
+        (np.zeros((0, 3)), "at least one demonstration"),
+        ([np.ones((2, 2)), np.ones((0, 2))], "demonstration 1 has zero length"),
+        ([np.ones((2, 2)), np.ones((2, 3))], "demonstration 1 has 3 propositions"),
+        ([np.array([[0, 1], [np.nan, 1]])], "demonstration 0 has a NaN"),
+        ([np.array([[0, 2]])], "demonstration 0 has value 2"),
+        ([np.ones((2, 2)), np.ones(3)], "demonstration 1 must be a 2-D"),
+        (np.ones((2, 2, 2, 2)), "4 dimension"),
+        ([np.array([["a", "b"]])], "non-numeric"),
+        ("abc", "demonstrations must be"),
+    ],
+)
+def test_bad_traces(X, match):
+    with pytest.raises(ValueError, match=match):
+        check_traces(X)
+
+
+def test_frames_must_agree_and_binarize():
+    a = pd.DataFrame([[1, 0]], columns=["p", "q"])
+    b = pd.DataFrame([[1, 0]], columns=["q", "p"])
+    with pytest.raises(ValueError, match="demonstration 1 has columns"):
+        check_traces([a, b])
+    t = check_traces([np.array([[0.2, 0.7]])], binarize=0.5)
+    assert t.data.tolist() == [[0, 1]]
+    with pytest.raises(ValueError, match="binarize"):
+        check_traces([np.array([[0.2, 0.7]])], binarize="x")
+
+
+def test_labels():
+    y01, classes = check_labels(None, 3)
+    assert y01.tolist() == [1, 1, 1] and classes.tolist() == [0, 1]
+    with pytest.raises(ValueError, match="only unacceptable"):
+        check_labels([0, 0], 2)
+    with pytest.raises(ValueError, match="3 classes"):
+        check_labels([0, 1, 2], 3)
+    with pytest.raises(ValueError, match="pos_label"):
+        check_labels(["good", "bad"], 2)
+    y01, classes = check_labels(["good", "bad", "good"], 3, pos_label="good")
+    assert y01.tolist() == [1, 0, 1] and classes.tolist() == ["bad", "good"]
+    with pytest.raises(ValueError, match="2 labels but there are 3"):
+        check_labels([0, 1], 3)
+
+
+def test_roles():
+    r = resolve_roles(["b", 0], ["c"], {"c": "a"}, 3, ["a", "b", "c"])
+    assert r.global_idx.tolist() == [1, 0] and r.condition_idx.tolist() == [0]
+    with pytest.raises(ValueError, match="global_candidates: unknown proposition 'z'"):
+        resolve_roles(["z"], None, None, 3, ["a", "b", "c"])
+    with pytest.raises(ValueError, match="subtasks: proposition index 7 is out of range"):
+        resolve_roles(None, [7], None, 3)
+    with pytest.raises(ValueError, match="conditions: 'a' is not one of the subtasks"):
+        resolve_roles(None, ["c"], {"a": "b"}, 3, ["a", "b", "c"])
+    with pytest.raises(ValueError, match="listed more than once"):
+        resolve_roles([0, 0], None, None, 3)
+    with pytest.raises(ValueError, match="conditions must be None or a mapping"):
+        resolve_roles(None, None, [1], 3)
+
+
+@pytest.mark.parametrize(
+    "params, match",
+    [
+        ({"prior": "dag"}, "prior must be one of"),
+        ({"likelihood": "x"}, "likelihood must be one of"),
+        ({"p_part": 1.5}, r"p_part must be in \[0.0, 1.0\]"),
+        ({"n_new": 0}, "n_new must be in"),
+        ({"epsilon": 1.0}, "epsilon must be in"),
+        ({"n_samples": 0}, "n_samples must be an integer >= 1"),
+        ({"n_chains": 2.5}, "n_chains must be an integer"),
+        ({"inference": "vi"}, "inference must be one of"),
+        ({"n_jobs": 0}, "n_jobs must be None or a non-zero integer"),
+    ],
+)
+def test_bad_parameters(params, match):
+    with pytest.raises(ValueError, match=match):
+        BSIClassifier(**params).fit([np.ones((2, 2))])
+
+
+def test_predict_checks_propositions():
+    clf = BSIClassifier(random_state=0).fit([pd.DataFrame([[1, 0]], columns=["p", "q"])])
+    with pytest.raises(ValueError, match="3 propositions"):
+        clf.predict([np.ones((2, 3))])
+    with pytest.raises(ValueError, match="feature names should match"):
+        clf.predict([pd.DataFrame([[1, 0]], columns=["q", "p"])])
+    with pytest.warns(UserWarning, match="does not have valid feature names"):
+        clf.predict([np.ones((2, 2))])
+    with pytest.raises(ValueError, match="inference='exact' needs"):
+        BSIClassifier(inference="exact", max_exact_hypotheses=10).fit([np.ones((2, 3))])
