@@ -1,0 +1,91 @@
+"""Exact enumeration against a first-principles posterior, likelihood formulas, marginals."""
+
+import math
+
+import numpy as np
+import pytest
+from _reference import brute_force_posterior
+from conftest import make_poi_problem
+
+from bsi_sklearn import BSIClassifier
+from bsi_sklearn.likelihood import (
+    default_log_epsilon,
+    likelihood_code,
+    log_likelihood,
+    log_likelihood_reference,
+)
+from bsi_sklearn.posterior import total_variation
+
+
+@pytest.mark.parametrize("likelihood", ["cb", "ci"])
+def test_log_likelihood_kernel_matches_reference(likelihood):
+    rng = np.random.default_rng(1)
+    for _ in range(50):
+        n_conj = int(rng.integers(0, 40))
+        y = rng.integers(0, 2, size=12)
+        sat = rng.integers(0, 2, size=12).astype(bool)
+        if n_conj == 0:
+            sat[:] = True
+        log_eps = -float(rng.uniform(1, 60))
+        ref = log_likelihood_reference(sat, y, n_conj, log_eps, likelihood)
+        got = log_likelihood(float((sat & (y == 1)).sum()), float((sat & (y == 0)).sum()),
+                             float((y == 1).sum()), float((y == 0).sum()), n_conj, log_eps,
+                             likelihood_code(likelihood))
+        assert got == pytest.approx(ref, rel=1e-12, abs=1e-9)
+
+
+def test_log_likelihood_no_overflow_for_hundreds_of_conjuncts():
+    v = log_likelihood(3.0, 0.0, 3.0, 5.0, 600, -1000.0, 0)
+    assert np.isfinite(v) and v == pytest.approx(3 * 600 * math.log(2) + 5 * 2.0**-600)
+    assert default_log_epsilon(5, 5) == pytest.approx(-4 * math.log(2) * 20)
+
+
+def small_problem(seed=0, n_negative=4):
+    X, y, roles = make_poi_problem(n_demos=6, n_threats=2, n_pois=3, chain=(0, 2),
+                                   n_negative=n_negative, seed=seed, always_violated=(1,))
+    return X, y, roles
+
+
+@pytest.mark.parametrize("prior", ["linear_chain", "sets_of_chains", "forest"])
+@pytest.mark.parametrize("likelihood", ["cb", "ci"])
+def test_exact_matches_first_principles(prior, likelihood):
+    X, y, roles = small_problem(seed=3)
+    names = list(X[0].columns)
+    ref = brute_force_posterior(X, y, names, roles["global_candidates"], roles["subtasks"],
+                                roles["conditions"], prior, likelihood)
+    clf = BSIClassifier(prior=prior, likelihood=likelihood, inference="exact", tol=0.0,
+                        **roles).fit(X, y)
+    assert clf.inference_ == "exact"
+    assert clf.n_hypotheses_ == len(ref)
+    assert total_variation(clf.posterior_, ref) < 1e-9
+    best = max(ref, key=ref.get)
+    assert ref[clf.map_specification_] == pytest.approx(ref[best], rel=1e-9)
+    # clause marginals
+    marg = clf.posterior_.clause_marginals()
+    for key, value in marg.items():
+        expected = sum(p for s, p in ref.items() if key in s.clauses())
+        assert value == pytest.approx(expected, abs=1e-9)
+    # posterior voting equals the mass of satisfied specifications
+    proba = clf.predict_proba(X)[:, 1]
+    for i, x in enumerate(X):
+        expected = sum(p for s, p in ref.items() if s.satisfied_by(x))
+        assert proba[i] == pytest.approx(expected, abs=1e-9)
+
+
+def test_tol_drops_at_most_tol_and_reports_it():
+    X, y, roles = small_problem(seed=5, n_negative=0)
+    full = BSIClassifier(inference="exact", tol=0.0, **roles).fit(X, y)
+    cut = BSIClassifier(inference="exact", tol=1e-3, **roles).fit(X, y)
+    assert len(cut.posterior_) < len(full.posterior_)
+    assert 0 < cut.posterior_.dropped_mass <= 1e-3
+    assert total_variation(full.posterior_, cut.posterior_) <= 1e-3 + 1e-12
+    # marginals still account for the whole support
+    assert np.allclose(full.posterior_.clause_marginals(), cut.posterior_.clause_marginals())
+
+
+def test_user_epsilon_changes_posterior():
+    X, y, roles = small_problem(seed=2)
+    a = BSIClassifier(inference="exact", **roles).fit(X, y)
+    b = BSIClassifier(inference="exact", epsilon=0.2, **roles).fit(X, y)
+    assert b.log_epsilon_ == pytest.approx(math.log(0.2))
+    assert total_variation(a.posterior_, b.posterior_) > 0.01

@@ -1,0 +1,61 @@
+"""Priors: closed forms against exhaustive enumeration of the paper's programs and sampling."""
+
+import math
+from collections import Counter
+
+import numpy as np
+import pytest
+
+from _reference import program_distribution
+
+from bsi_sklearn.exact import enumerate_structures
+from bsi_sklearn.priors import (
+    count_structures,
+    log_prior_structure,
+    prior_code,
+    sample_order_structure,
+)
+
+
+@pytest.mark.parametrize("prior", ["linear_chain", "sets_of_chains", "forest"])
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
+def test_closed_form_matches_program_enumeration(prior, n):
+    dist = program_distribution(prior, n, p_part=0.35, n_new=2.5)
+    structures = enumerate_structures(prior_code(prior), n)
+    assert len(structures) == count_structures(prior, n) == len(dist)
+    total = 0.0
+    for parent in structures:
+        lp = log_prior_structure(parent, prior_code(prior), 0.35, 2.5)
+        assert math.exp(lp) == pytest.approx(dist[tuple(parent)], rel=1e-9)
+        total += math.exp(lp)
+    assert total == pytest.approx(1.0, abs=1e-12)
+
+
+@pytest.mark.parametrize("prior", ["sets_of_chains", "forest"])
+def test_closed_form_sums_to_one_n5(prior):
+    structures = enumerate_structures(prior_code(prior), 5)
+    lp = [log_prior_structure(s, prior_code(prior), 0.3, 5.0) for s in structures]
+    assert math.fsum(np.exp(lp)) == pytest.approx(1.0, abs=1e-12)
+
+
+@pytest.mark.parametrize("prior", ["linear_chain", "sets_of_chains", "forest"])
+def test_sampler_frequencies_match_closed_form(prior):
+    rng = np.random.default_rng(0)
+    n, draws = 4, 40_000
+    counts = Counter(tuple(sample_order_structure(prior, n, rng, 0.3, 5.0)) for _ in range(draws))
+    structures = enumerate_structures(prior_code(prior), n)
+    probs = {tuple(s): math.exp(log_prior_structure(s, prior_code(prior), 0.3, 5.0))
+             for s in structures}
+    assert set(counts) <= set(probs)
+    # chi-square goodness of fit
+    chi2 = sum((counts.get(k, 0) - draws * p) ** 2 / (draws * p) for k, p in probs.items())
+    dof = len(probs) - 1
+    assert chi2 < dof + 5 * math.sqrt(2 * dof)
+
+
+def test_structures_outside_support_have_zero_probability():
+    two_roots = np.array([-1, -1, 0])
+    branching = np.array([-1, 0, 0])
+    assert log_prior_structure(two_roots, 0, 0.3, 5.0) == -np.inf
+    assert log_prior_structure(branching, 1, 0.3, 5.0) == -np.inf
+    assert np.isfinite(log_prior_structure(branching, 2, 0.3, 5.0))
