@@ -425,7 +425,6 @@ class _Simulator:
         order_pairs = [(a, b) for a, b in orders if a in visit_set and b in visit_set]
         ignored_threat = None
         waypoint_at = None
-        never = []
         kind = None
         if kinds is None:
             visits = _linear_extension(visit_set, order_pairs, rng)
@@ -447,7 +446,6 @@ class _Simulator:
             elif kind == "skip":
                 skipped = visit_set[rng.randint(len(visit_set))]
                 visits = [v for v in visits if v != skipped]
-                never = [skipped]
             else:
                 a, b = order_pairs[rng.randint(len(order_pairs))]
                 visits.remove(b)
@@ -503,7 +501,7 @@ class _Simulator:
 
 
 def _linear_extension(items, pairs, rng):
-    """A random topological order of ``items`` under the precedence ``pairs``."""
+    """Return a random topological order of ``items`` under the precedence ``pairs``."""
     remaining = list(items)
     preds = {v: {a for a, b in pairs if b == v} for v in items}
     out = []
@@ -617,8 +615,9 @@ def _drive(x, y, heading, dist, gx, gy, goal_r, res, speed, max_turn, lookahead,
 def plot_demos(data, indices=None, *, n=4, ax=None, ncols=4):
     """Draw demonstrations of :func:`make_poi_threat_demos`, one per panel.
 
-    Green discs are the POIs' tolerance zones (numbered), red discs the threat zones of that
-    demonstration; the path is blue for positives and orange (dashed) for negatives.
+    Green discs are the POIs' tolerance zones (numbered; faded and marked ``x`` when a threat
+    makes the POI inaccessible), red discs the threat zones of that demonstration; the path
+    is blue for positives and orange (dashed) for negatives.
 
     Parameters
     ----------
@@ -664,8 +663,11 @@ def plot_demos(data, indices=None, *, n=4, ax=None, ncols=4):
         for t in data.threat_positions[i]:
             a.add_patch(Circle(t, data.threat_radius, color="tab:red", alpha=0.3, lw=0))
         for k, p in enumerate(data.poi_positions):
-            a.add_patch(Circle(p, data.poi_radius, color="tab:green", alpha=0.6, lw=0))
-            a.annotate(str(k + 1), p, ha="center", va="center", fontsize=8)
+            ok = bool(data.accessible[i][k])
+            a.add_patch(Circle(p, data.poi_radius, color="tab:green", alpha=0.7 if ok else 0.25,
+                               lw=0))
+            a.annotate(str(k + 1) if ok else f"{k + 1}x", p, ha="center", va="center",
+                       fontsize=8)
         traj = data.trajectories[i]
         positive = bool(data.labels[i])
         a.plot(traj[:, 0], traj[:, 1], color="tab:blue" if positive else "tab:orange",
