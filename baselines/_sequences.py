@@ -153,6 +153,15 @@ def check_sequences(X, *, estimator_name="estimator"):
     if isinstance(X, (list, tuple)):
         if len(X) == 0:
             raise ValueError(f"{estimator_name} needs at least one sequence, got 0")
+        if not any(_is_frame(item) or np.ndim(item) >= 2 for item in X):
+            # a nested list of rows (or of scalars): read it as one array, like the 2-D layout
+            try:
+                arr = np.asarray(X)
+            except ValueError as exc:
+                raise ValueError(f"X is a ragged list of rows: {exc}") from None
+            if arr.ndim == 2:
+                return _stack_rows(_to_float(arr, "X"), None, estimator_name)
+            raise _not_sequences(arr.ndim)
         return _stack_list(X)
     if isinstance(X, np.ndarray) or hasattr(X, "__array__"):
         arr = np.asarray(X)
@@ -171,9 +180,15 @@ def check_sequences(X, *, estimator_name="estimator"):
         return _stack_list(list(arr))
     if arr.ndim == 2:
         return _stack_rows(_to_float(arr, "X"), None, estimator_name)
-    raise ValueError(
+    raise _not_sequences(arr.ndim)
+
+
+def _not_sequences(ndim):
+    return ValueError(
         "sequences must be a list of 2-D arrays, a 3-D array (n_sequences, T, n_features) or a "
-        f"2-D array (n_sequences, n_features); got an array with {arr.ndim} dimension(s)"
+        f"2-D array (n_sequences, n_features); got an array with {ndim} dimension(s). Reshape "
+        "your data with array.reshape(-1, 1) if it has a single feature or array.reshape(1, -1) "
+        "if it is a single sample"
     )
 
 

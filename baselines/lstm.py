@@ -13,6 +13,7 @@ from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.exceptions import DataConversionWarning
 from sklearn.model_selection import train_test_split
 from sklearn.utils import check_random_state
+from sklearn.utils.class_weight import compute_class_weight
 from sklearn.utils.multiclass import type_of_target
 from sklearn.utils.validation import check_is_fitted
 from torch import nn
@@ -93,10 +94,12 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
     patience : int, default=20
         Stop after this many epochs without improvement of the monitored loss; the weights of
         the best epoch are restored.
-    class_weight : {"balanced"} or None, default=None
-        ``None`` weights every sequence equally (the paper's loss). ``"balanced"`` multiplies
-        the loss of positive examples of each objective by ``n_negative / n_positive`` in the
-        training part (``pos_weight`` of :class:`torch.nn.BCEWithLogitsLoss`).
+    class_weight : dict, list of dict, "balanced" or None, default=None
+        Weights of the labels in each objective's binary cross-entropy, as in scikit-learn's
+        forests. ``None`` weights every sequence equally (the paper's loss). ``"balanced"``
+        weights label ``c`` of objective ``k`` by ``n / (2 * count_k(c))`` over the sequences
+        given to ``fit``, so both labels weigh the same in total. A dict ``{label: weight}``
+        (1-D ``y``) or a list of such dicts, one per objective (2-D ``y``), sets them by hand.
     standardize : bool, default=True
         Centre and scale every feature with its mean and standard deviation over all training
         time steps (constant features are only centred). Harmless for boolean propositions,
@@ -181,7 +184,8 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
 
     *Class imbalance.* The default loss is the paper's unweighted binary cross-entropy; a
     model that collapses to the majority class on small data shows it honestly.
-    ``class_weight="balanced"`` is the option to counter imbalance.
+    ``class_weight="balanced"`` is the option to counter imbalance (it also weighs the
+    validation loss used for early stopping).
 
     Examples
     --------
@@ -290,6 +294,7 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
         self.n_outputs_ = len(classes)
         self._multi_output = multi
         self._constant = np.array([len(c) == 1 for c in classes])
+        weights = self._label_weights(y01, classes)
 
         if self.standardize:
             mean = sequences.data.mean(axis=0)
@@ -323,8 +328,8 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
             torch.manual_seed(torch_seed)
             module = _RecurrentNet(**self._net_config).to(device)
             self._train(
-                module, data, sequences.offsets, y01, phase_data, train_idx, valid_idx,
-                order_rng, device,
+                module, data, sequences.offsets, y01, weights, phase_data, train_idx,
+                valid_idx, order_rng, device,
             )
         self.fit_time_ = time.perf_counter() - start
         if self.verbose:
@@ -365,8 +370,12 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
             real(self.clip_grad_norm, "clip_grad_norm", 0, math.inf, low_open=True)
         if self.pooling not in _POOLINGS:
             raise ValueError(f"pooling must be one of {_POOLINGS}, got {self.pooling!r}")
-        if self.class_weight not in (None, "balanced"):
-            raise ValueError(f"class_weight must be None or 'balanced', got {self.class_weight!r}")
+        cw = self.class_weight
+        if not (cw is None or isinstance(cw, dict) or (isinstance(cw, str) and cw == "balanced")
+                or (isinstance(cw, (list, tuple)) and all(isinstance(d, dict) for d in cw))):
+            raise ValueError(
+                f"class_weight must be None, 'balanced', a dict or a list of dicts, got {cw!r}"
+            )
         for param in ("bidirectional", "coupled", "standardize"):
             if not isinstance(getattr(self, param), (bool, np.bool_)):
                 raise ValueError(f"{param} must be a bool, got {getattr(self, param)!r}")
@@ -413,8 +422,9 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
             values = np.unique(col)
             if len(values) > 2:
                 raise ValueError(
-                    f"{type(self).__name__} is a binary classifier per objective; {where} has "
-                    f"{len(values)} classes: {values.tolist()[:10]}"
+                    "Only binary classification is supported. The type of the target is "
+                    f"multiclass: {where} has {len(values)} classes {values.tolist()[:10]}; "
+                    f"{type(self).__name__} needs two labels per objective"
                 )
             classes.append(values)
             y01[:, k] = np.searchsorted(values, col)
@@ -438,17 +448,33 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
             return np.sort(train), np.sort(valid)
         raise AssertionError("unstratified split cannot fail")  # pragma: no cover
 
-    def _train(self, module, data, offsets, y01, phase_data, train_idx, valid_idx, order_rng,
-               device):
-        objective_mask = torch.as_tensor(~self._constant, dtype=torch.float32, device=device)
-        pos_weight = None
-        if self.class_weight == "balanced":
-            positives = y01[train_idx].sum(axis=0)
-            negatives = len(train_idx) - positives
-            pos_weight = torch.as_tensor(
-                np.where(positives > 0, negatives / np.maximum(positives, 1), 1.0),
-                dtype=torch.float32, device=device,
+    def _label_weights(self, y01, classes):
+        """Weight ``(n, n_outputs)`` of every sequence's label in each objective's loss."""
+        cw = self.class_weight
+        weights = np.ones(y01.shape, dtype=np.float32)
+        if cw is None:
+            return weights
+        if isinstance(cw, dict):
+            if len(classes) > 1:
+                raise ValueError(
+                    "class_weight must be a list of dicts, one per objective, when y has "
+                    f"{len(classes)} columns, or 'balanced'"
+                )
+            cw = [cw]
+        elif not isinstance(cw, str) and len(cw) != len(classes):
+            raise ValueError(
+                f"class_weight has {len(cw)} dicts but y has {len(classes)} objectives"
             )
+        for k, values in enumerate(classes):
+            spec = cw if isinstance(cw, str) else cw[k]
+            labels = values[y01[:, k].astype(np.int64)]
+            per_class = compute_class_weight(spec, classes=values, y=labels)
+            weights[:, k] = per_class[y01[:, k].astype(np.int64)]
+        return weights
+
+    def _train(self, module, data, offsets, y01, weights, phase_data, train_idx, valid_idx,
+               order_rng, device):
+        objective_mask = torch.as_tensor(~self._constant, dtype=torch.float32, device=device)
         optimizer = torch.optim.Adam(
             module.parameters(), lr=self.lr, weight_decay=self.weight_decay
         )
@@ -458,7 +484,8 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
             logits, phase_logits = module(*batch)
             target = torch.as_tensor(y01[indices], device=device)
             bce = nn.functional.binary_cross_entropy_with_logits(
-                logits, target, pos_weight=pos_weight, reduction="none"
+                logits, target, weight=torch.as_tensor(weights[indices], device=device),
+                reduction="none",
             )
             loss = (bce.mean(dim=0) * objective_mask).sum()
             if phase_logits is not None:
@@ -619,7 +646,7 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
     # --------------------------------------------------------------- pickle
 
     def __getstate__(self):
-        state = super().__getstate__()
+        state = dict(super().__getstate__())
         module = state.pop("module_", None)
         if module is not None:
             state["_module_state"] = {
