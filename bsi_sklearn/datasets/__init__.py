@@ -1,5 +1,11 @@
 """Generators of the paper's domains with known ground-truth specifications."""
 
+from bsi_sklearn.datasets.dinner_table import (
+    dinner_table_labels,
+    dinner_table_specification,
+    dinner_table_tsrs,
+    make_dinner_table_demos,
+)
 from bsi_sklearn.datasets.poi_threat import (
     make_poi_threat_demos,
     plot_demos,
@@ -10,6 +16,10 @@ from bsi_sklearn.datasets.tsr import TaskSpaceRegion, make_pose
 
 __all__ = [
     "TaskSpaceRegion",
+    "dinner_table_labels",
+    "dinner_table_specification",
+    "dinner_table_tsrs",
+    "make_dinner_table_demos",
     "make_pose",
     "make_poi_threat_demos",
     "plot_demos",

@@ -1,0 +1,638 @@
+"""Dinner-table setting domain: simulated two-wrist demonstrations with poses in SE(3)."""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+import pandas as pd
+from sklearn.utils import Bunch, check_random_state
+
+from bsi_sklearn.datasets.tsr import TaskSpaceRegion, make_pose, matrix_to_rpy
+from bsi_sklearn.specification import Specification
+
+__all__ = [
+    "make_dinner_table_demos",
+    "dinner_table_labels",
+    "dinner_table_specification",
+    "dinner_table_tsrs",
+    "PIECES",
+    "MEALS",
+    "PARTICIPANTS",
+]
+
+#: The eight dining-set pieces, in column order.
+PIECES = (
+    "dinner_plate",
+    "small_plate",
+    "bowl",
+    "fork",
+    "knife",
+    "spoon",
+    "water_glass",
+    "mug",
+)
+_P = {p: k for k, p in enumerate(PIECES)}
+
+#: The four meal configurations: which pieces the meal needs (the conditions ``pi_i``).
+MEALS = {
+    "dinner": ("dinner_plate", "fork", "knife", "water_glass"),
+    "soup_and_salad": ("dinner_plate", "small_plate", "bowl", "fork", "spoon", "water_glass"),
+    "breakfast": ("small_plate", "bowl", "knife", "spoon", "mug"),
+    "full_course": PIECES,
+}
+
+#: The stacking order of the ground truth: dinner plate, then small plate, then bowl.
+STACK = ("dinner_plate", "small_plate", "bowl")
+
+#: Six simulated demonstrators and their habits. ``priority`` is the order in which they
+#: like to place the pieces (None: a fresh random order each time, plates still stacked
+#: correctly); ``swap_prob`` the chance of each adjacent swap of that order in a
+#: demonstration; ``bimanual`` participants carry fork (left hand) and knife (right hand)
+#: together; ``precision`` is the fraction of each placement tolerance they use.
+PARTICIPANTS = (
+    {"hand": "right", "bimanual": False, "speed": 0.75, "precision": 0.5, "swap_prob": 0.1,
+     "priority": ("dinner_plate", "small_plate", "bowl", "fork", "knife", "spoon",
+                  "water_glass", "mug")},
+    {"hand": "left", "bimanual": False, "speed": 0.6, "precision": 0.7, "swap_prob": 0.15,
+     "priority": ("water_glass", "mug", "dinner_plate", "small_plate", "bowl", "fork",
+                  "spoon", "knife")},
+    {"hand": "right", "bimanual": True, "speed": 0.8, "precision": 0.6, "swap_prob": 0.1,
+     "priority": ("dinner_plate", "fork", "knife", "small_plate", "bowl", "spoon",
+                  "water_glass", "mug")},
+    {"hand": "right", "bimanual": False, "speed": 0.5, "precision": 0.4, "swap_prob": 0.05,
+     "priority": ("fork", "knife", "spoon", "dinner_plate", "small_plate", "bowl", "mug",
+                  "water_glass")},
+    {"hand": "right", "bimanual": False, "speed": 0.65, "precision": 0.8, "swap_prob": 0.0,
+     "priority": None},
+    {"hand": "left", "bimanual": True, "speed": 0.7, "precision": 0.5, "swap_prob": 0.2,
+     "priority": ("dinner_plate", "small_plate", "bowl", "water_glass", "mug", "fork",
+                  "spoon", "knife")},
+)
+
+NEGATIVE_KINDS = ("centerpiece", "skip", "misplace", "order")
+
+TABLE_HEIGHT = 0.75
+CENTERPIECE_XY = (0.0, 0.24)
+# target (x, y, yaw) of every piece on the table; plates, bowl and glass are yaw-free
+_TARGETS = {
+    "dinner_plate": (0.0, -0.22, 0.0),
+    "small_plate": (0.0, -0.22, 0.0),
+    "bowl": (0.0, -0.22, 0.0),
+    "fork": (-0.19, -0.22, np.pi / 2),
+    "knife": (0.17, -0.22, np.pi / 2),
+    "spoon": (0.22, -0.22, np.pi / 2),
+    "water_glass": (0.19, 0.0, 0.0),
+    "mug": (0.31, -0.06, 0.0),
+}
+_THICKNESS = {"dinner_plate": 0.02, "small_plate": 0.02, "bowl": 0.05}
+# where each piece waits on the side table (x, y, yaw)
+_SIDE_SLOTS = {
+    "dinner_plate": (0.74, -0.42, 0.0),
+    "small_plate": (0.74, -0.16, 0.0),
+    "bowl": (0.95, -0.42, 0.0),
+    "fork": (0.90, -0.16, 0.0),
+    "knife": (0.96, -0.16, 0.0),
+    "spoon": (1.02, -0.16, 0.0),
+    "water_glass": (1.10, -0.40, 0.0),
+    "mug": (1.10, -0.26, 0.0),
+}
+_GRASP_HEIGHT = 0.07  # wrist above the object's base frame while holding it
+_REST = {"left": (-0.3, -0.62, 0.95), "right": (0.3, -0.62, 0.95)}
+_HANDS = ("left", "right")
+_MOCAP_NOISE = 0.001  # metres, on tracked positions
+
+
+def _tsr_bounds(piece):
+    free = [-np.pi, np.pi]
+    if piece in STACK:
+        return [[-0.04, 0.04], [-0.04, 0.04], [-0.006, 0.065], [-0.15, 0.15], [-0.15, 0.15],
+                free]
+    if piece in ("fork", "knife", "spoon"):
+        return [[-0.03, 0.03], [-0.05, 0.05], [-0.006, 0.03], [-0.2, 0.2], [-0.2, 0.2],
+                [-0.25, 0.25]]
+    if piece == "water_glass":
+        return [[-0.03, 0.03], [-0.03, 0.03], [-0.006, 0.02], [-0.1, 0.1], [-0.1, 0.1], free]
+    return [[-0.03, 0.03], [-0.03, 0.03], [-0.006, 0.02], [-0.1, 0.1], [-0.1, 0.1],
+            [-0.6, 0.6]]
+
+
+def dinner_table_tsrs():
+    """Task-space regions of the dinner-table domain.
+
+    Returns
+    -------
+    tsrs : dict
+        One :class:`TaskSpaceRegion` per piece (its frame sits at the piece's place on the
+        table, yawed as the piece should lie; translation and rotation tolerances as a
+        person would accept) and ``"centerpiece"``: a 0.26 m square column, 0.35 m tall,
+        around the centerpiece, any orientation, that no wrist may enter.
+
+    Examples
+    --------
+    >>> tsrs = dinner_table_tsrs()
+    >>> sorted(tsrs)[:3]
+    ['bowl', 'centerpiece', 'dinner_plate']
+    >>> from bsi_sklearn.datasets.tsr import make_pose
+    >>> bool(tsrs["fork"].contains(make_pose([-0.19, -0.2, 0.75], [0.0, 0.0, 1.6])))
+    True
+    """
+    tsrs = {}
+    for piece in PIECES:
+        x, y, yaw = _TARGETS[piece]
+        tsrs[piece] = TaskSpaceRegion(make_pose([x, y, TABLE_HEIGHT], [0.0, 0.0, yaw]),
+                                      _tsr_bounds(piece))
+    cx, cy = CENTERPIECE_XY
+    tsrs["centerpiece"] = TaskSpaceRegion(
+        make_pose([cx, cy, TABLE_HEIGHT]),
+        [[-0.13, 0.13], [-0.13, 0.13], [0.0, 0.35], [-np.pi, np.pi], [-np.pi, np.pi],
+         [-np.pi, np.pi]],
+    )
+    return tsrs
+
+
+def _names():
+    omegas = [f"omega_{p}" for p in PIECES]
+    pis = [f"pi_{p}" for p in PIECES]
+    return ["tau_c"], omegas, pis
+
+
+def dinner_table_specification():
+    """Ground truth of the dinner-table task.
+
+    ``G(tau_c)`` (no wrist in the centerpiece's region), ``pi_i -> F(omega_i)`` for every
+    piece, and dinner plate before small plate before bowl (``pi_a -> (!omega_b U omega_a)``
+    for the three ordered pairs).
+
+    Returns
+    -------
+    specification : Specification
+
+    Examples
+    --------
+    >>> spec = dinner_table_specification()
+    >>> spec.n_conjuncts, sorted(spec.orders)[0]
+    (12, ('omega_dinner_plate', 'omega_bowl'))
+    """
+    taus, omegas, pis = _names()
+    return Specification(
+        globals=taus,
+        eventuals=omegas,
+        orders=[(f"omega_{a}", f"omega_{b}") for a, b in zip(STACK[:-1], STACK[1:],
+                                                                  strict=True)],
+        conditions=dict(zip(omegas, pis, strict=True)),
+    )
+
+
+def dinner_table_labels(object_poses, wrist_poses, needed, *, tsrs=None):
+    """Labelling functions of the dinner-table domain: poses to a boolean trace.
+
+    - ``tau_c`` holds when no wrist pose lies in the centerpiece's TSR;
+    - ``omega_i`` holds when piece ``i``'s pose lies in its TSR;
+    - ``pi_i`` (constant) holds when the meal needs piece ``i``.
+
+    Parameters
+    ----------
+    object_poses : array-like of shape (T, 8, 4, 4)
+        World poses of the pieces, in the order of :data:`PIECES`.
+    wrist_poses : array-like of shape (T, n_wrists, 4, 4)
+        World poses of the demonstrator's wrists.
+    needed : array-like of 8 bool, or iterable of piece names
+        The pieces the meal needs.
+    tsrs : dict, default=None
+        Region per piece and ``"centerpiece"``; :func:`dinner_table_tsrs` when None.
+
+    Returns
+    -------
+    trace : pandas.DataFrame of shape (T, 17), dtype bool
+        Columns ``tau_c``, ``omega_<piece>`` and ``pi_<piece>``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from bsi_sklearn.datasets.tsr import make_pose
+    >>> objects = make_pose(np.zeros((1, 8, 3)))  # every piece at the world origin
+    >>> wrists = make_pose([[[0.0, 0.24, 0.9], [0.3, -0.6, 0.9]]])  # one over the centerpiece
+    >>> trace = dinner_table_labels(objects, wrists, ["fork"])
+    >>> trace[["tau_c", "omega_fork", "pi_fork", "pi_mug"]].iloc[0].tolist()
+    [False, False, True, False]
+    """
+    tsrs = dinner_table_tsrs() if tsrs is None else tsrs
+    obj = np.asarray(object_poses, dtype=float)
+    wr = np.asarray(wrist_poses, dtype=float)
+    if obj.ndim != 4 or obj.shape[1:] != (len(PIECES), 4, 4):
+        raise ValueError(f"object_poses must have shape (T, 8, 4, 4), got {obj.shape}")
+    if wr.ndim != 4 or wr.shape[0] != obj.shape[0] or wr.shape[2:] != (4, 4):
+        raise ValueError(
+            f"wrist_poses must have shape (T, n_wrists, 4, 4) with T = {obj.shape[0]}, "
+            f"got {wr.shape}"
+        )
+    if obj.shape[0] < 1:
+        raise ValueError("object_poses must hold at least one time step")
+    missing = [k for k in (*PIECES, "centerpiece") if k not in tsrs]
+    if missing:
+        raise ValueError(f"tsrs lacks a region for {missing}")
+    need = _check_needed(needed)
+    T = obj.shape[0]
+    omega = np.column_stack([tsrs[p].contains(obj[:, k]) for k, p in enumerate(PIECES)])
+    tau = ~np.any(tsrs["centerpiece"].contains(wr), axis=1)
+    data = np.concatenate(
+        [tau[:, None], omega, np.broadcast_to(need, (T, len(PIECES)))], axis=1
+    )
+    taus, omegas, pis = _names()
+    return pd.DataFrame(data, columns=taus + omegas + pis)
+
+
+def _check_needed(needed):
+    arr = None
+    if not isinstance(needed, str):
+        try:
+            arr = np.asarray(needed)
+        except (TypeError, ValueError):
+            arr = None
+    if arr is not None and arr.dtype == bool:
+        if arr.shape != (len(PIECES),):
+            raise ValueError(f"needed must have {len(PIECES)} booleans, got shape {arr.shape}")
+        return arr
+    if isinstance(needed, str):
+        raise ValueError("needed must be an iterable of piece names or 8 booleans")
+    need = np.zeros(len(PIECES), dtype=bool)
+    for p in needed:
+        if p not in _P:
+            raise ValueError(f"needed has unknown piece {p!r}; pieces are {PIECES}")
+        need[_P[p]] = True
+    return need
+
+
+def make_dinner_table_demos(
+    n_demos=71,
+    *,
+    n_negative=0,
+    negative_kinds=NEGATIVE_KINDS,
+    sampling_rate=10.0,
+    max_tries=50,
+    random_state=None,
+):
+    """Simulate demonstrations of setting a dinner table, with both wrists tracked.
+
+    A demonstrator stands at the front of a table; the eight pieces (:data:`PIECES`) wait on
+    a side table to the right. Each demonstration serves one of four meals (:data:`MEALS`),
+    which decides the pieces to place (the conditions ``pi_i``). Demonstration ``i`` is
+    given by participant ``i % 6`` for meal ``(i // 6) % 4``, so every participant sets the
+    table several times for every meal. Participants (:data:`PARTICIPANTS`) differ in
+    dominant hand, speed, precision, preferred order (perturbed by random swaps from one
+    demonstration to the next) and whether they carry fork and knife at once. Each
+    piece is moved by pick, lift, carry, lower and release, the wrists following
+    minimum-jerk motions between these keyframes; the piece follows the wrist that holds
+    it. Poses are 4x4 homogeneous transforms in SE(3), sampled at ``sampling_rate``, with
+    1 mm of tracking noise on every position.
+
+    ``omega_i`` holds while piece ``i`` lies in its task-space region and ``tau_c`` while no
+    wrist is in the centerpiece's region (:func:`dinner_table_labels`). In positive
+    demonstrations the plates are stacked dinner plate, small plate, bowl, and the hands
+    keep clear of the centerpiece. Negative ones break the ground truth in one of
+    ``negative_kinds``, chosen uniformly among those possible for the meal:
+
+    - ``"centerpiece"``: one carry passes over the centerpiece, through its region;
+    - ``"skip"``: a needed piece is never placed;
+    - ``"misplace"``: a needed piece is put down out of its region (shifted, or cutlery and
+      mug turned the wrong way) and left there;
+    - ``"order"``: two needed plates / bowl are placed in the wrong stacking order.
+
+    Every positive satisfies the ground truth and every negative violates it (checked with
+    :meth:`Specification.satisfied_by`; a failing draw is redrawn).
+
+    Parameters
+    ----------
+    n_demos : int, default=71
+        Number of positive demonstrations (the paper collected 71).
+    n_negative : int, default=0
+        Number of negative demonstrations, returned after the positives.
+    negative_kinds : sequence of str, default=all four
+        Among ``"centerpiece"``, ``"skip"``, ``"misplace"``, ``"order"``.
+    sampling_rate : float, default=10.0
+        Tracking rate in Hz.
+    max_tries : int, default=50
+        Draws allowed per demonstration before giving up with ``RuntimeError``.
+    random_state : int, RandomState instance or None, default=None
+
+    Returns
+    -------
+    data : sklearn.utils.Bunch
+        - ``traces``: list of ``pandas.DataFrame`` (bool), columns ``feature_names``;
+        - ``labels``: ndarray of int, 1 for positives, 0 for negatives;
+        - ``feature_names``: ``tau_c``, ``omega_<piece>`` (8), ``pi_<piece>`` (8);
+        - ``roles``: dict with ``global_candidates`` (``["tau_c"]``), ``subtasks``
+          (the ``omega_<piece>``) and ``conditions`` (``omega_<piece> -> pi_<piece>``);
+        - ``specification``: the ground truth (:func:`dinner_table_specification`);
+        - ``object_poses``: list of ndarray ``(T_i, 8, 4, 4)``;
+        - ``wrist_poses``: list of ndarray ``(T_i, 2, 4, 4)`` (left, right);
+        - ``times``: list of ndarray ``(T_i,)`` in seconds;
+        - ``meals``, ``participants`` (1 to 6): per demonstration;
+        - ``placements``: list of the pieces in the order they were put down;
+        - ``violations``: ``""`` for positives, else the negative kind;
+        - ``pieces``, ``meal_configurations``, ``participant_habits``, ``tsrs``,
+          ``centerpiece_pose``, ``DESCR``.
+
+    Examples
+    --------
+    >>> data = make_dinner_table_demos(4, n_negative=2, random_state=0)
+    >>> data.labels.tolist(), data.meals[:2]
+    ([1, 1, 1, 1, 0, 0], ['dinner', 'dinner'])
+    >>> data.object_poses[0].shape[1:], data.wrist_poses[0].shape[1:]
+    ((8, 4, 4), (2, 4, 4))
+    >>> all(data.specification.satisfied_by(t) == bool(y)
+    ...     for t, y in zip(data.traces, data.labels))
+    True
+    """
+    n_demos = _check_int(n_demos, "n_demos", 0)
+    n_negative = _check_int(n_negative, "n_negative", 0)
+    if n_demos + n_negative < 1:
+        raise ValueError("n_demos + n_negative must be at least 1")
+    max_tries = _check_int(max_tries, "max_tries", 1)
+    if isinstance(sampling_rate, bool) or not isinstance(sampling_rate, numbers.Real) or not (
+        np.isfinite(sampling_rate) and 1.0 <= sampling_rate <= 1000.0
+    ):
+        raise ValueError(f"sampling_rate must be a number in [1, 1000] Hz, got {sampling_rate!r}")
+    kinds = _check_kinds(negative_kinds, n_negative)
+    rng = check_random_state(random_state)
+    tsrs = dinner_table_tsrs()
+    spec = dinner_table_specification()
+    meal_names = list(MEALS)
+    out = Bunch(traces=[], object_poses=[], wrist_poses=[], times=[], meals=[],
+                participants=[], placements=[], violations=[])
+    for i in range(n_demos + n_negative):
+        negative = i >= n_demos
+        participant = i % len(PARTICIPANTS)
+        meal = meal_names[(i // len(PARTICIPANTS)) % len(MEALS)]
+        for _ in range(max_tries):
+            demo = _simulate(participant, meal, rng, tsrs, kinds if negative else None,
+                             1.0 / float(sampling_rate))
+            if demo is None:
+                continue
+            objects, wrists, times, placed, kind = demo
+            trace = dinner_table_labels(objects, wrists, MEALS[meal], tsrs=tsrs)
+            if spec.satisfied_by(trace) != negative:
+                break
+        else:
+            raise RuntimeError(
+                f"no valid {'negative' if negative else 'positive'} demonstration in "
+                f"{max_tries} draws (demonstration {i}, meal {meal!r})"
+            )
+        out.traces.append(trace)
+        out.object_poses.append(objects)
+        out.wrist_poses.append(wrists)
+        out.times.append(times)
+        out.meals.append(meal)
+        out.participants.append(participant + 1)
+        out.placements.append(placed)
+        out.violations.append(kind if negative else "")
+    taus, omegas, pis = _names()
+    out.labels = np.array([1] * n_demos + [0] * n_negative)
+    out.feature_names = taus + omegas + pis
+    out.roles = {
+        "global_candidates": list(taus),
+        "subtasks": list(omegas),
+        "conditions": dict(zip(omegas, pis, strict=True)),
+    }
+    out.specification = spec
+    out.pieces = list(PIECES)
+    out.meal_configurations = {m: list(p) for m, p in MEALS.items()}
+    out.participant_habits = [dict(h) for h in PARTICIPANTS]
+    out.tsrs = tsrs
+    out.centerpiece_pose = tsrs["centerpiece"].T0_w.copy()
+    out.DESCR = (
+        f"Simulated dinner-table setting: {n_demos} positive and {n_negative} negative "
+        f"demonstrations by {len(PARTICIPANTS)} participants over {len(MEALS)} meals.\n"
+        f"Ground truth: {spec.to_ltl()}"
+    )
+    return out
+
+
+def _plan(participant, meal, rng):
+    """Order in which the participant places the needed pieces (plates stacked correctly)."""
+    habit = PARTICIPANTS[participant]
+    if habit["priority"] is None:
+        order = list(PIECES)
+        rng.shuffle(order)
+    else:
+        order = list(habit["priority"])
+        for k in range(len(order) - 1):
+            if rng.random_sample() < habit["swap_prob"]:
+                order[k], order[k + 1] = order[k + 1], order[k]
+    order = [p for p in order if p in MEALS[meal]]
+    slots = [k for k, p in enumerate(order) if p in STACK]
+    stacked = [p for p in STACK if p in order]
+    for k, p in zip(slots, stacked, strict=True):
+        order[k] = p
+    return order
+
+
+def _steps(order, habit):
+    """Group the plan into steps ``{hand: piece}``; bimanual people carry fork and knife."""
+    dominant = habit["hand"]
+    other = "left" if dominant == "right" else "right"
+    pair = ("fork", "knife")
+    steps = []
+    for p in order:
+        if habit["bimanual"] and p in pair and all(q in order for q in pair):
+            if p == next(q for q in order if q in pair):  # the first of the two
+                steps.append({"left": "fork", "right": "knife"})
+            continue
+        hand = other if (p == "fork" and habit["bimanual"]) else dominant
+        steps.append({hand: p})
+    return steps
+
+
+class _Keyframes:
+    """Per-hand keyframes ``(time, xyz, rpy)`` with minimum-jerk segments between them."""
+
+    def __init__(self):
+        self.frames = {h: [(0.0, np.array(_REST[h]), np.array([0.0, 0.2, np.pi / 2]))]
+                       for h in _HANDS}
+
+    def now(self, hand):
+        return self.frames[hand][-1][0]
+
+    def add(self, hand, xyz, rpy, speed, rng, dwell=0.0):
+        t, p0, a0 = self.frames[hand][-1]
+        xyz = np.asarray(xyz, float)
+        rpy = np.asarray(rpy, float).copy()
+        # unwrap the angles so the interpolation turns the short way
+        rpy = a0 + (rpy - a0 + np.pi) % (2 * np.pi) - np.pi
+        dist = np.linalg.norm(xyz - p0) + 0.05 * np.abs(rpy - a0).sum()
+        dur = 0.15 + dist / speed * rng.uniform(0.85, 1.15)
+        self.frames[hand].append((t + dur, xyz, rpy))
+        if dwell > 0:
+            self.frames[hand].append((t + dur + dwell, xyz, rpy))
+        return t + dur
+
+    def wait_until(self, hand, t):
+        t0, p, a = self.frames[hand][-1]
+        if t > t0:
+            self.frames[hand].append((t, p, a))
+
+    def sample(self, hand, times):
+        ts = np.array([f[0] for f in self.frames[hand]])
+        ps = np.array([f[1] for f in self.frames[hand]])
+        angs = np.array([f[2] for f in self.frames[hand]])
+        idx = np.clip(np.searchsorted(ts, times, side="right") - 1, 0, len(ts) - 1)
+        nxt = np.minimum(idx + 1, len(ts) - 1)
+        span = ts[nxt] - ts[idx]
+        tau = np.where(span > 0, (times - ts[idx]) / np.where(span > 0, span, 1.0), 0.0)
+        tau = np.clip(tau, 0.0, 1.0)
+        s = (10 * tau**3 - 15 * tau**4 + 6 * tau**5)[:, None]
+        pos = ps[idx] + s * (ps[nxt] - ps[idx])
+        rpy = angs[idx] + s * (angs[nxt] - angs[idx])
+        return make_pose(pos, rpy)
+
+
+def _final_pose(piece, tsrs, precision, rng, stack_height):
+    """Draw a placement inside the piece's region, using ``precision`` of each tolerance."""
+    B = tsrs[piece].Bw
+    mid = B.mean(axis=1)
+    half = (B[:, 1] - B[:, 0]) / 2 * precision
+    d = mid + half * rng.uniform(-1.0, 1.0, size=6)
+    if B[5, 1] - B[5, 0] >= 2 * np.pi:
+        d[5] = rng.uniform(-np.pi, np.pi)
+    d[2] = stack_height + rng.uniform(0.0, 0.002)
+    # pieces lie flat on the table (or on the plate below): barely any roll or pitch
+    d[3:5] = np.clip(rng.normal(0.0, 0.01, size=2), -half[3:5], half[3:5])
+    return tsrs[piece].T0_w @ make_pose(d[:3], d[3:])
+
+
+def _misplaced_pose(piece, tsrs, rng, stack_height):
+    """Draw a placement outside the piece's region: shifted, or turned the wrong way."""
+    B = tsrs[piece].Bw
+    d = np.zeros(6)
+    d[2] = stack_height
+    if B[5, 1] - B[5, 0] < 2 * np.pi and rng.random_sample() < 0.5:
+        d[5] = rng.choice([-1.0, 1.0]) * rng.uniform(np.pi / 2, np.pi)
+    else:
+        angle = rng.uniform(0, 2 * np.pi)
+        reach = max(B[0, 1], B[1, 1]) + rng.uniform(0.04, 0.1)
+        d[0], d[1] = reach * np.cos(angle), reach * np.sin(angle)
+        if B[5, 1] - B[5, 0] >= 2 * np.pi:
+            d[5] = rng.uniform(-np.pi, np.pi)
+    return tsrs[piece].T0_w @ make_pose(d[:3], d[3:])
+
+
+def _simulate(participant, meal, rng, tsrs, kinds, dt):
+    habit = PARTICIPANTS[participant]
+    order = _plan(participant, meal, rng)
+    kind = None
+    misplaced = None
+    via_step = None
+    if kinds is not None:
+        needed_stack = [p for p in order if p in STACK]
+        feasible = [k for k in kinds
+                    if k in ("centerpiece", "skip", "misplace")
+                    or (k == "order" and len(needed_stack) >= 2)]
+        if not feasible:
+            return None
+        kind = feasible[rng.randint(len(feasible))]
+        if kind == "skip":
+            order.remove(order[rng.randint(len(order))])
+        elif kind == "misplace":
+            misplaced = order[rng.randint(len(order))]
+        elif kind == "order":
+            a, b = rng.choice(len(needed_stack), size=2, replace=False)
+            ia, ib = order.index(needed_stack[a]), order.index(needed_stack[b])
+            order[ia], order[ib] = order[ib], order[ia]
+    steps = _steps(order, habit)
+    if kind == "centerpiece":
+        via_step = rng.randint(len(steps)) if steps else None
+        if via_step is None:
+            return None
+
+    speed = habit["speed"] * rng.uniform(0.9, 1.1)
+    frames = _Keyframes()
+    initial = np.empty((len(PIECES), 4, 4))
+    for p, k in _P.items():
+        x, y, yaw = _SIDE_SLOTS[p]
+        initial[k] = make_pose(
+            [x + rng.uniform(-0.01, 0.01), y + rng.uniform(-0.01, 0.01), TABLE_HEIGHT],
+            [0.0, 0.0, yaw + rng.uniform(-0.15, 0.15)],
+        )
+    final = initial.copy()
+    grasp = {}
+    release = {}
+    hand_of = {}
+    up = np.array([0.0, 0.0, 1.0])
+    wrist_offset = make_pose([0.0, 0.0, _GRASP_HEIGHT])
+    stack_height = 0.0
+    t = 0.3 + rng.uniform(0.0, 0.5)  # reaction time
+    for s, step in enumerate(steps):
+        ends = []
+        for j, hand in enumerate(_HANDS):
+            if hand not in step:
+                continue
+            p = step[hand]
+            frames.wait_until(hand, t + 0.15 * j * rng.random_sample())
+            height = stack_height if p in STACK else 0.0
+            if p == misplaced:
+                final[_P[p]] = _misplaced_pose(p, tsrs, rng, height)
+            else:
+                final[_P[p]] = _final_pose(p, tsrs, habit["precision"], rng, height)
+            if p in STACK:
+                stack_height += _THICKNESS[p]
+            pick = initial[_P[p]] @ wrist_offset
+            place = final[_P[p]] @ wrist_offset
+            pick_xyz, pick_rpy = pick[:3, 3], matrix_to_rpy(pick[:3, :3])
+            place_xyz, place_rpy = place[:3, 3], matrix_to_rpy(place[:3, :3])
+            frames.add(hand, pick_xyz + 0.10 * up, pick_rpy, speed, rng)
+            grasp[p] = frames.add(hand, pick_xyz, pick_rpy, speed, rng,
+                                  dwell=rng.uniform(0.1, 0.4))
+            lift = pick_xyz + rng.uniform(0.12, 0.2) * up
+            frames.add(hand, lift, pick_rpy, speed, rng)
+            if via_step == s and hand == next(iter(step)):
+                # reaching across the table: the wrist passes over the centerpiece
+                cx, cy = CENTERPIECE_XY
+                via = [cx + rng.uniform(-0.06, 0.06), cy + rng.uniform(-0.06, 0.06),
+                       TABLE_HEIGHT + rng.uniform(0.12, 0.28)]
+                frames.add(hand, via, place_rpy, speed, rng)
+            frames.add(hand, place_xyz + rng.uniform(0.1, 0.14) * up, place_rpy, speed, rng)
+            release[p] = frames.add(hand, place_xyz, place_rpy, 0.6 * speed, rng,
+                                    dwell=rng.uniform(0.05, 0.3))
+            frames.add(hand, place_xyz + 0.12 * up, place_rpy, speed, rng)
+            ends.append(frames.add(hand, _REST[hand], [0.0, 0.2, np.pi / 2], speed, rng))
+            hand_of[p] = hand
+        t = max(ends) + rng.uniform(0.0, 0.4)
+    t_end = t + 0.5
+    times = np.arange(0.0, t_end + 1e-9, dt)
+    wrists = np.stack([frames.sample(h, times) for h in _HANDS], axis=1)
+    objects = np.broadcast_to(initial, (len(times),) + initial.shape).copy()
+    wrist_to_object = np.linalg.inv(wrist_offset)
+    for p, hand in hand_of.items():
+        k = _P[p]
+        carried = (times >= grasp[p]) & (times < release[p])
+        h = _HANDS.index(hand)
+        objects[carried, k] = wrists[carried, h] @ wrist_to_object
+        objects[times >= release[p], k] = final[k]
+    # tracking noise on positions
+    wrists[..., :3, 3] += rng.normal(0.0, _MOCAP_NOISE, size=wrists.shape[:-2] + (3,))
+    objects[..., :3, 3] += rng.normal(0.0, _MOCAP_NOISE, size=objects.shape[:-2] + (3,))
+    placed = sorted(release, key=release.get)
+    placed = [p for p in placed if p != misplaced]
+    return objects, wrists, times, placed, kind
+
+
+def _check_int(value, name, minimum):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
+def _check_kinds(kinds, n_negative):
+    if isinstance(kinds, str):
+        kinds = (kinds,)
+    try:
+        kinds = tuple(kinds)
+    except TypeError:
+        raise ValueError(f"negative_kinds must be a sequence of kinds, got {kinds!r}") from None
+    for k in kinds:
+        if k not in NEGATIVE_KINDS:
+            raise ValueError(f"negative_kinds has {k!r}; choose among {NEGATIVE_KINDS}")
+    if n_negative and not kinds:
+        raise ValueError("negative_kinds is empty but n_negative > 0")
+    return kinds
