@@ -9,7 +9,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Traces", "check_traces", "check_labels", "Roles", "resolve_roles"]
+__all__ = ["Traces", "check_traces", "check_labels", "Roles", "resolve_roles",
+           "NonNumericTraceError"]
+
+
+class NonNumericTraceError(TypeError, ValueError):
+    """A trace holds values that are not numbers (both a TypeError and a ValueError)."""
 
 
 @dataclass(frozen=True)
@@ -72,12 +77,15 @@ def _to_bool(arr, where, binarize):
     """Turn one demonstration's values into uint8 0/1, or raise naming ``where``."""
     if arr.dtype == bool:
         return arr.astype(np.uint8)
+    if arr.dtype.kind == "c":
+        raise ValueError(f"{where}: Complex data not supported; traces must be boolean")
     if arr.dtype.kind not in "biuf":
         try:
             arr = arr.astype(np.float64)
-        except (TypeError, ValueError):
-            raise ValueError(
-                f"{where} has non-numeric values (dtype {arr.dtype}); traces must be boolean"
+        except (TypeError, ValueError) as exc:
+            raise NonNumericTraceError(
+                f"{where} has non-numeric values (dtype {arr.dtype}): {exc}; traces must be "
+                "boolean"
             ) from None
     if arr.dtype.kind == "f":
         bad = ~np.isfinite(arr)
@@ -121,6 +129,11 @@ def check_traces(X, *, binarize=None, estimator_name="estimator"):
         raise ValueError(f"binarize must be None or a finite number, got {binarize!r}")
     if X is None:
         raise ValueError(f"{estimator_name} expects demonstrations, got None")
+    if hasattr(X, "tocsr") or hasattr(X, "to_dense") and not _is_frame(X):
+        raise TypeError(
+            f"{estimator_name} does not support sparse input; pass dense boolean traces "
+            "(e.g. X.toarray())"
+        )
     if _is_frame(X):
         names = _frame_names(X, "the DataFrame")
         rows = _to_bool(X.to_numpy(), "the DataFrame", binarize)
@@ -128,6 +141,14 @@ def check_traces(X, *, binarize=None, estimator_name="estimator"):
     if isinstance(X, (list, tuple)):
         if len(X) == 0:
             raise ValueError(f"{estimator_name} needs at least one demonstration, got 0")
+        if not _is_frame(X[0]) and np.ndim(X[0]) == 1:
+            # Nested lists of scalars: the 2-D format (each row a trace of length one).
+            try:
+                arr = np.asarray(X)
+            except ValueError:
+                arr = None
+            if arr is not None and arr.ndim == 2 and arr.dtype != object:
+                return check_traces(arr, binarize=binarize, estimator_name=estimator_name)
         return _stack_list(X, binarize)
     if hasattr(X, "__array__") or isinstance(X, np.ndarray):
         arr = np.asarray(X)
@@ -136,7 +157,7 @@ def check_traces(X, *, binarize=None, estimator_name="estimator"):
             f"demonstrations must be a list of 2-D arrays or DataFrames, or a 2-D / 3-D array; "
             f"got {type(X).__name__}"
         )
-    if arr.dtype == object:
+    if arr.dtype == object and arr.ndim != 2:
         return _stack_list(list(arr), binarize)
     if arr.ndim == 3:
         if arr.shape[0] == 0:
@@ -144,13 +165,21 @@ def check_traces(X, *, binarize=None, estimator_name="estimator"):
         return _stack_list(list(arr), binarize)
     if arr.ndim == 2:
         if arr.shape[0] == 0:
-            raise ValueError(f"{estimator_name} needs at least one demonstration, got 0")
+            raise ValueError(
+                f"{estimator_name} needs at least one demonstration: found array with 0 "
+                f"sample(s) (shape={arr.shape}) while a minimum of 1 is required."
+            )
         if arr.shape[1] == 0:
-            raise ValueError("demonstrations have 0 propositions; at least one is required")
+            raise ValueError(
+                f"demonstrations have no propositions: found array with 0 feature(s) "
+                f"(shape={arr.shape}) while a minimum of 1 is required."
+            )
         return _stack_rows(_to_bool(arr, "X", binarize), None)
+    hint = (" Reshape your data: X.reshape(1, -1) for one trace of length one, or wrap a "
+            "(T, n_props) trace in a list." if arr.ndim == 1 else "")
     raise ValueError(
         f"demonstrations must be a list of 2-D traces, a 3-D array (n_demos, T, n_props) or a "
-        f"2-D array (n_demos, n_props); got an array with {arr.ndim} dimension(s)"
+        f"2-D array (n_demos, n_props); got an array with {arr.ndim} dimension(s).{hint}"
     )
 
 
@@ -214,8 +243,8 @@ def check_consistent_traces(traces, n_features_in, feature_names_in, estimator_n
     """Check that traces given after fit have the propositions seen in fit."""
     if traces.n_props != n_features_in:
         raise ValueError(
-            f"X has {traces.n_props} propositions, but {estimator_name} was fitted with "
-            f"{n_features_in} (n_features_in_)"
+            f"X has {traces.n_props} features, but {estimator_name} is expecting "
+            f"{n_features_in} features as input (propositions per time step)"
         )
     fitted, given = feature_names_in, traces.feature_names
     if fitted is not None and given is not None:
@@ -272,13 +301,16 @@ def check_labels(y, n_demos, pos_label=None):
         )
     if len(values) > 2:
         raise ValueError(
-            f"BSIClassifier is a binary classifier (acceptable / unacceptable); y has "
-            f"{len(values)} classes: {values.tolist()[:10]}"
+            "Only binary classification is supported. The type of the target is multiclass: "
+            f"y has {len(values)} classes {values.tolist()[:10]}, while BSI separates "
+            "acceptable from unacceptable demonstrations"
         )
     if pos_label is not None:
         if pos_label not in values.tolist():
             if len(values) == 2:
-                raise ValueError(f"pos_label={pos_label!r} is not among the labels {values.tolist()}")
+                raise ValueError(
+                    f"pos_label={pos_label!r} is not among the labels {values.tolist()}"
+                )
             raise ValueError(
                 f"y has the single label {values[0]!r}, which is not pos_label={pos_label!r}; "
                 "at least one acceptable demonstration is required"

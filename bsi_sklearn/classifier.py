@@ -181,6 +181,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         tags.input_tags.three_d_array = True
         tags.input_tags.two_d_array = True
         tags.classifier_tags.multi_class = False
+        # Generic numeric benchmarks (blobs) are not temporal specifications.
+        tags.classifier_tags.poor_score = True
         tags.target_tags.required = False
         tags.non_deterministic = False
         return tags
@@ -371,7 +373,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
             Column 1 is the posterior mass of the specifications a demonstration satisfies;
             columns follow ``classes_``.
         """
-        return self.posterior_.predict_proba(self._validated(X))
+        traces = self._validated(X)
+        return self.posterior_.predict_proba(traces)
 
     def predict_log_proba(self, X):
         """Logarithm of :meth:`predict_proba`."""

@@ -1,5 +1,4 @@
-"""The three priors of the paper: samplers that follow its probabilistic programs, and
-closed-form log-probabilities of a given structure.
+"""The paper's three priors: program-following samplers and closed-form log-probabilities.
 
 An order structure is a forest over the subtasks stored as a parent array (``-1`` = root):
 Prior 1 (``"linear_chain"``) is a single chain through every subtask, Prior 2

@@ -5,7 +5,6 @@ from collections import Counter
 
 import numpy as np
 import pytest
-
 from _reference import program_distribution
 
 from bsi_sklearn.exact import enumerate_structures

@@ -1,0 +1,147 @@
+"""BSIClassifier as a scikit-learn estimator."""
+
+import pickle
+
+import numpy as np
+import pandas as pd
+import pytest
+from conftest import make_poi_problem
+from sklearn.base import BaseEstimator, TransformerMixin, clone
+from sklearn.exceptions import NotFittedError
+from sklearn.model_selection import GridSearchCV, StratifiedKFold, cross_val_score
+from sklearn.pipeline import Pipeline
+from sklearn.utils.estimator_checks import parametrize_with_checks
+
+from bsi_sklearn import BSIClassifier, Specification
+
+EXPECTED_FAILED_CHECKS = {
+    **{
+        name: (
+            "labels other than 0/1 or booleans need pos_label (DESIGN section 8); this check "
+            "fits with labels such as {1, 2} or strings and no pos_label"
+        )
+        for name in [
+            "check_estimators_dtypes",
+            "check_classifier_data_not_an_array",
+            "check_classifiers_classes",
+            "check_fit2d_1feature",
+        ]
+    },
+}
+
+
+def _checked():
+    # binarize=0.0 lets the generic numeric data of the checks stand for boolean traces.
+    return [BSIClassifier(binarize=0.0, n_samples=200, n_chains=2, random_state=0)]
+
+
+@parametrize_with_checks(_checked(), expected_failed_checks=lambda est: EXPECTED_FAILED_CHECKS)
+def test_sklearn_compatible(estimator, check):
+    check(estimator)
+
+
+@pytest.fixture(scope="module")
+def data():
+    X, y, roles = make_poi_problem(n_demos=30, n_negative=12, seed=5)
+    return X, y, roles
+
+
+def test_fit_attributes_and_predict(data):
+    X, y, roles = data
+    clf = BSIClassifier(random_state=0, **roles)
+    assert clf.fit(X, y) is clf
+    assert clf.classes_.tolist() == [0, 1]
+    assert clf.n_features_in_ == 15
+    assert list(clf.feature_names_in_) == list(X[0].columns)
+    assert isinstance(clf.map_specification_, Specification)
+    assert clf.map_specification_ == clf.posterior_.specifications[0]
+    assert clf.n_unique_specifications_ == len(clf.posterior_)
+    proba = clf.predict_proba(X)
+    assert proba.shape == (len(X), 2) and np.allclose(proba.sum(1), 1)
+    assert np.array_equal(clf.predict(X), clf.classes_[(proba[:, 1] >= 0.5).astype(int)])
+    assert clf.score(X, y) > 0.9
+    assert set(clf.map_specification_.globals) == {"tau_0", "tau_1", "tau_2", "tau_3"}
+
+
+def test_positive_only(data):
+    X, y, roles = data
+    pos = [x for x, label in zip(X, y) if label == 1]
+    a = BSIClassifier(random_state=0, **roles).fit(pos)
+    b = BSIClassifier(random_state=0, **roles).fit(pos, np.ones(len(pos), dtype=int))
+    assert a.classes_.tolist() == [0, 1]
+    assert a.predict_proba(X).shape == (len(X), 2)
+    assert a.posterior_.specifications[:5] == b.posterior_.specifications[:5]
+    with pytest.raises(ValueError, match="only unacceptable"):
+        BSIClassifier(**roles).fit(pos, np.zeros(len(pos), dtype=int))
+
+
+def test_string_labels_with_pos_label(data):
+    X, y, roles = data
+    labels = np.where(y == 1, "ok", "bad")
+    clf = BSIClassifier(pos_label="ok", random_state=0, **roles).fit(X, labels)
+    assert clf.classes_.tolist() == ["bad", "ok"]
+    assert set(clf.predict(X)) <= {"bad", "ok"}
+    with pytest.raises(ValueError, match="pos_label"):
+        BSIClassifier(**roles).fit(X, labels)
+
+
+def test_not_fitted():
+    with pytest.raises(NotFittedError):
+        BSIClassifier().predict([np.ones((2, 2))])
+
+
+@pytest.mark.parametrize("inference", ["exact", "mcmc"])
+def test_pickle_round_trip(data, inference):
+    X, y, roles = data
+    clf = BSIClassifier(inference=inference, n_samples=500, random_state=0, **roles).fit(X, y)
+    clone_ = pickle.loads(pickle.dumps(clf))
+    assert np.array_equal(clf.predict_proba(X), clone_.predict_proba(X))
+    assert clone_.map_specification_ == clf.map_specification_
+
+
+def test_cross_val_and_grid_search(data):
+    X, y, roles = data
+    cv = StratifiedKFold(3, shuffle=True, random_state=0)
+    scores = cross_val_score(BSIClassifier(random_state=0, **roles), X, y, cv=cv)
+    assert scores.shape == (3,) and scores.mean() > 0.8
+    grid = GridSearchCV(
+        BSIClassifier(random_state=0, **roles),
+        {"prior": ["sets_of_chains", "forest"], "p_part": [0.1, 0.5]},
+        cv=cv,
+    ).fit(X, y)
+    assert grid.best_params_["prior"] in {"sets_of_chains", "forest"}
+    assert grid.best_score_ > 0.8
+
+
+class FrameNamer(TransformerMixin, BaseEstimator):
+    """Turns arrays into DataFrames with given names (a transformer in front of BSI)."""
+
+    def __init__(self, names=None):
+        self.names = names
+
+    def fit(self, X, y=None):
+        return self
+
+    def transform(self, X):
+        return [pd.DataFrame(np.asarray(x).astype(bool), columns=self.names) for x in X]
+
+
+def test_pipeline(data):
+    X, y, roles = data
+    names = list(X[0].columns)
+    arrays = [x.to_numpy() for x in X]
+    pipe = Pipeline([("names", FrameNamer(names)),
+                     ("bsi", BSIClassifier(random_state=0, **roles))])
+    pipe.fit(arrays, y)
+    assert pipe.score(arrays, y) > 0.9
+    assert clone(pipe).get_params()["bsi__prior"] == "sets_of_chains"
+
+
+def test_fit_does_not_mutate_params_and_refit_is_identical(data):
+    X, y, roles = data
+    clf = BSIClassifier(inference="mcmc", n_samples=300, random_state=3, **roles)
+    before = clf.get_params()
+    p1 = clf.fit(X, y).predict_proba(X)
+    assert clf.get_params() == before
+    p2 = clf.fit(X, y).predict_proba(X)
+    assert np.array_equal(p1, p2)
