@@ -297,7 +297,9 @@ def make_dinner_table_demos(
     - ``"skip"``: a needed piece is never placed;
     - ``"misplace"``: a needed piece is put down out of its region (shifted, or cutlery and
       mug turned the wrong way) and left there;
-    - ``"order"``: two needed plates / bowl are placed in the wrong stacking order.
+    - ``"order"``: two needed plates / bowl are placed in the wrong stacking order (when
+      ``"order"`` is the only kind, a meal needing fewer than two of them is replaced by
+      the next meal in the cycle).
 
     Every positive satisfies the ground truth and every negative violates it (checked with
     :meth:`Specification.satisfied_by`; a failing draw is redrawn).
@@ -365,6 +367,11 @@ def make_dinner_table_demos(
         negative = i >= n_demos
         participant = i % len(PARTICIPANTS)
         meal = meal_names[(i // len(PARTICIPANTS)) % len(MEALS)]
+        if negative and kinds == ("order",) and sum(q in STACK for q in MEALS[meal]) < 2:
+            # no stacking order to break in this meal: take the next meal that has one
+            start = meal_names.index(meal)
+            meal = next(m for m in meal_names[start:] + meal_names[:start]
+                        if sum(q in STACK for q in MEALS[m]) >= 2)
         for _ in range(max_tries):
             demo = _simulate(participant, meal, rng, tsrs, kinds if negative else None,
                              1.0 / float(sampling_rate))
@@ -560,7 +567,7 @@ def _simulate(participant, meal, rng, tsrs, kinds, dt):
     hand_of = {}
     up = np.array([0.0, 0.0, 1.0])
     wrist_offset = make_pose([0.0, 0.0, _GRASP_HEIGHT])
-    stack_height = 0.0
+    stacked = set()
     t = 0.3 + rng.uniform(0.0, 0.5)  # reaction time
     for s, step in enumerate(steps):
         ends = []
@@ -569,13 +576,14 @@ def _simulate(participant, meal, rng, tsrs, kinds, dt):
                 continue
             p = step[hand]
             frames.wait_until(hand, t + 0.15 * j * rng.random_sample())
-            height = stack_height if p in STACK else 0.0
+            # a plate or bowl rests on those placed before it that belong below it
+            height = sum(_THICKNESS[q] for q in STACK[: STACK.index(p)] if q in stacked) \
+                if p in STACK else 0.0
             if p == misplaced:
                 final[_P[p]] = _misplaced_pose(p, tsrs, rng, height)
             else:
                 final[_P[p]] = _final_pose(p, tsrs, habit["precision"], rng, height)
-            if p in STACK:
-                stack_height += _THICKNESS[p]
+            stacked.add(p)
             pick = initial[_P[p]] @ wrist_offset
             place = final[_P[p]] @ wrist_offset
             pick_xyz, pick_rpy = pick[:3, 3], matrix_to_rpy(pick[:3, :3])
