@@ -68,7 +68,8 @@ def poi_threat_specification(scenario, n_threats=5):
     & (pi_4 -> F(omega_4)) & (pi_5 -> F(omega_5)) & (pi_1 -> (!omega_3 U omega_1))
     & (pi_1 -> (!omega_5 U omega_1)) & (pi_3 -> (!omega_5 U omega_3))
     """
-    if scenario not in _SCENARIO_ORDERS or isinstance(scenario, bool):
+    if (isinstance(scenario, bool) or not isinstance(scenario, numbers.Integral)
+            or scenario not in _SCENARIO_ORDERS):
         raise ValueError(f"scenario must be 1, 2, 3 or a Specification, got {scenario!r}")
     n_threats = _check_int(n_threats, "n_threats", 1)
     taus, omegas, pis = _names(n_threats, _SCENARIO_N_POIS[scenario])
@@ -114,13 +115,11 @@ def poi_threat_labels(
     >>> list(trace.columns)
     ['tau_1', 'omega_1', 'pi_1']
     """
-    pos = _as_points(positions, "positions", min_cols=2)[:, :2]
+    pos = _as_points(positions, "positions", extra_columns=True)[:, :2]
     threats = _as_points(threat_positions, "threat_positions", allow_empty=True)
     pois = _as_points(poi_positions, "poi_positions", allow_empty=True)
     threat_radius = _check_positive(threat_radius, "threat_radius")
     poi_radius = _check_positive(poi_radius, "poi_radius")
-    if len(pos) == 0:
-        raise ValueError("positions must hold at least one time step")
     tau, omega, pi = _label_arrays(pos, threats, pois, threat_radius, poi_radius)
     taus, omegas, pis = _names(len(threats), len(pois))
     data = np.concatenate([tau, omega, np.broadcast_to(pi, (len(pos), len(pois)))], axis=1)
@@ -274,6 +273,7 @@ def make_poi_threat_demos(
         spec = _custom_specification(scenario, n_threats, len(pois))
     else:
         spec = poi_threat_specification(scenario, n_threats)
+        scenario = int(scenario)
         n_pois = _SCENARIO_N_POIS[scenario]
         if poi_positions is None:
             poi_positions = POI_LAYOUTS[n_pois]
@@ -697,15 +697,14 @@ def _check_positive(value, name):
     return float(value)
 
 
-def _as_points(value, name, min_cols=2, allow_empty=False):
+def _as_points(value, name, allow_empty=False, extra_columns=False):
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a numeric array of 2-D points") from None
-    if arr.ndim != 2 or arr.shape[1] < min_cols or (min_cols == 2 and name != "positions"
-                                                    and arr.shape[1] != 2):
+    if arr.ndim != 2 or arr.shape[1] < 2 or (arr.shape[1] > 2 and not extra_columns):
         raise ValueError(f"{name} must have shape (n, 2), got {arr.shape}")
-    if not allow_empty and len(arr) == 0 and name != "positions":
+    if not allow_empty and len(arr) == 0:
         raise ValueError(f"{name} is empty")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} has non-finite values")

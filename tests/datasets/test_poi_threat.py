@@ -59,7 +59,8 @@ def test_labels_ignore_heading_column_and_no_threats():
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        ({"positions": [[0, 0, 0]][0]}, "positions"),
+        ({"positions": [0, 0, 0]}, "positions"),
+        ({"positions": np.empty((0, 2))}, "positions"),
         ({"threat_positions": [[1, 2, 3]]}, "threat_positions"),
         ({"poi_positions": [[np.nan, 1]]}, "poi_positions"),
         ({"threat_radius": 0}, "threat_radius"),
@@ -236,6 +237,8 @@ def test_custom_layout():
     [
         ({"scenario": 0}, "scenario"),
         ({"scenario": "1"}, "scenario"),
+        ({"scenario": 1.0}, "scenario"),
+        ({"start": (1.0, 2.0, 3.0)}, "start"),
         ({"n_demos": -1}, "n_demos"),
         ({"n_demos": 2.5}, "n_demos"),
         ({"n_demos": 0, "n_negative": 0}, "n_negative"),
