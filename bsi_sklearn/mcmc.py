@@ -23,8 +23,9 @@ __all__ = ["run_chain", "deduplicate_demos", "split_rhat", "score_states", "uniq
 
 def unique_states(states, counts):
     """Unique state rows (sorted canonically) and the number of samples of each."""
-    if len(states) == 0:
-        return states, counts
+    if len(states) == 0 or states.shape[1] == 0:
+        # Zero-width rows (empty template): every sample is the same hypothesis.
+        return states[:1], np.array([int(np.sum(counts))], dtype=np.int64)[: len(states[:1])]
     # Rows of small ints: shift to non-negative and pack into one integer key when they fit.
     shifted = states.astype(np.int64) + 1
     bits = max(int(shifted.max()).bit_length(), 1)

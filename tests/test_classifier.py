@@ -145,3 +145,15 @@ def test_fit_does_not_mutate_params_and_refit_is_identical(data):
     assert clf.get_params() == before
     p2 = clf.fit(X, y).predict_proba(X)
     assert np.array_equal(p1, p2)
+
+
+@pytest.mark.parametrize("inference", ["exact", "mcmc"])
+@pytest.mark.parametrize("roles", [dict(subtasks=[]), dict(global_candidates=[]),
+                                   dict(subtasks=[], global_candidates=[]), dict(subtasks=[1])])
+def test_degenerate_templates(inference, roles):
+    X = [np.array([[1, 0], [1, 1]]), np.array([[1, 1]])]
+    clf = BSIClassifier(inference=inference, n_samples=50, random_state=0, **roles).fit(X)
+    assert np.isclose(clf.posterior_.probabilities.sum(), 1.0)
+    assert clf.predict_proba(X).shape == (2, 2)
+    if roles == dict(subtasks=[], global_candidates=[]):
+        assert clf.map_specification_ == Specification()
