@@ -6,9 +6,9 @@ from bsi_sklearn.datasets.dinner_table import (
     dinner_table_tsrs,
     make_dinner_table_demos,
 )
+from bsi_sklearn.datasets.plotting import plot_demos
 from bsi_sklearn.datasets.poi_threat import (
     make_poi_threat_demos,
-    plot_demos,
     poi_threat_labels,
     poi_threat_specification,
 )

@@ -17,7 +17,6 @@ __all__ = [
     "make_poi_threat_demos",
     "poi_threat_labels",
     "poi_threat_specification",
-    "plot_demos",
 ]
 
 #: Fixed POI layouts of the paper's scenarios (world coordinates in ``[0, 10] x [0, 10]``).
@@ -228,7 +227,7 @@ def make_poi_threat_demos(
 
     See Also
     --------
-    plot_demos : draw the generated demonstrations.
+    bsi_sklearn.datasets.plot_demos : draw the generated demonstrations.
 
     Examples
     --------
@@ -610,77 +609,6 @@ def _drive(x, y, heading, dist, gx, gy, goal_r, res, speed, max_turn, lookahead,
         out[step, 1] = y
         out[step, 2] = heading
     return -1, x, y, heading
-
-
-def plot_demos(data, indices=None, *, n=4, ax=None, ncols=4):
-    """Draw demonstrations of :func:`make_poi_threat_demos`, one per panel.
-
-    Green discs are the POIs' tolerance zones (numbered; faded and marked ``x`` when a threat
-    makes the POI inaccessible), red discs the threat zones of that demonstration; the path
-    is blue for positives and orange (dashed) for negatives.
-
-    Parameters
-    ----------
-    data : Bunch
-        The output of :func:`make_poi_threat_demos`.
-    indices : sequence of int, default=None
-        Demonstrations to draw; by default the first ``n``.
-    n : int, default=4
-        Number of demonstrations when ``indices`` is None.
-    ax : matplotlib Axes or array of Axes, default=None
-        Where to draw (one demonstration per Axes); a new figure when None.
-    ncols : int, default=4
-        Panels per row of a new figure.
-
-    Returns
-    -------
-    axes : ndarray of matplotlib Axes
-    """
-    import matplotlib.pyplot as plt
-    from matplotlib.patches import Circle
-
-    n_total = len(data.traces)
-    if indices is None:
-        n = _check_int(n, "n", 1)
-        indices = list(range(min(n, n_total)))
-    else:
-        indices = [int(i) for i in np.atleast_1d(indices)]
-        for i in indices:
-            if not 0 <= i < n_total:
-                raise ValueError(f"indices has {i}, outside [0, {n_total})")
-    if ax is None:
-        ncols = min(_check_int(ncols, "ncols", 1), len(indices))
-        nrows = -(-len(indices) // ncols)
-        _, axes = plt.subplots(nrows, ncols, figsize=(3.2 * ncols, 3.2 * nrows), squeeze=False)
-        axes = axes.ravel()
-        for extra in axes[len(indices):]:
-            extra.set_axis_off()
-    else:
-        axes = np.atleast_1d(ax).ravel()
-        if len(axes) < len(indices):
-            raise ValueError(f"ax holds {len(axes)} Axes for {len(indices)} demonstrations")
-    for a, i in zip(axes, indices, strict=False):
-        for t in data.threat_positions[i]:
-            a.add_patch(Circle(t, data.threat_radius, color="tab:red", alpha=0.3, lw=0))
-        for k, p in enumerate(data.poi_positions):
-            ok = bool(data.accessible[i][k])
-            a.add_patch(Circle(p, data.poi_radius, color="tab:green", alpha=0.7 if ok else 0.25,
-                               lw=0))
-            a.annotate(str(k + 1) if ok else f"{k + 1}x", p, ha="center", va="center",
-                       fontsize=8)
-        traj = data.trajectories[i]
-        positive = bool(data.labels[i])
-        a.plot(traj[:, 0], traj[:, 1], color="tab:blue" if positive else "tab:orange",
-               ls="-" if positive else "--", lw=1.2)
-        a.plot(*traj[0, :2], "k^", ms=5)
-        title = f"demo {i}" + ("" if positive else f" (negative: {data.violations[i]})")
-        a.set_title(title, fontsize=9)
-        a.set_xlim(0, data.world_size)
-        a.set_ylim(0, data.world_size)
-        a.set_aspect("equal")
-        a.set_xticks([])
-        a.set_yticks([])
-    return axes
 
 
 def _check_int(value, name, minimum):

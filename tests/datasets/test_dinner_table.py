@@ -239,3 +239,19 @@ def test_sampling_rate():
 def test_bad_parameters(kwargs, match):
     with pytest.raises(ValueError, match=match):
         make_dinner_table_demos(**{"random_state": 0, **kwargs})
+
+
+def test_plot_dinner_demos(demos):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from bsi_sklearn.datasets import plot_demos
+
+    axes = plot_demos(demos, indices=[0, 80])
+    assert len(axes) == 2
+    assert len(axes[0].patches) == 2 + 9  # table, side table, 8 pieces + centerpiece
+    assert len(axes[0].lines) == 3
+    assert "negative" in axes[1].get_title()
+    plt.close("all")

@@ -278,3 +278,8 @@ def test_plot_demos(demos):
     with pytest.raises(ValueError, match="indices"):
         plot_demos(demos, indices=[1000])
     plt.close("all")
+
+
+def test_plot_demos_rejects_other_objects():
+    with pytest.raises(ValueError, match="data"):
+        plot_demos({"traces": []})
