@@ -88,7 +88,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     pos_label : int, str or bool, default=None
         The acceptable label, needed when labels are not 0/1 or booleans.
     n_jobs : int, default=None
-        Chains run in parallel threads (the numba kernels release the GIL).
+        Chains run in parallel threads of the fitting process (the numba kernels release the
+        GIL). An outer joblib backend (e.g. dask, for cross-validation) distributes whole fits;
+        the chains of one fit stay local.
     random_state : int, RandomState instance or None, default=None
         Seeds of the chains are drawn from it; results do not depend on ``n_jobs``.
     verbose : int, default=0
@@ -316,7 +318,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
             from tqdm.auto import tqdm
 
             seeds_iter = tqdm(seeds, desc="MCMC chains", unit="chain")
-        results = Parallel(n_jobs=self.n_jobs, prefer="threads")(
+        # Chains are threads of this process (the kernels release the GIL), also when an outer
+        # joblib backend such as dask distributes whole fits.
+        results = Parallel(n_jobs=self.n_jobs, backend="threading")(
             delayed(run_chain)(int(seed), truth_t, w_pos, w_neg, n_g, n, code, self.prior,
                                p_g, p_e, p_part, n_new, log_eps, lik, int(self.n_samples),
                                int(self.burn_in))
