@@ -657,6 +657,33 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
         _, phase_logits = self._forward_all(X)
         return [p.argmax(axis=1) for p in phase_logits]
 
+    def score(self, X, y, sample_weight=None):
+        """Accuracy; for several objectives, the fraction of sequences with all of them right.
+
+        Parameters
+        ----------
+        X : list of array-like or DataFrame, 3-D array or 2-D array
+            Sequences with the features seen in ``fit``.
+        y : array-like of shape (n_sequences,) or (n_sequences, n_outputs)
+            True labels.
+        sample_weight : array-like of shape (n_sequences,), default=None
+            Weights of the sequences.
+
+        Returns
+        -------
+        score : float
+            Mean (subset) accuracy, as :class:`~sklearn.multioutput.MultiOutputClassifier`
+            computes it.
+        """
+        y_true = np.asarray(y)
+        y_pred = self.predict(X)
+        if y_pred.ndim == 1:
+            y_true = y_true.ravel() if y_true.ndim == 2 and y_true.shape[1] == 1 else y_true
+            return float(np.average(y_true == y_pred, weights=sample_weight))
+        if y_true.shape != y_pred.shape:
+            raise ValueError(f"y has shape {y_true.shape}, predictions have {y_pred.shape}")
+        return float(np.average(np.all(y_true == y_pred, axis=1), weights=sample_weight))
+
     # --------------------------------------------------------------- pickle
 
     def __getstate__(self):
@@ -781,10 +808,20 @@ def make_paper_baseline(name, **params):
 
     Examples
     --------
+    >>> import numpy as np
     >>> from baselines import make_paper_baseline
-    >>> clf = make_paper_baseline("Bi-LSTM Coupled", random_state=0)
+    >>> clf = make_paper_baseline("Bi-LSTM Coupled", n_phases=2, max_epochs=3, random_state=0)
     >>> clf.bidirectional, clf.coupled
     (True, True)
+    >>> X = [np.eye(4)[:, :3] * k for k in (0, 1, 1, 0, 1, 0)]   # 4 steps, 3 features
+    >>> y = np.array([[0, 1], [1, 0], [1, 1], [0, 0], [1, 1], [0, 1]])
+    >>> phases = [np.array([0, 0, 1, 1])] * 6                     # one label per step
+    >>> clf.fit(X, y, phases=phases).predict(X).shape
+    (6, 2)
+    >>> [p.shape for p in clf.predict_proba(X)]
+    [(6, 2), (6, 2)]
+    >>> clf.predict_phases(X[:1])[0].shape
+    (4,)
     """
     if name not in PAPER_BASELINES:
         raise ValueError(f"unknown baseline {name!r}; choose one of {list(PAPER_BASELINES)}")

@@ -286,3 +286,14 @@ def test_unfitted_and_paper_constructors():
 @parametrize_with_checks([LSTMSequenceClassifier(max_epochs=50, random_state=0)])
 def test_sklearn_compatible_estimator(estimator, check):
     check(estimator)
+
+
+def test_score_is_subset_accuracy_for_several_objectives(trained):
+    clf = trained["LSTM"]
+    pred = clf.predict(X_TEST)
+    assert clf.score(X_TEST, Y_TEST) == pytest.approx(np.mean(np.all(pred == Y_TEST, axis=1)))
+    labels = np.where(Y_TEST == 1, "yes", "no")
+    strings = LSTMSequenceClassifier(random_state=0, **FAST).fit(
+        X_TRAIN, np.where(Y_TRAIN == 1, "yes", "no")
+    )
+    assert 0.0 <= strings.score(X_TEST, labels) <= 1.0
