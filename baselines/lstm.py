@@ -174,7 +174,10 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
     ``ValueError`` without it; standalone models ignore it, so one call can fit all four
     baselines. With ``sklearn.set_config(enable_metadata_routing=True)``, request it with
     ``clf.set_fit_request(phases=True)`` and pass ``params={"phases": phases}`` to
-    :func:`~sklearn.model_selection.cross_validate`; it is split with ``X``.
+    :func:`~sklearn.model_selection.cross_validate`; it is split with ``X``. scikit-learn's
+    router refuses metadata that no estimator requests, so a loop over the four baselines
+    that passes ``phases`` to every one requests it on the standalone models too (they
+    ignore it). Without routing, ``params`` go straight to ``fit``.
 
     *Padding.* Sequences of a batch are zero-padded at the end. The forward direction is
     causal and the backward direction reads each sequence reversed inside its length, every
