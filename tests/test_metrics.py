@@ -8,6 +8,7 @@ from bsi_sklearn.metrics import (
     expected_order_counts,
     expected_similarity,
     jaccard_similarity,
+    similarity_summary,
 )
 from bsi_sklearn.specification import Specification
 
@@ -141,3 +142,94 @@ def test_expected_order_counts():
     assert counts.incorrect == pytest.approx(0.2)
     assert counts.extra == pytest.approx(0.0)
     assert isinstance(counts, OrderCounts)
+
+
+# ---------------------------------------------------------------- one-pass summary
+def test_similarity_summary_exact_numbers():
+    pairs = _posterior_pairs()  # s_half 0.5 (5/8), TRUTH 0.3, s_none 0.2
+    summary = similarity_summary(pairs, TRUTH, k=5)
+    assert summary["expected_similarity"] == pytest.approx(0.5 * 5 / 8 + 0.3)
+    assert summary["best_similarity"] == 1.0
+    assert summary["map_similarity"] == pytest.approx(5 / 8)
+    assert summary["truth_rank"] == 2
+    assert summary["truth_probability"] == pytest.approx(0.3)
+    assert summary["truth_in_top_k"] and not summary["map_is_truth"]
+    assert summary["n_specifications"] == 3
+    assert summary["correct_orders"] == pytest.approx(0.9)
+    assert summary["incorrect_orders"] == pytest.approx(0.2)
+    assert summary["extra_orders"] == pytest.approx(0.0)
+    assert similarity_summary(pairs, TRUTH, k=1)["truth_in_top_k"] is False
+    absent = similarity_summary([(Specification(), 1.0)], TRUTH)
+    assert absent["truth_rank"] is None and absent["truth_probability"] == 0.0
+
+
+def test_summary_truth_rank_ignores_conditions():
+    bare = Specification(globals=TRUTH.globals, eventuals=TRUTH.eventuals,
+                         orders=TRUTH.orders)
+    assert similarity_summary([(bare, 1.0)], TRUTH)["map_is_truth"]
+
+
+def _random_spec(rng, props):
+    g = [p for p in props[:3] if rng.random() < 0.5]
+    e = [p for p in props[3:] if rng.random() < 0.5]
+    perm = list(rng.permutation(props[3:]))
+    orders = [(perm[i], perm[j]) for i in range(len(perm)) for j in range(i + 1, len(perm))
+              if rng.random() < 0.3]
+    return Specification(globals=g, eventuals=e, orders=orders)
+
+
+class MatrixPosterior(FakePosterior):
+    """A posterior that also offers the clause-matrix fast path."""
+
+    def __init__(self, pairs, keys):
+        super().__init__(pairs)
+        self._keys = keys
+
+    def clause_keys(self):
+        return self._keys
+
+    def clause_matrix(self):
+        return np.array([[k in s.clauses() for k in self._keys] for s in self.specifications])
+
+
+def test_fast_path_matches_generic_path():
+    rng = np.random.default_rng(0)
+    props = ["g1", "g2", "g3", "a", "b", "c", "d"]
+    subtasks = props[3:]
+    keys = [("G", p) for p in props[:3]] + [("F", w) for w in subtasks]
+    keys += [("U", a, b) for a in subtasks for b in subtasks if a != b]
+    specs = list({_random_spec(rng, props) for _ in range(200)})
+    probs = rng.random(len(specs))
+    pairs = list(zip(specs, probs / probs.sum(), strict=True))
+    # a truth that mentions a clause outside the candidates ("G", "zz") too
+    truth = Specification(globals=["g1", "zz"], eventuals=["a", "b", "c"],
+                          orders=[("a", "b"), ("b", "c")])
+    fast, slow = MatrixPosterior(pairs, keys), FakePosterior(pairs)
+    assert similarity_summary(fast, truth) == pytest.approx(similarity_summary(slow, truth))
+    manual = sum(p * jaccard_similarity(s, truth) for s, p in pairs)
+    assert expected_similarity(fast, truth) == pytest.approx(manual)
+    counts = np.array([classify_orders(s, truth).counts for s, _ in pairs]).T @ \
+        np.array([p for _, p in pairs])
+    assert tuple(expected_order_counts(fast, truth)) == pytest.approx(tuple(counts))
+
+
+def test_fast_path_shape_mismatch():
+    post = MatrixPosterior([(TRUTH, 1.0)], [("G", "t1")])
+    post.clause_matrix = lambda: np.zeros((1, 3), bool)
+    with pytest.raises(ValueError, match="clause_matrix"):
+        expected_similarity(post, TRUTH)
+
+
+def test_with_a_fitted_classifier():
+    from bsi_sklearn import BSIClassifier
+    from bsi_sklearn.datasets import make_poi_threat_demos
+
+    data = make_poi_threat_demos(3, n_demos=4, n_threats=2, random_state=0)
+    clf = BSIClassifier(prior="sets_of_chains", random_state=0, **data.roles)
+    post = clf.fit(data.traces).posterior_
+    truth = data.specification
+    pairs = list(zip(post.specifications, post.probabilities, strict=True))
+    assert expected_similarity(post, truth) == pytest.approx(expected_similarity(pairs, truth))
+    summary = similarity_summary(post, truth)
+    assert summary["map_similarity"] == jaccard_similarity(clf.map_specification_, truth)
+    assert summary["n_specifications"] == len(pairs)
