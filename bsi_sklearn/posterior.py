@@ -178,6 +178,22 @@ class Posterior:
         keys += [("U", a, b) for a in s for b in s if a != b]
         return keys
 
+    def _clause_slots(self):
+        n_g, n = self.roles.n_globals, self.roles.n_subtasks
+        return list(range(n_g + n)) + [
+            n_g + n + a * n + b for a in range(n) for b in range(n) if a != b
+        ]
+
+    def clause_matrix(self):
+        """Boolean matrix ``(n_specs, n_clauses)``: which candidate clauses each specification has.
+
+        Columns follow :meth:`clause_keys`; no Specification objects are built, so this is the
+        fast path for metrics over large posteriors.
+        """
+        n_cl = self.roles.n_globals + self.roles.n_subtasks + self.roles.n_subtasks ** 2
+        bits = np.unpackbits(self._masks.view(np.uint8), axis=1, bitorder="little")[:, :n_cl]
+        return bits[:, self._clause_slots()].astype(bool)
+
     def clause_marginals(self):
         """Posterior inclusion probability of every candidate clause.
 
@@ -186,12 +202,8 @@ class Posterior:
         pandas.Series
             Indexed by clause keys ``("G", p)``, ``("F", w)``, ``("U", a, b)``.
         """
-        n_g, n = self.roles.n_globals, self.roles.n_subtasks
-        idx = list(range(n_g + n)) + [
-            n_g + n + a * n + b for a in range(n) for b in range(n) if a != b
-        ]
         return pd.Series(
-            self._marginals[idx],
+            self._marginals[self._clause_slots()],
             index=pd.Index(self.clause_keys(), tupleize_cols=False, name="clause"),
             name="inclusion_probability",
         )

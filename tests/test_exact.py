@@ -89,3 +89,14 @@ def test_user_epsilon_changes_posterior():
     b = BSIClassifier(inference="exact", epsilon=0.2, **roles).fit(X, y)
     assert b.log_epsilon_ == pytest.approx(math.log(0.2))
     assert total_variation(a.posterior_, b.posterior_) > 0.01
+
+
+def test_clause_matrix_matches_specifications():
+    X, y, roles = small_problem(seed=1)
+    post = BSIClassifier(inference="exact", **roles).fit(X, y).posterior_
+    mat = post.clause_matrix()
+    keys = post.clause_keys()
+    assert mat.shape == (len(post), len(keys))
+    for i, spec in enumerate(post.specifications[:50]):
+        assert {k for k, b in zip(keys, mat[i]) if b} == spec.clauses()
+    assert np.allclose(post.probabilities @ mat, post.clause_marginals().to_numpy())
