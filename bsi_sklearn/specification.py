@@ -214,8 +214,8 @@ class Specification:
         trace : array-like of shape (T, n_props) or pandas.DataFrame
             Boolean (or 0/1) trace, rows are time steps.
         feature_names : sequence, default=None
-            Column names of ``trace``; taken from the DataFrame columns when omitted. Without
-            names, identifiers must be integer column indices.
+            Column names of ``trace``; taken from the DataFrame columns when omitted. Integer
+            identifiers that are not column names are read as column indices.
 
         Returns
         -------
@@ -224,10 +224,10 @@ class Specification:
         columns, arr = _trace_columns(trace, feature_names)
 
         def col(ident):
-            if columns is not None:
-                if ident not in columns:
-                    raise ValueError(f"proposition {ident!r} is not a column of the trace")
+            if columns is not None and ident in columns:
                 return arr[:, columns[ident]]
+            if columns is not None and not isinstance(ident, (int, np.integer)):
+                raise ValueError(f"proposition {ident!r} is not a column of the trace")
             if isinstance(ident, (int, np.integer)) and 0 <= ident < arr.shape[1]:
                 return arr[:, int(ident)]
             raise ValueError(
