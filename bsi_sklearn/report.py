@@ -901,8 +901,8 @@ def _check_y(y, n, classes):
     if arr.ndim != 1 or len(arr) != n:
         raise ValueError(f"y must be 1-D with one label per demonstration ({n}), got shape "
                          f"{arr.shape}")
-    known = list(classes)
-    for i, v in enumerate(arr):
+    known = np.asarray(classes).tolist()
+    for i, v in enumerate(arr.tolist()):
         if not any(v == c for c in known):
             raise ValueError(f"y[{i}] = {v!r} is not one of the classifier's classes {known}")
     return np.array([v == classes[1] for v in arr], dtype=bool)
