@@ -1,0 +1,701 @@
+"""Reading and writing traces: the ``.trace`` format of samples2LTL / Scarlet, and long CSV."""
+
+from __future__ import annotations
+
+import io as _io
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from bsi_sklearn._validation import check_traces
+from bsi_sklearn.ltl import Formula, parse_ltl
+
+__all__ = [
+    "TraceFile",
+    "read_trace_file",
+    "load_trace_file",
+    "write_trace_file",
+    "read_traces_csv",
+    "write_traces_csv",
+    "traces_from_frame",
+    "traces_to_frame",
+]
+
+_SEPARATOR = "---"
+_SCARLET_NAME = re.compile(r"^f-(\d+)-")
+_DEFAULT_OPERATORS = ("G", "F", "!", "U", "&", "|", "->", "X")
+
+
+@dataclass(frozen=True, eq=False)
+class TraceFile:
+    """Everything a ``.trace`` file holds.
+
+    Attributes
+    ----------
+    positives, negatives : list of ndarray of shape (T_i, n_props), dtype bool
+        Traces in file order.
+    feature_names : list of str
+        Proposition names: the alphabet when the file has one (Scarlet), else
+        ``x0, x1, ...`` (the names samples2LTL targets use).
+    operators : tuple of str
+        Operators the learner may use (the file's operator line).
+    depth : int or None
+        Depth of the target formula (samples2LTL files).
+    alphabet : tuple of str or None
+        The alphabet line (Scarlet files).
+    target : Formula or None
+        The target formula: the file's own (samples2LTL), or for a Scarlet benchmark file
+        ``f-NN-...`` line ``NN`` of the ``formulas.txt`` beside it.
+    target_source : str or None
+        Where the target came from: ``"file"`` or ``"<formulas.txt path>:<line>"``.
+    path : str or None
+        The file read.
+    """
+
+    positives: list
+    negatives: list
+    feature_names: list
+    operators: tuple = _DEFAULT_OPERATORS
+    depth: int | None = None
+    alphabet: tuple | None = None
+    target: Formula | None = None
+    target_source: str | None = None
+    path: str | None = None
+
+    @property
+    def n_props(self):
+        """Number of propositions per step."""
+        return len(self.feature_names)
+
+    @property
+    def X(self):
+        """Positives then negatives, as DataFrames with :attr:`feature_names` columns."""
+        columns = pd.Index(list(self.feature_names))
+        return [pd.DataFrame(t, columns=columns) for t in (*self.positives, *self.negatives)]
+
+    @property
+    def y(self):
+        """Labels of :attr:`X`: 1 for positives, 0 for negatives."""
+        return np.r_[np.ones(len(self.positives), dtype=np.int64),
+                     np.zeros(len(self.negatives), dtype=np.int64)]
+
+
+class _Lines:
+    """Lines of a text file with 1-based numbers, for error messages."""
+
+    def __init__(self, text, name):
+        self.name = name
+        self.lines = text.split("\n")
+        if self.lines and self.lines[-1] == "":
+            self.lines.pop()  # a final newline ends the last line
+        self.lines = [line.rstrip("\r") for line in self.lines]
+
+    def error(self, lineno, message):
+        return ValueError(f"{self.name}, line {lineno}: {message}")
+
+
+def _split_sections(lines):
+    """Sections between ``---`` lines as lists of (1-based line number, text)."""
+    sections, current = [], []
+    for k, line in enumerate(lines.lines, start=1):
+        if line.strip() == _SEPARATOR:
+            sections.append(current)
+            current = []
+        else:
+            current.append((k, line))
+    sections.append(current)
+    return sections
+
+
+_WELL_FORMED = re.compile(r"[01](?:,[01])*(?:;[01](?:,[01])*)*")
+
+
+def _parse_trace(lines, lineno, text, n_props):
+    """One trace line ``0,1;1,1;...`` -> bool array (T, n_props)."""
+    stripped = text.strip()
+    if _WELL_FORMED.fullmatch(stripped):
+        # Fast path: every other byte is a 0/1 digit; steps must all have n_props values.
+        n_steps = stripped.count(";") + 1
+        digits = np.frombuffer(stripped.encode("ascii"), dtype=np.uint8)[::2]
+        width = n_props if n_props is not None else stripped.index(";") // 2 + 1 if (
+            n_steps > 1) else len(digits)
+        if len(digits) == n_steps * width and all(
+            len(step) == 2 * width - 1 for step in stripped.split(";")
+        ):
+            return (digits == ord("1")).reshape(n_steps, width), width
+    if not stripped:
+        raise lines.error(lineno, "empty trace (a trace needs at least one time step)")
+    if "::" in stripped:
+        raise lines.error(lineno, "lasso (infinite) traces 'steps::start' are not supported; "
+                                  "only finite traces are")
+    steps = stripped.split(";")
+    rows = []
+    for s, step in enumerate(steps):
+        values = step.split(",")
+        if step.strip() == "":
+            raise lines.error(lineno, f"time step {s} is empty (two ';' in a row or a "
+                                      "trailing ';')")
+        if n_props is None:
+            n_props = len(values)
+        elif len(values) != n_props:
+            raise lines.error(lineno, f"time step {s} has {len(values)} propositions, "
+                                      f"expected {n_props}")
+        row = []
+        for p, v in enumerate(values):
+            v = v.strip()
+            if v not in ("0", "1"):
+                raise lines.error(lineno, f"time step {s}, proposition {p} has value {v!r}; "
+                                          "values must be 0 or 1")
+            row.append(v == "1")
+        rows.append(row)
+    return np.array(rows, dtype=bool), n_props
+
+
+def _one_line(lines, section, what):
+    content = [(k, t) for k, t in section if t.strip()]
+    if len(content) != 1:
+        k = content[1][0] if len(content) > 1 else (section[0][0] if section else None)
+        where = f"line {k}" if k is not None else "an empty section"
+        raise ValueError(f"{lines.name}, {where}: the {what} section must hold exactly one "
+                         f"line, found {len(content)}")
+    return content[0]
+
+
+def _scarlet_target(path, formulas):
+    if formulas is None or path is None:
+        return None, None
+    match = _SCARLET_NAME.match(Path(path).name)
+    if formulas == "auto":
+        if match is None:
+            return None, None
+        here = Path(path).resolve().parent
+        candidates = [here / "formulas.txt", here.parent / "formulas.txt"]
+        found = [c for c in candidates if c.is_file()]
+        if not found:
+            return None, None
+        formulas = found[0]
+    elif match is None:
+        raise ValueError(f"{path}: formulas was given, but the file name does not start with "
+                         "'f-NN-' (NN is the line of the target in the formulas file)")
+    number = int(match.group(1))
+    text = Path(formulas).read_text()
+    flines = _Lines(text, str(formulas))
+    if not 1 <= number <= len(flines.lines):
+        raise ValueError(f"{path}: the target is line {number} of {formulas}, which has "
+                         f"{len(flines.lines)} lines")
+    try:
+        return parse_ltl(flines.lines[number - 1]), f"{formulas}:{number}"
+    except ValueError as exc:
+        raise flines.error(number, f"target formula: {exc}") from None
+
+
+def read_trace_file(path, *, formulas="auto"):
+    r"""Read a ``.trace`` file of samples2LTL / Scarlet with everything it holds.
+
+    The format: positive traces, ``---``, negative traces, ``---``, the operator line, then
+    either (samples2LTL) ``---``, the formula depth, ``---``, the target formula in prefix
+    notation, or (Scarlet) ``---``, the alphabet. One trace a line, time steps separated by
+    ``;``, the 0/1 propositions of a step by ``,``. A final newline and Windows line ends
+    are accepted.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file.
+    formulas : "auto", path or None, default="auto"
+        Where a Scarlet benchmark file ``f-NN-...`` without its own target finds it: line
+        ``NN`` of this file. ``"auto"`` looks for ``formulas.txt`` in the file's folder and
+        the folder above (the layout of Scarlet's benchmarks); ``None`` reads no target
+        from outside the file.
+
+    Returns
+    -------
+    trace_file : TraceFile
+
+    Raises
+    ------
+    ValueError
+        For a malformed file (missing separators, uneven proposition counts, values other
+        than 0/1, empty traces, a bad depth, target or alphabet), naming the file and the
+        1-based line.
+
+    See Also
+    --------
+    load_trace_file : The same, as ``(X, y, target)``.
+    write_trace_file : The inverse.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> text = "1,0;1,1\n1,1\n---\n0,1;0,0\n---\nG,F,!,&\n---\n1\n---\nG(x0)\n"
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     path = pathlib.Path(tmp) / "demo.trace"
+    ...     _ = path.write_text(text)
+    ...     tf = read_trace_file(path)
+    >>> tf.feature_names, tf.depth, str(tf.target)
+    (['x0', 'x1'], 1, 'G(x0)')
+    >>> [t.shape for t in tf.positives], len(tf.negatives)
+    ([(2, 2), (1, 2)], 1)
+    """
+    path = os.fspath(path)
+    with open(path, encoding="utf-8") as fh:
+        text = fh.read()
+    return _parse_trace_text(text, path, formulas=formulas)
+
+
+def _parse_trace_text(text, path, formulas="auto"):
+    name = str(path) if path is not None else "<trace text>"
+    lines = _Lines(text, name)
+    sections = _split_sections(lines)
+    if len(sections) < 3:
+        last = len(lines.lines)
+        raise lines.error(max(last, 1), f"missing '---' separator: found {len(sections) - 1}, "
+                                        "expected at least 2 (positives --- negatives --- "
+                                        "operators)")
+    if len(sections) > 6:
+        raise lines.error(sections[6][0][0] - 1 if sections[6] else len(lines.lines),
+                          "too many '---' separators (at most 5: positives, negatives, "
+                          "operators, depth, target, alphabet)")
+    n_props = None
+    traces = []
+    for section in sections[:2]:
+        parsed = []
+        for lineno, t in section:
+            arr, n_props = _parse_trace(lines, lineno, t, n_props)
+            parsed.append(arr)
+        traces.append(parsed)
+    if n_props is None:
+        raise ValueError(f"{name}: the file holds no traces (positives and negatives are "
+                         "both empty)")
+    _, op_line = _one_line(lines, sections[2], "operators")
+    operators = tuple(o.strip() for o in op_line.split(",") if o.strip())
+
+    depth = alphabet = target = source = None
+    rest = sections[3:]
+    if rest:
+        lineno, first = _one_line(lines, rest[0], "depth or alphabet")
+        if first.strip().lstrip("-").isdigit():
+            depth = int(first)
+            if depth < 0:
+                raise lines.error(lineno, f"depth must be >= 0, got {depth}")
+            if len(rest) > 1:
+                lineno, formula = _one_line(lines, rest[1], "target formula")
+                try:
+                    target = parse_ltl(formula.strip(), notation="prefix")
+                except ValueError as exc:
+                    raise lines.error(lineno, f"target formula: {exc}") from None
+                source = "file"
+                target_line = lineno
+            alphabet_section = rest[2] if len(rest) > 2 else None
+        else:
+            if len(rest) > 1:
+                raise lines.error(rest[1][0][0] if rest[1] else lineno,
+                                  "unexpected section after the alphabet")
+            alphabet_section = rest[0]
+        if alphabet_section is not None:
+            lineno, line = _one_line(lines, alphabet_section, "alphabet")
+            alphabet = tuple(a.strip() for a in line.split(","))
+            if any(not a for a in alphabet) or len(set(alphabet)) != len(alphabet):
+                raise lines.error(lineno, f"alphabet {line!r} has empty or repeated names")
+            if len(alphabet) != n_props:
+                raise lines.error(lineno, f"the alphabet has {len(alphabet)} names but the "
+                                          f"traces have {n_props} propositions")
+    feature_names = list(alphabet) if alphabet is not None else [f"x{i}" for i in range(n_props)]
+    if target is not None:
+        unknown = sorted(target.atoms - set(feature_names))
+        if unknown:
+            raise lines.error(target_line, f"the target mentions {unknown}, which are not "
+                                           f"among the propositions {feature_names}")
+    else:
+        target, source = _scarlet_target(path, formulas)
+        if target is not None:
+            unknown = sorted(target.atoms - set(feature_names))
+            if unknown:
+                raise ValueError(f"{name}: the target {source} mentions {unknown}, which are "
+                                 f"not among the propositions {feature_names}")
+    return TraceFile(positives=traces[0], negatives=traces[1], feature_names=feature_names,
+                     operators=operators, depth=depth, alphabet=alphabet, target=target,
+                     target_source=source, path=None if path is None else str(path))
+
+
+def load_trace_file(path, *, formulas="auto"):
+    r"""Load a samples2LTL / Scarlet ``.trace`` file as ``(X, y, target)``.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file (format in :func:`read_trace_file`).
+    formulas : "auto", path or None, default="auto"
+        Where a Scarlet benchmark file finds its target (see :func:`read_trace_file`).
+
+    Returns
+    -------
+    X : list of DataFrame of shape (T_i, n_props)
+        Positives then negatives; boolean columns ``x0, x1, ...`` or the file's alphabet.
+    y : ndarray of shape (n_demos,), dtype int64
+        1 for positives, 0 for negatives.
+    target : Formula or None
+        The target formula, when known.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> text = "1,0;1,1\n---\n0,1\n---\nG,F,!,&\n---\n1\n---\nG(x0)"
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     path = pathlib.Path(tmp) / "demo.trace"
+    ...     _ = path.write_text(text)
+    ...     X, y, target = load_trace_file(path)
+    >>> y
+    array([1, 0])
+    >>> target.evaluate(X)
+    array([ True, False])
+    """
+    tf = read_trace_file(path, formulas=formulas)
+    return tf.X, tf.y, tf.target
+
+
+def _formula_text(target):
+    if target is None:
+        return None
+    if isinstance(target, Formula):
+        return target.to_prefix()
+    if isinstance(target, str):
+        return parse_ltl(target).to_prefix()
+    raise ValueError(f"target must be a Formula, a string or None, got {type(target).__name__}")
+
+
+def write_trace_file(path, X, y, *, operators=_DEFAULT_OPERATORS, depth=None, target=None,
+                     alphabet=None):
+    """Write traces in the ``.trace`` format (the inverse of :func:`read_trace_file`).
+
+    Parameters
+    ----------
+    path : str, path-like or file-like
+        Destination (a writable text buffer is accepted).
+    X : demonstrations
+        Any format of DESIGN section 1.
+    y : array-like of shape (n_demos,)
+        1 (or True) for positives, 0 for negatives.
+    operators : sequence of str, default=("G", "F", "!", "U", "&", "|", "->", "X")
+        The operator line.
+    depth : int, default=None
+        Written (samples2LTL layout) when given or when a target is given (then
+        ``target.depth`` by default).
+    target : Formula or str, default=None
+        Written in prefix notation (samples2LTL layout).
+    alphabet : sequence of str, default=None
+        Written last (Scarlet layout, or after the target).
+
+    Examples
+    --------
+    >>> import io, numpy as np
+    >>> buf = io.StringIO()
+    >>> write_trace_file(buf, [np.array([[1, 0], [1, 1]]), np.array([[0, 1]])], [1, 0],
+    ...                  target="G(x0)")
+    >>> print(buf.getvalue())
+    1,0;1,1
+    ---
+    0,1
+    ---
+    G,F,!,U,&,|,->,X
+    ---
+    2
+    ---
+    G(x0)
+    """
+    traces = check_traces(X, estimator_name="write_trace_file")
+    y = np.asarray(y)
+    if y.shape != (traces.n_demos,):
+        raise ValueError(f"y must hold one label per demonstration ({traces.n_demos}), "
+                         f"got shape {y.shape}")
+    if not np.isin(y, (0, 1)).all():
+        raise ValueError("y must be 0/1 (or booleans)")
+    target_text = _formula_text(target)
+    if target_text is not None and depth is None:
+        depth = parse_ltl(target_text).depth
+    blocks = [[], []]
+    for i in range(traces.n_demos):
+        tr = traces.trace(i).astype(np.uint8)
+        blocks[0 if y[i] else 1].append(";".join(",".join(map(str, row)) for row in tr))
+    parts = ["\n".join(blocks[0]), "\n".join(blocks[1]), ",".join(operators)]
+    if depth is not None:
+        parts.append(str(int(depth)))
+        if target_text is not None:
+            parts.append(target_text)
+    if alphabet is not None:
+        alphabet = [str(a) for a in alphabet]
+        if len(alphabet) != traces.n_props:
+            raise ValueError(f"alphabet has {len(alphabet)} names for {traces.n_props} "
+                             "propositions")
+        parts.append(",".join(alphabet))
+    text = ""
+    for k, part in enumerate(parts):
+        text += (part + "\n" if part else "") + (f"{_SEPARATOR}\n" if k < len(parts) - 1 else "")
+    if hasattr(path, "write"):
+        path.write(text)
+    else:
+        with open(os.fspath(path), "w", encoding="utf-8") as fh:
+            fh.write(text)
+
+
+# -- long format (CSV / pandas) ----------------------------------------------------------
+
+
+def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label",
+                      source=None):
+    """Split a long-format frame ``demo_id, t, prop...[, label]`` into traces.
+
+    Parameters
+    ----------
+    df : DataFrame
+        One row per time step of a demonstration. Every column other than ``demo_col``,
+        ``time_col`` and ``label_col`` is a proposition (0/1 or boolean).
+    demo_col, time_col : str, default="demo_id", "t"
+        Demonstration identifier and time step. Demonstrations keep the order of their
+        first row; rows are sorted by time, which must be consecutive integers.
+    label_col : str or None, default="label"
+        Label column (constant within a demonstration); absent or ``None``: no labels.
+    source : str, default=None
+        Name used in error messages (the CSV reader passes the file name; rows are then
+        reported by file line).
+
+    Returns
+    -------
+    X : list of DataFrame of shape (T_i, n_props)
+        Boolean columns named as in ``df``, index ``0..T_i-1``.
+    y : ndarray of shape (n_demos,) or None
+        The label of each demonstration, as in ``df``; ``None`` without a label column.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> df = pd.DataFrame({"demo_id": [0, 0, 1], "t": [0, 1, 0], "a": [1, 0, 1],
+    ...                    "b": [0, 1, 1], "label": [1, 1, 0]})
+    >>> X, y = traces_from_frame(df)
+    >>> [x.shape for x in X], y
+    ([(2, 2), (1, 2)], array([1, 0]))
+    """
+    if not isinstance(df, pd.DataFrame):
+        raise ValueError(f"expected a pandas DataFrame, got {type(df).__name__}")
+    where = source if source is not None else "frame"
+    csv = source is not None
+
+    def row_name(pos):
+        return f"line {pos + 2}" if csv else f"row {df.index[pos]!r}"
+
+    for col in (demo_col, time_col):
+        if col not in df.columns:
+            raise ValueError(f"{where}: no {col!r} column; columns are {list(df.columns)}")
+    has_label = label_col is not None and label_col in df.columns
+    props = [c for c in df.columns if c not in (demo_col, time_col, label_col)]
+    if not props:
+        raise ValueError(f"{where}: no proposition columns besides {demo_col!r}, {time_col!r}")
+    if len(df) == 0:
+        raise ValueError(f"{where}: no rows (at least one demonstration is required)")
+    for col in (demo_col, time_col):
+        missing = df[col].isna().to_numpy()
+        if missing.any():
+            raise ValueError(f"{where}, {row_name(int(np.argmax(missing)))}: missing {col!r}")
+    values = df[props]
+    arr = values.to_numpy()
+    if arr.dtype == object or arr.dtype.kind not in "biuf":
+        try:
+            arr = values.astype(float).to_numpy()
+        except (TypeError, ValueError):
+            arr = None
+        if arr is None:
+            for pos in range(len(df)):
+                for k, c in enumerate(props):
+                    v = values.iat[pos, k]
+                    try:
+                        good = float(v) in (0.0, 1.0)
+                    except (TypeError, ValueError):
+                        good = False
+                    if not good:
+                        raise ValueError(f"{where}, {row_name(pos)}: proposition {c!r} has "
+                                         f"value {v!r}; values must be 0 or 1")
+    bad = ~np.isin(arr, (0, 1))
+    if bad.any():
+        pos, k = map(int, np.argwhere(bad)[0])
+        raise ValueError(f"{where}, {row_name(pos)}: proposition {props[k]!r} has value "
+                         f"{arr[pos, k]!r}; values must be 0 or 1")
+    arr = arr.astype(bool)
+    t_raw = df[time_col].to_numpy()
+    try:
+        t_val = t_raw.astype(np.float64)
+    except (TypeError, ValueError):
+        t_val = None
+    if t_val is None or not np.all(np.isfinite(t_val)) or np.any(t_val != np.round(t_val)):
+        bad_pos = 0
+        if t_val is not None:
+            bad_pos = int(np.argmax(~np.isfinite(t_val) | (t_val != np.round(t_val))))
+        raise ValueError(f"{where}, {row_name(bad_pos)}: time {t_raw[bad_pos]!r} is not an "
+                         "integer")
+    t_val = t_val.astype(np.int64)
+    codes, uniques = pd.factorize(df[demo_col], sort=False)
+    X, y = [], []
+    label_values = df[label_col].to_numpy() if has_label else None
+    order = np.lexsort((t_val, codes))
+    bounds = np.searchsorted(codes[order], np.arange(len(uniques) + 1))
+    for d in range(len(uniques)):
+        rows = order[bounds[d]:bounds[d + 1]]
+        times = t_val[rows]
+        dup = np.flatnonzero(np.diff(times) == 0)
+        if dup.size:
+            raise ValueError(f"{where}, {row_name(int(rows[dup[0] + 1]))}: demonstration "
+                             f"{uniques[d]!r} has time step {times[dup[0]]} twice")
+        gap = np.flatnonzero(np.diff(times) != 1)
+        if gap.size:
+            raise ValueError(f"{where}, {row_name(int(rows[gap[0] + 1]))}: demonstration "
+                             f"{uniques[d]!r} jumps from time {times[gap[0]]} to "
+                             f"{times[gap[0] + 1]}; time steps must be consecutive")
+        X.append(pd.DataFrame(arr[rows], columns=[str(c) for c in props]))
+        if has_label:
+            labels = label_values[rows]
+            first = labels[0]
+            differ = np.flatnonzero(pd.isna(labels) | (labels != first))
+            if pd.isna(first):
+                differ = np.array([0])
+            if differ.size:
+                raise ValueError(f"{where}, {row_name(int(rows[differ[0]]))}: the label of "
+                                 f"demonstration {uniques[d]!r} is missing or changes over "
+                                 "time; it must be constant")
+            y.append(first)
+    return X, (np.asarray(y) if has_label else None)
+
+
+def traces_to_frame(X, y=None, *, feature_names=None, demo_col="demo_id", time_col="t",
+                    label_col="label"):
+    """Stack traces into a long-format frame ``demo_id, t, prop...[, label]``.
+
+    Parameters
+    ----------
+    X : demonstrations
+        Any format of DESIGN section 1.
+    y : array-like of shape (n_demos,), default=None
+        Labels, written to ``label_col`` when given.
+    feature_names : sequence of str, default=None
+        Proposition column names; default the DataFrame columns, else ``x0, x1, ...``.
+    demo_col, time_col, label_col : str
+        Names of the identifier, time and label columns.
+
+    Returns
+    -------
+    frame : DataFrame
+        Demonstration ids ``0..n_demos-1``, times ``0..T_i-1``, 0/1 propositions (int8).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> traces_to_frame([np.array([[1, 0], [0, 1]]), np.array([[1, 1]])], y=[1, 0])
+       demo_id  t  x0  x1  label
+    0        0  0   1   0      1
+    1        0  1   0   1      1
+    2        1  0   1   1      0
+    """
+    traces = check_traces(X, estimator_name="traces_to_frame")
+    if feature_names is None:
+        feature_names = (list(traces.feature_names) if traces.feature_names is not None
+                         else [f"x{i}" for i in range(traces.n_props)])
+    feature_names = [str(n) for n in feature_names]
+    if len(feature_names) != traces.n_props:
+        raise ValueError(f"feature_names has {len(feature_names)} names for "
+                         f"{traces.n_props} propositions")
+    reserved = {demo_col, time_col} | ({label_col} if y is not None else set())
+    clash = sorted(set(feature_names) & reserved)
+    if clash:
+        raise ValueError(f"proposition names {clash} clash with the id/time/label columns")
+    lengths = traces.lengths
+    frame = pd.DataFrame({
+        demo_col: np.repeat(np.arange(traces.n_demos), lengths),
+        time_col: np.arange(traces.data.shape[0]) - np.repeat(traces.offsets[:-1], lengths),
+    })
+    props = pd.DataFrame(traces.data.astype(np.int8), columns=feature_names)
+    frame = pd.concat([frame, props], axis=1)
+    if y is not None:
+        y = np.asarray(y)
+        if y.shape != (traces.n_demos,):
+            raise ValueError(f"y must hold one label per demonstration ({traces.n_demos}), "
+                             f"got shape {y.shape}")
+        frame[label_col] = np.repeat(y, lengths)
+    return frame
+
+
+def read_traces_csv(path_or_buffer, *, demo_col="demo_id", time_col="t", label_col="label",
+                    **read_csv_kwargs):
+    r"""Read long-format traces ``demo_id, t, prop...[, label]`` from a CSV file.
+
+    Parameters
+    ----------
+    path_or_buffer : str, path-like or file-like
+        Anything :func:`pandas.read_csv` reads.
+    demo_col, time_col, label_col : str
+        Column names (see :func:`traces_from_frame`); the label column is optional.
+    **read_csv_kwargs
+        Passed to :func:`pandas.read_csv` (e.g. ``sep``).
+
+    Returns
+    -------
+    X : list of DataFrame
+    y : ndarray or None
+
+    Raises
+    ------
+    ValueError
+        Naming the file and the 1-based line of a bad value, duplicate or missing time step,
+        or changing label.
+
+    Examples
+    --------
+    >>> import io
+    >>> X, y = read_traces_csv(io.StringIO("demo_id,t,a,label\n7,0,1,1\n7,1,0,1\n"))
+    >>> X[0]["a"].tolist(), y
+    ([True, False], array([1]))
+    """
+    name = (os.fspath(path_or_buffer) if isinstance(path_or_buffer, (str, os.PathLike))
+            else getattr(path_or_buffer, "name", "<csv buffer>"))
+    try:
+        df = pd.read_csv(path_or_buffer, **read_csv_kwargs)
+    except (pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
+        raise ValueError(f"{name}: {exc}") from None
+    return traces_from_frame(df, demo_col=demo_col, time_col=time_col, label_col=label_col,
+                             source=str(name))
+
+
+def write_traces_csv(X, y, path_or_buffer=None, *, feature_names=None, demo_col="demo_id",
+                     time_col="t", label_col="label"):
+    """Write traces in the long CSV format read by :func:`read_traces_csv`.
+
+    Parameters
+    ----------
+    X : demonstrations
+        Any format of DESIGN section 1.
+    y : array-like of shape (n_demos,) or None
+        Labels (a ``label`` column), or ``None`` for none.
+    path_or_buffer : str, path-like, file-like or None, default=None
+        Destination; ``None`` returns the text.
+    feature_names, demo_col, time_col, label_col
+        See :func:`traces_to_frame`.
+
+    Returns
+    -------
+    text : str or None
+        The CSV text when ``path_or_buffer`` is ``None``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> print(write_traces_csv([np.array([[1, 0], [0, 1]])], [1]), end="")
+    demo_id,t,x0,x1,label
+    0,0,1,0,1
+    0,1,0,1,1
+    """
+    if isinstance(y, (str, os.PathLike, _io.IOBase)):
+        raise ValueError("y must be labels or None; pass the destination as path_or_buffer")
+    frame = traces_to_frame(X, y, feature_names=feature_names, demo_col=demo_col,
+                            time_col=time_col, label_col=label_col)
+    return frame.to_csv(path_or_buffer, index=False)
