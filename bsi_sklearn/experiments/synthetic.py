@@ -1,0 +1,430 @@
+"""The paper's synthetic-domain experiments (POI / threat navigation, Scenarios 1 to 3)."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+from sklearn.utils import Bunch, check_random_state
+
+from bsi_sklearn.datasets import make_poi_threat_demos, poi_threat_specification
+from bsi_sklearn.experiments._claims import (
+    Claim,
+    claims_frame,
+    fraction_by_size,
+    mean_at,
+    select,
+)
+from bsi_sklearn.experiments._grid import (
+    Setting,
+    aggregate,
+    make_pool,
+    n_negatives,
+    progress,
+    run_grid,
+)
+from bsi_sklearn.experiments._plots import (
+    PRIOR_LABELS,
+    decorate,
+    new_figure,
+    plot_band,
+    priors_figure,
+    save_figure,
+    supervised_figure,
+)
+from bsi_sklearn.experiments._report import (
+    SUPERVISED_INTRO,
+    markdown_table,
+    priors_table,
+    summary_table,
+    supervised_table,
+    write_outputs,
+)
+
+__all__ = [
+    "SIZES",
+    "N_REPEATS",
+    "make_synthetic_pools",
+    "synthetic_settings",
+    "synthetic_claims",
+    "synthetic_figures",
+    "run_synthetic",
+]
+
+#: Training-set sizes (positive demonstrations) of the paper's figures.
+SIZES = (2, 5, 10, 15, 20, 30, 50)
+#: Random draws of the training set per size.
+N_REPEATS = 10
+#: Held-out positives and negatives per scenario, for classification accuracy.
+N_TEST = 20
+#: The supervised variant adds ``ceil(NEGATIVE_RATIO * n)`` negatives to ``n`` positives.
+NEGATIVE_RATIO = 0.5
+#: Every setting's support is small enough (at most 1.3 million hypotheses) for exact
+#: inference; the MCMC settings only apply if a custom run exceeds ``max_exact_hypotheses``.
+CLASSIFIER_PARAMS = {"inference": "auto", "n_samples": 10_000, "burn_in": 100, "n_chains": 4}
+
+QUICK = {"sizes": (2, 5, 10), "n_repeats": 2, "n_test": 5}
+SCENARIOS = (1, 2, 3)
+PRIORS_23 = ("sets_of_chains", "forest")
+
+
+def _domain(scenario):
+    return f"scenario {scenario}"
+
+
+def synthetic_settings(scenarios=SCENARIOS, supervised=True):
+    """The settings of the synthetic experiments.
+
+    Scenario 1 with Prior 1 under the CB and CI likelihoods, and every scenario with Priors 2
+    and 3 under CB; each positive-only and, when ``supervised``, with negatives too.
+
+    Examples
+    --------
+    >>> len(synthetic_settings()), len(synthetic_settings(scenarios=(2,), supervised=False))
+    (16, 2)
+    """
+    settings = []
+    for sup in (False, True) if supervised else (False,):
+        if 1 in scenarios:
+            settings += [Setting(_domain(1), "linear_chain", lik, sup) for lik in ("cb", "ci")]
+        for s in scenarios:
+            settings += [Setting(_domain(s), prior, "cb", sup) for prior in PRIORS_23]
+    return settings
+
+
+def make_synthetic_pools(n_repeats, n_positive, n_negative, *, n_test=N_TEST,
+                         scenarios=SCENARIOS, random_state=None, verbose=0):
+    """Per scenario, one pool of demonstrations per repeat and a shared held-out test set.
+
+    Parameters
+    ----------
+    n_repeats : int
+    n_positive, n_negative : int
+        Demonstrations to draw training sets from, per repeat.
+    n_test : int, default=20
+        Held-out positives and negatives per scenario (the same for every repeat).
+    scenarios : sequence of {1, 2, 3}
+    random_state : int, RandomState instance or None
+    verbose : int, default=0
+
+    Returns
+    -------
+    pools : dict of str -> list of Bunch
+        Keys ``"scenario 1"`` ...; see :func:`bsi_sklearn.experiments._grid.make_pool`.
+    """
+    rng = check_random_state(random_state)
+    jobs = []
+    for s in scenarios:
+        test_seed = int(rng.randint(np.iinfo(np.int32).max))
+        seeds = rng.randint(np.iinfo(np.int32).max, size=(n_repeats, 2))
+        jobs.append((s, test_seed, seeds))
+    pools = {}
+    bar = progress(range(len(scenarios) * (n_repeats + 1)), total=len(scenarios) * (n_repeats + 1),
+                   desc="synthetic demonstrations", verbose=verbose)
+    for s, test_seed, seeds in jobs:
+        if n_test:
+            test = make_poi_threat_demos(s, n_demos=n_test, n_negative=n_test,
+                                         random_state=test_seed)
+            X_test, y_test = test.traces, test.labels
+        else:
+            X_test, y_test = [], []
+        bar.update()
+        pools[_domain(s)] = []
+        for data_seed, shuffle_seed in seeds:
+            data = make_poi_threat_demos(s, n_demos=n_positive, n_negative=n_negative,
+                                         random_state=int(data_seed))
+            pos = [t for t, y in zip(data.traces, data.labels) if y == 1]
+            neg = [t for t, y in zip(data.traces, data.labels) if y == 0]
+            pools[_domain(s)].append(make_pool(pos, neg, X_test, y_test, data.roles,
+                                               data.specification, int(shuffle_seed)))
+            bar.update()
+    bar.close()
+    return pools
+
+
+# ---------------------------------------------------------------------------------- claims
+def synthetic_claims(results, summary):
+    """The paper's synthetic-domain claims, each tested on the measured results.
+
+    Parameters
+    ----------
+    results : DataFrame
+        Per-fit results (:func:`~bsi_sklearn.experiments._grid.run_grid`).
+    summary : DataFrame
+        Their aggregate (:func:`~bsi_sklearn.experiments._grid.aggregate`).
+
+    Returns
+    -------
+    claims : list of Claim
+        Claims whose settings were not run are left out; claims that need a training size
+        the run does not have are reported as not measured.
+    """
+    pos = results[results["labels"] == "positive"]
+    agg = summary[summary["labels"] == "positive"]
+    sizes = sorted(pos["size"].unique())
+    lo, hi = sizes[0], sizes[-1]
+    domains = set(pos["domain"])
+    claims = []
+
+    # Over 90% similarity, at the largest training set, for every CB setting.
+    cb = agg[(agg["likelihood"] == "cb") & (agg["size"] == hi)]
+    for metric, what in (("expected_similarity", "expected"),
+                         ("best_similarity", "best-of-top-5")):
+        values = {(r.domain, PRIOR_LABELS[r.prior]): getattr(r, f"{metric}_mean")
+                  for r in cb.itertuples()}
+        worst = min(values, key=values.get)
+        claims.append(Claim(
+            f"SYN-0.9-{what.split('-')[0]}", "synthetic, all scenarios",
+            "over 90% similarity between the inferred specification and the ground truth",
+            f"mean {what} similarity at n={hi} above 0.9 for every scenario and prior (CB)",
+            f"{what} L at n={hi}: min {values[worst]:.3f} ({worst[0]}, {worst[1]}) over "
+            f"{len(values)} settings", values[worst], values[worst] > 0.9))
+
+    if "scenario 1" in domains and "linear_chain" in set(pos["prior"]):
+        s1 = {"domain": "scenario 1", "prior": "linear_chain", "labels": "positive"}
+        diff = [mean_at(agg, "expected_similarity", n, likelihood="cb", **s1)
+                - mean_at(agg, "expected_similarity", n, likelihood="ci", **s1) for n in sizes]
+        claims.append(Claim(
+            "S1-CB>CI", "synthetic, scenario 1, Prior 1",
+            "the CB likelihood infers the complete specification better than CI",
+            "mean expected L of CB >= CI at every size, and > at some size",
+            f"CB - CI expected L per size: {_join(diff)}", min(diff),
+            min(diff) >= 0 and max(diff) > 0))
+        counts = {lik: [mean_at(agg, "n_formulas_99", n, likelihood=lik, **s1) for n in (lo, hi)]
+                  for lik in ("cb", "ci")}
+        ratio = {lik: c[1] / c[0] for lik, c in counts.items()}
+        claims.append(Claim(
+            "S1-peaky", "synthetic, scenario 1, Prior 1",
+            "CB posteriors get peakier (fewer unique formulas) as the training set grows; "
+            "not CI ones",
+            f"formulas holding 99% of the mass, n={hi} over n={lo}: CB ratio < 1 and < CI "
+            "ratio",
+            f"CB {counts['cb'][0]:.0f} -> {counts['cb'][1]:.0f}, CI {counts['ci'][0]:.0f} -> "
+            f"{counts['ci'][1]:.0f}", ratio["cb"], ratio["cb"] < 1 and ratio["cb"] < ratio["ci"]))
+
+    s1_23 = {"domain": "scenario 1", "likelihood": "cb", "labels": "positive"}
+    if "scenario 1" in domains and set(PRIORS_23) <= set(pos["prior"]):
+        p2 = mean_at(agg, "expected_similarity", lo, prior="sets_of_chains", **s1_23)
+        p3 = mean_at(agg, "expected_similarity", lo, prior="forest", **s1_23)
+        claims.append(Claim(
+            "S1-P3-few", "synthetic, scenario 1, Priors 2/3",
+            "Prior 3 aligns better with the ground truth with fewer training examples",
+            f"mean expected L of Prior 3 > Prior 2 at n={lo}",
+            f"n={lo}: Prior 3 {p3:.3f}, Prior 2 {p2:.3f}", p3 - p2, p3 > p2))
+        frac = select(pos, size=hi, prior="sets_of_chains", **s1_23)["map_is_truth"].mean()
+        claims.append(Claim(
+            "S1-P2-exact", "synthetic, scenario 1, Priors 2/3",
+            "with a larger training set, Prior 2 recovers the exact specification",
+            f"MAP of Prior 2 equals the ground truth at n={hi} in every repeat",
+            f"MAP = truth in {frac:.0%} of the repeats at n={hi}", frac, frac == 1.0))
+
+    big = [n for n in sizes if n >= 10]
+    for scenario, metric, cid, paper, what in (
+        (2, "truth_in_top_k", "S2-top5",
+         "with 10 or more demonstrations, both priors return the ground truth among the top 5",
+         "ground truth in the top 5"),
+        (3, "map_is_truth", "S3-MAP",
+         "with 10 or more demonstrations, both priors return the ground truth as the MAP",
+         "MAP = ground truth"),
+    ):
+        if _domain(scenario) not in domains:
+            continue
+        exp = f"synthetic, scenario {scenario}, Priors 2/3"
+        crit = f"{what} in every fit with n >= 10 (Priors 2 and 3, every repeat)"
+        if not big:
+            claims.append(Claim.not_measured(cid, exp, paper, crit, "no training size >= 10"))
+            continue
+        fracs = {p: fraction_by_size(pos, metric, domain=_domain(scenario), prior=p,
+                                     likelihood="cb", size=tuple(big)) for p in PRIORS_23}
+        frac = float(np.mean([f for f, _ in fracs.values()]))
+        claims.append(Claim(
+            cid, exp, paper, crit,
+            "; ".join(f"{PRIOR_LABELS[p]}: {what} in {t}" for p, (_, t) in fracs.items()),
+            frac, frac == 1.0))
+
+    if "scenario 3" in domains:
+        s3 = {"domain": "scenario 3", "likelihood": "cb", "labels": "positive"}
+        diff = [mean_at(agg, "extra_orders", n, prior="forest", **s3)
+                - mean_at(agg, "extra_orders", n, prior="sets_of_chains", **s3) for n in sizes]
+        claims.append(Claim(
+            "S3-P3-extra", "synthetic, scenario 3, Priors 2/3",
+            "Prior 3's posterior holds more extra orders than Prior 2's (bias to long chains)",
+            f"mean expected extra orders of Prior 3 > Prior 2 at n={lo}",
+            f"Prior 3 - Prior 2 expected extra orders per size: {_join(diff)}", diff[0],
+            diff[0] > 0))
+    return claims
+
+
+def _join(values):
+    return ", ".join(f"{v:+.3f}" for v in values)
+
+
+# ---------------------------------------------------------------------------------- figures
+def synthetic_figures(summary):
+    """The paper's synthetic-domain figures, drawn from an aggregate of the results.
+
+    Returns
+    -------
+    figures : dict of str -> matplotlib Figure
+        ``"scenario1_prior1"`` (CB vs CI: similarity and number of formulas),
+        ``"scenario<k>_priors23"`` (similarity; correct and extra orders) and
+        ``"supervised"`` (positive-only vs supervised: similarity and held-out accuracy).
+        Lines are means over the repeats, bands their interquartile range.
+    """
+    figures = {}
+    pos = summary[summary["labels"] == "positive"]
+    s1p1 = pos[(pos["domain"] == "scenario 1") & (pos["prior"] == "linear_chain")]
+    if len(s1p1):
+        fig, axes = new_figure(2)
+        ax_sim, ax_n = axes[0]
+        for lik, color in (("cb", "tab:blue"), ("ci", "tab:orange")):
+            rows = s1p1[s1p1["likelihood"] == lik]
+            plot_band(ax_sim, rows, "expected_similarity", label=f"{lik.upper()} expected",
+                      color=color)
+            plot_band(ax_sim, rows, "best_similarity", label=f"{lik.upper()} best of top 5",
+                      color=color, linestyle="--", marker="s")
+            plot_band(ax_n, rows, "n_formulas_99", label=f"{lik.upper()} (99% of the mass)",
+                      color=color)
+            plot_band(ax_n, rows, "n_specifications", label=f"{lik.upper()} (all)",
+                      color=color, linestyle=":", marker="^", band=False)
+        ax_sim.axhline(1.0, color="k", linestyle=":", linewidth=1)
+        decorate(ax_sim, "Scenario 1, Prior 1: similarity", "similarity L")
+        ax_n.set_yscale("log")
+        decorate(ax_n, "Scenario 1, Prior 1: unique formulas", "formulas in the posterior")
+        figures["scenario1_prior1"] = fig
+
+    for domain in sorted(set(pos["domain"])):
+        if not pos[(pos["domain"] == domain) & pos["prior"].isin(PRIORS_23)].empty:
+            scenario = int(domain.split()[-1])
+            figures[f"scenario{scenario}_priors23"] = priors_figure(
+                summary, domain, f"Scenario {scenario}, Priors 2 and 3",
+                len(poi_threat_specification(scenario).orders))
+    sup = summary[summary["prior"].isin(PRIORS_23)]
+    if (sup["labels"] == "supervised").any():
+        figures["supervised"] = supervised_figure(summary, sorted(set(sup["domain"])))
+    return figures
+
+
+# ---------------------------------------------------------------------------------- run
+def _sections(summary, figure_files):
+    pos = {"labels": "positive"}
+    sections = []
+    if ((summary["prior"] == "linear_chain") & (summary["domain"] == "scenario 1")).any():
+        s1 = {"domain": "scenario 1", "prior": "linear_chain", **pos}
+        cols = []
+        for lik in ("cb", "ci"):
+            f = {**s1, "likelihood": lik}
+            cols += [(f"{lik.upper()} E[L]", f, "expected_similarity"),
+                     (f"{lik.upper()} best-5 L", f, "best_similarity")]
+        cols += [(f"{lik.upper()} formulas (99%)", {**s1, "likelihood": lik}, "n_formulas_99")
+                 for lik in ("cb", "ci")]
+        sections.append(("Scenario 1, Prior 1: CB vs CI likelihood",
+                         _table(summary, cols, ".3g")))
+    for domain in sorted(set(summary["domain"])):
+        if (summary["prior"].isin(PRIORS_23) & (summary["domain"] == domain)).any():
+            sections.append((f"{domain.capitalize()}, Priors 2 and 3 (CB)",
+                             priors_table(summary, domain)))
+    if (summary["labels"] == "supervised").any():
+        parts = [f"**{domain.capitalize()}**\n\n" + supervised_table(summary, domain)
+                 for domain in sorted(set(summary["domain"]))]
+        sections.append(("Supervised variant (positives and negatives)",
+                         SUPERVISED_INTRO + "\n\n" + "\n\n".join(parts)))
+    sections.append(("Figures", "\n".join(f"![{p.stem}]({p.name})" for p in figure_files)))
+    return sections
+
+
+def _table(summary, cols, floatfmt, band=True):
+    return markdown_table(summary_table(summary, cols, floatfmt=floatfmt, band=band))
+
+
+def run_synthetic(out=None, *, quick=False, sizes=None, n_repeats=None, scenarios=SCENARIOS,
+                  supervised=True, n_jobs=None, random_state=0, verbose=0):
+    """Run the synthetic-domain experiments; write tables and figures into ``out``.
+
+    Scenario 1 with Prior 1 (CB vs CI likelihood), and Scenarios 1 to 3 with Priors 2 and 3
+    (CB), at every training-set size in ``sizes``, on ``n_repeats`` independent draws of the
+    demonstrations (each repeat simulates fresh demonstrations and takes nested training sets
+    from them). The supervised variant adds negatives to the same positives.
+
+    Parameters
+    ----------
+    out : str or Path, default=None
+        Output folder; nothing is written when None.
+    quick : bool, default=False
+        Small sizes and two repeats (well under a minute), for tests and notebooks.
+    sizes : sequence of int, default=None
+        Training-set sizes (positives); default :data:`SIZES` (quick: 2, 5, 10).
+    n_repeats : int, default=None
+        Draws per size; default :data:`N_REPEATS` (quick: 2).
+    scenarios : sequence of {1, 2, 3}, default=(1, 2, 3)
+    supervised : bool, default=True
+        Also run the variant with negative demonstrations.
+    n_jobs : int, default=None
+        Fits run in parallel threads.
+    random_state : int, RandomState instance or None, default=0
+    verbose : int, default=0
+        Progress bars (on a terminal) when > 0.
+
+    Returns
+    -------
+    run : Bunch
+        ``results`` (one row per fit), ``summary`` (mean, quartiles per setting and size),
+        ``claims`` (DataFrame: the paper's claims, our values, PASS / FALL SHORT),
+        ``figures`` (name -> Figure), ``files`` (paths written), ``config``, ``elapsed``.
+    """
+    start = time.perf_counter()
+    sizes = tuple(sorted({int(n) for n in (sizes or (QUICK["sizes"] if quick else SIZES))}))
+    if sizes[0] < 1:
+        raise ValueError(f"training sizes must be positive, got {sizes}")
+    n_repeats = int(n_repeats or (QUICK["n_repeats"] if quick else N_REPEATS))
+    if n_repeats < 1:
+        raise ValueError(f"n_repeats must be at least 1, got {n_repeats}")
+    scenarios = tuple(scenarios)
+    for s in scenarios:
+        if s not in SCENARIOS:
+            raise ValueError(f"scenarios must be among {SCENARIOS}, got {s!r}")
+    n_test = QUICK["n_test"] if quick else N_TEST
+    rng = check_random_state(random_state)
+    data_seed, fit_seed = rng.randint(np.iinfo(np.int32).max, size=2)
+    n_neg = n_negatives(sizes[-1], NEGATIVE_RATIO) if supervised else 0
+    pools = make_synthetic_pools(n_repeats, sizes[-1], n_neg, n_test=n_test,
+                                 scenarios=scenarios, random_state=int(data_seed),
+                                 verbose=verbose)
+    settings = synthetic_settings(scenarios, supervised)
+    results = run_grid(pools, settings, sizes, classifier_params=CLASSIFIER_PARAMS,
+                       negative_ratio=NEGATIVE_RATIO, n_jobs=n_jobs, random_state=int(fit_seed),
+                       verbose=verbose, desc="synthetic fits")
+    summary = aggregate(results)
+    claims = synthetic_claims(results, summary)
+    figures = synthetic_figures(summary)
+    elapsed = time.perf_counter() - start
+    config = {
+        "title": "Synthetic domain (POI / threat navigation): the paper's experiments",
+        "sizes": list(sizes),
+        "n_repeats": n_repeats,
+        "scenarios": list(scenarios),
+        "supervised": bool(supervised),
+        "negative_ratio": NEGATIVE_RATIO,
+        "n_test_per_class": n_test,
+        "classifier_params": CLASSIFIER_PARAMS,
+        "inference_used": results["inference"].value_counts().to_dict(),
+        "n_fits": len(results),
+        "total_fit_seconds": round(float(results["fit_time"].sum()), 2),
+        "random_state": random_state,
+        "n_jobs": n_jobs,
+        "quick": bool(quick),
+        "elapsed_seconds": round(elapsed, 1),
+    }
+    files = []
+    if out is not None:
+        out = Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        figure_files = [save_figure(fig, out / f"synthetic_{name}.png")
+                        for name, fig in figures.items()]
+        files = write_outputs(out, "synthetic", results=results, summary=summary,
+                              claims=claims, config=config,
+                              sections=_sections(summary, figure_files))
+        files += figure_files
+    return Bunch(results=results, summary=summary, claims=claims_frame(claims),
+                 figures=figures, files=files, config=config, elapsed=elapsed)
