@@ -367,8 +367,8 @@ class _Binary(Formula):
     def _infix(self, top=False):
         parts = []
         for child in (self.left, self.right):
-            # Flatten chains of the same associative operator: a & b & c.
-            if type(child) is type(self) and isinstance(self, (And, Or)):
+            # Left-nested chains of & or | print flat (a & b & c), as the parser folds left.
+            if child is self.left and type(child) is type(self) and isinstance(self, (And, Or)):
                 parts.append(child._infix(top=True))
             else:
                 parts.append(child._infix())
@@ -690,8 +690,10 @@ def parse_ltl(text, notation="auto"):
             errors.append((kind, exc))
     if len(errors) == 1:
         raise errors[0][1]
-    # Commas only occur in prefix notation: report the error of the likelier reading.
-    kind, exc = errors[0] if "," in text else errors[1]
+    # Commas, and a leading binary operator, only occur in prefix notation: report the
+    # error of the likelier reading.
+    first = _tokenize(text)[0][1] if _TOKEN.match(text.strip()) else None
+    kind, exc = errors[0] if "," in text or first in _BINARY else errors[1]
     raise ValueError(f"cannot parse as prefix or infix LTL; as {kind}: {exc}") from None
 
 
