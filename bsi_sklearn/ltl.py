@@ -95,8 +95,14 @@ class Formula:
 
     @property
     def depth(self):
-        """Height of the syntax tree (an atom has depth 1)."""
-        return 1 + max((c.depth for c in self.children), default=0)
+        """Operators on the longest root-to-leaf path (an atom has depth 0).
+
+        This is the formula depth of samples2LTL's ``.trace`` files: ``G(x0)`` has depth 1,
+        ``G(!(x0))`` depth 2.
+        """
+        if not self.children:
+            return 0
+        return 1 + max(c.depth for c in self.children)
 
     def __and__(self, other):
         return And(self, _as_formula(other))

@@ -73,7 +73,7 @@ def test_operators_build_formulas():
     phi = Atom("a") & ~Atom("b") | "F(c)"
     assert phi == Or(And(Atom("a"), Not(Atom("b"))), Eventually(Atom("c")))
     assert phi.atoms == {"a", "b", "c"}
-    assert phi.size == 7 and phi.depth == 4
+    assert phi.size == 7 and phi.depth == 3
     assert eval(repr(phi), {"parse_ltl": parse_ltl}) == phi
 
 

@@ -1,0 +1,161 @@
+"""The .trace format (samples2LTL / Scarlet): reading, writing, malformed files."""
+
+import io
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from bsi_sklearn.io import TraceFile, load_trace_file, read_trace_file, write_trace_file
+from bsi_sklearn.ltl import parse_ltl
+
+SAMPLES2LTL = """\
+1,0;1,1;1,0
+1,1
+---
+0,1;1,1
+0,0;0,0;0,0
+---
+G,F,!,U,&,|,->,X
+---
+1
+---
+G(x0)
+"""
+
+SCARLET = """\
+1,0,0;0,1,0
+0,0,1;1,0,0;0,1,0
+---
+0,1,0;1,0,0
+---
+F,G,X,!,&,|
+---
+a,b,c"""
+
+
+def write(tmp_path, text, name="demo.trace"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_reads_samples2ltl_layout(tmp_path):
+    tf = read_trace_file(write(tmp_path, SAMPLES2LTL))
+    assert isinstance(tf, TraceFile)
+    assert tf.feature_names == ["x0", "x1"] and tf.n_props == 2
+    assert tf.operators == ("G", "F", "!", "U", "&", "|", "->", "X")
+    assert tf.depth == 1 and tf.alphabet is None
+    assert tf.target == parse_ltl("G(x0)") and tf.target_source == "file"
+    np.testing.assert_array_equal(tf.positives[0], [[1, 0], [1, 1], [1, 0]])
+    np.testing.assert_array_equal(tf.negatives[1], np.zeros((3, 2)))
+    assert tf.positives[0].dtype == bool
+    np.testing.assert_array_equal(tf.y, [1, 1, 0, 0])
+
+
+def test_load_trace_file_returns_frames_labels_target(tmp_path):
+    X, y, target = load_trace_file(write(tmp_path, SAMPLES2LTL))
+    assert [x.shape for x in X] == [(3, 2), (1, 2), (2, 2), (3, 2)]
+    assert all(list(x.columns) == ["x0", "x1"] for x in X)
+    assert all(dt == np.bool_ for x in X for dt in x.dtypes)
+    np.testing.assert_array_equal(y, [1, 1, 0, 0])
+    np.testing.assert_array_equal(target.evaluate(X), y.astype(bool))
+
+
+def test_scarlet_alphabet_and_formulas_lookup(tmp_path):
+    folder = tmp_path / "TracesFiles"
+    folder.mkdir()
+    (tmp_path / "formulas.txt").write_text("F(a)\nF(&(a,F(b)))\n")
+    tf = read_trace_file(write(folder, SCARLET, "f-02-nw-3-ml-3-0.trace"))
+    assert tf.feature_names == ["a", "b", "c"] and tf.alphabet == ("a", "b", "c")
+    assert tf.depth is None
+    assert tf.target == parse_ltl("F(a & F(b))")
+    assert tf.target_source.endswith("formulas.txt:2")
+    np.testing.assert_array_equal(tf.target.evaluate(tf.X), [True, True, False])
+    assert read_trace_file(folder / "f-02-nw-3-ml-3-0.trace", formulas=None).target is None
+    # no such file beside it, or a name without f-NN-: no target
+    assert read_trace_file(write(tmp_path, SCARLET, "other.trace")).target is None
+    with pytest.raises(ValueError, match="does not start with 'f-NN-'"):
+        read_trace_file(tmp_path / "other.trace", formulas=tmp_path / "formulas.txt")
+    with pytest.raises(ValueError, match="line 9 of .*which has 2 lines"):
+        read_trace_file(write(folder, SCARLET, "f-09-x.trace"))
+    (tmp_path / "bad.txt").write_text("F(a)\nF(&(a)\n")
+    with pytest.raises(ValueError, match=r"bad.txt, line 2: target formula"):
+        read_trace_file(folder / "f-02-nw-3-ml-3-0.trace", formulas=tmp_path / "bad.txt")
+
+
+def test_accepts_crlf_final_newline_and_empty_negatives(tmp_path):
+    text = "1,0;1,1\r\n---\r\n---\r\nG,F\r\n"
+    tf = read_trace_file(write(tmp_path, text))
+    assert len(tf.positives) == 1 and tf.negatives == [] and tf.operators == ("G", "F")
+    assert tf.target is None and tf.depth is None
+
+
+@pytest.mark.parametrize("text, line, message", [
+    ("1,0;1\n---\n0,0\n---\nG", 1, "time step 1 has 1 propositions, expected 2"),
+    ("1,0\n---\n0,0,1\n---\nG", 3, "time step 0 has 3 propositions, expected 2"),
+    ("1,0;1,2\n---\n0,0\n---\nG", 1, "time step 1, proposition 1 has value '2'"),
+    ("1,0;1,x\n---\n0,0\n---\nG", 1, "proposition 1 has value 'x'"),
+    ("1,0\n\n---\n0,0\n---\nG", 2, "empty trace"),
+    ("1,0;;1,1\n---\n0,0\n---\nG", 1, "time step 1 is empty"),
+    ("1,0;1,1;\n---\n0,0\n---\nG", 1, "time step 2 is empty"),
+    ("1,0\n---\n0,0\nG", 4, "missing '---' separator"),
+    ("1,0\n0,1", 2, "missing '---' separator"),
+    ("1,0\n---\n0,0\n---\nG\n---\n-1\n---\nG(x0)", 7, "depth must be >= 0"),
+    ("1,0\n---\n0,0\n---\nG\n---\n2\n---\nG(x0", 9, "target formula"),
+    ("1,0\n---\n0,0\n---\nG\n---\n2\n---\nG(x7)", 9, r"mentions \['x7'\]"),
+    ("1,0\n---\n0,0\n---\nG\n---\na,b,c", 7, "the alphabet has 3 names but"),
+    ("1,0\n---\n0,0\n---\nG\n---\na,a", 7, "empty or repeated"),
+    ("1,0\n---\n0,0\n---\nG\nF", 6, "operators section must hold exactly one line"),
+    ("1,0::1\n---\n0,0\n---\nG", 1, "lasso"),
+])
+def test_malformed_files_name_file_and_line(tmp_path, text, line, message):
+    path = write(tmp_path, text, "bad.trace")
+    with pytest.raises(ValueError, match=rf"bad\.trace, line {line}: .*{message}"):
+        read_trace_file(path)
+
+
+def test_file_without_traces(tmp_path):
+    with pytest.raises(ValueError, match=r"empty\.trace: the file holds no traces"):
+        read_trace_file(write(tmp_path, "---\n---\nG", "empty.trace"))
+
+
+@pytest.mark.parametrize("layout", ["samples2ltl", "scarlet", "plain"])
+def test_write_read_round_trip(tmp_path, layout):
+    rng = np.random.default_rng(1)
+    X = [rng.random((int(rng.integers(1, 8)), 3)) < 0.5 for _ in range(12)]
+    y = rng.integers(0, 2, size=12)
+    kwargs = {"samples2ltl": dict(target="F(x0) & G(!x2)"),
+              "scarlet": dict(operators=("F", "G", "&"), alphabet=["p", "q", "r"]),
+              "plain": {}}[layout]
+    path = tmp_path / "round.trace"
+    write_trace_file(path, X, y, **kwargs)
+    tf = read_trace_file(path)
+    order = np.r_[np.flatnonzero(y == 1), np.flatnonzero(y == 0)]
+    assert len(tf.positives) + len(tf.negatives) == len(X)
+    for got, i in zip(tf.positives + tf.negatives, order):
+        np.testing.assert_array_equal(got, X[i])
+    np.testing.assert_array_equal(tf.y, y[order])
+    if layout == "samples2ltl":
+        assert tf.target == parse_ltl("F(x0) & G(!x2)") and tf.depth == 3 and tf.target.depth == 3
+    if layout == "scarlet":
+        assert tf.feature_names == ["p", "q", "r"] and tf.operators == ("F", "G", "&")
+    # writing the read file back gives the same text
+    buf = io.StringIO()
+    write_trace_file(buf, tf.X, tf.y, operators=tf.operators, depth=tf.depth,
+                     target=tf.target, alphabet=tf.alphabet)
+    assert buf.getvalue() == path.read_text()
+
+
+def test_write_trace_file_rejects_bad_labels():
+    X = [np.ones((2, 2))]
+    with pytest.raises(ValueError, match="one label per demonstration"):
+        write_trace_file(io.StringIO(), X, [1, 0])
+    with pytest.raises(ValueError, match="0/1"):
+        write_trace_file(io.StringIO(), X, [2])
+    with pytest.raises(ValueError, match="alphabet has 1 names"):
+        write_trace_file(io.StringIO(), X, [1], alphabet=["a"])
+    with pytest.raises(ValueError, match="target must be"):
+        write_trace_file(io.StringIO(), X, [1], target=3)
+    with pytest.raises(ValueError, match="demonstration 0"):
+        write_trace_file(io.StringIO(), [pd.DataFrame({"a": [0.5]})], [1])
