@@ -445,6 +445,11 @@ def write_trace_file(path, X, y, *, operators=_DEFAULT_OPERATORS, depth=None, ta
 # -- long format (CSV / pandas) ----------------------------------------------------------
 
 
+def _show(value):
+    """The repr of a value, NumPy scalars shown as Python ones."""
+    return repr(value.item() if isinstance(value, np.generic) else value)
+
+
 def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label",
                       source=None):
     """Split a long-format frame ``demo_id, t, prop...[, label]`` into traces.
@@ -485,7 +490,7 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
     csv = source is not None
 
     def row_name(pos):
-        return f"line {pos + 2}" if csv else f"row {df.index[pos]!r}"
+        return f"line {pos + 2}" if csv else f"row {_show(df.index[pos])}"
 
     for col in (demo_col, time_col):
         if col not in df.columns:
@@ -517,12 +522,12 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
                         good = False
                     if not good:
                         raise ValueError(f"{where}, {row_name(pos)}: proposition {c!r} has "
-                                         f"value {v!r}; values must be 0 or 1")
+                                         f"value {_show(v)}; values must be 0 or 1")
     bad = ~np.isin(arr, (0, 1))
     if bad.any():
         pos, k = map(int, np.argwhere(bad)[0])
         raise ValueError(f"{where}, {row_name(pos)}: proposition {props[k]!r} has value "
-                         f"{arr[pos, k]!r}; values must be 0 or 1")
+                         f"{_show(arr[pos, k])}; values must be 0 or 1")
     arr = arr.astype(bool)
     t_raw = df[time_col].to_numpy()
     try:
@@ -533,7 +538,7 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
         bad_pos = 0
         if t_val is not None:
             bad_pos = int(np.argmax(~np.isfinite(t_val) | (t_val != np.round(t_val))))
-        raise ValueError(f"{where}, {row_name(bad_pos)}: time {t_raw[bad_pos]!r} is not an "
+        raise ValueError(f"{where}, {row_name(bad_pos)}: time {_show(t_raw[bad_pos])} is not an "
                          "integer")
     t_val = t_val.astype(np.int64)
     codes, uniques = pd.factorize(df[demo_col], sort=False)
@@ -547,12 +552,12 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
         dup = np.flatnonzero(np.diff(times) == 0)
         if dup.size:
             raise ValueError(f"{where}, {row_name(int(rows[dup[0] + 1]))}: demonstration "
-                             f"{uniques[d]!r} has time step {times[dup[0]]} twice")
+                             f"{_show(uniques[d])} has time step {_show(times[dup[0]])} twice")
         gap = np.flatnonzero(np.diff(times) != 1)
         if gap.size:
             raise ValueError(f"{where}, {row_name(int(rows[gap[0] + 1]))}: demonstration "
-                             f"{uniques[d]!r} jumps from time {times[gap[0]]} to "
-                             f"{times[gap[0] + 1]}; time steps must be consecutive")
+                             f"{_show(uniques[d])} jumps from time {_show(times[gap[0]])} to "
+                             f"{_show(times[gap[0] + 1])}; time steps must be consecutive")
         X.append(pd.DataFrame(arr[rows], columns=[str(c) for c in props]))
         if has_label:
             labels = label_values[rows]
@@ -562,7 +567,7 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
                 differ = np.array([0])
             if differ.size:
                 raise ValueError(f"{where}, {row_name(int(rows[differ[0]]))}: the label of "
-                                 f"demonstration {uniques[d]!r} is missing or changes over "
+                                 f"demonstration {_show(uniques[d])} is missing or changes over "
                                  "time; it must be constant")
             y.append(first)
     return X, (np.asarray(y) if has_label else None)

@@ -1,0 +1,116 @@
+"""Long-format traces: demo_id, t, prop...[, label] in pandas and CSV."""
+
+import io
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from bsi_sklearn.io import read_traces_csv, traces_from_frame, traces_to_frame, write_traces_csv
+
+
+def random_traces(seed=0, n=8, names=("a", "b", "c")):
+    rng = np.random.default_rng(seed)
+    return [pd.DataFrame(rng.random((int(rng.integers(1, 7)), len(names))) < 0.5,
+                         columns=list(names)) for _ in range(n)]
+
+
+def assert_same(got, expected):
+    assert len(got) == len(expected)
+    for g, e in zip(got, expected):
+        assert list(g.columns) == list(e.columns)
+        np.testing.assert_array_equal(g.to_numpy(), e.to_numpy())
+
+
+def test_frame_round_trip_with_and_without_labels():
+    X = random_traces()
+    y = np.array([1, 0, 1, 1, 0, 0, 1, 0])
+    frame = traces_to_frame(X, y)
+    assert list(frame.columns) == ["demo_id", "t", "a", "b", "c", "label"]
+    assert len(frame) == sum(len(x) for x in X)
+    X2, y2 = traces_from_frame(frame)
+    assert_same(X2, X)
+    np.testing.assert_array_equal(y2, y)
+    X3, y3 = traces_from_frame(traces_to_frame(X))
+    assert_same(X3, X)
+    assert y3 is None
+
+
+def test_csv_round_trip_file_and_buffer(tmp_path):
+    X = random_traces(1)
+    y = np.arange(8) % 2
+    path = tmp_path / "traces.csv"
+    assert write_traces_csv(X, y, path) is None
+    X2, y2 = read_traces_csv(path)
+    assert_same(X2, X)
+    np.testing.assert_array_equal(y2, y)
+    text = write_traces_csv(X, None)
+    X3, y3 = read_traces_csv(io.StringIO(text))
+    assert_same(X3, X)
+    assert y3 is None
+
+
+def test_unnamed_arrays_get_x_names_and_custom_columns():
+    X = np.array([[[1, 0], [0, 1]], [[1, 1], [0, 0]]])
+    frame = traces_to_frame(X, ["ok", "bad"], demo_col="run", time_col="step",
+                            label_col="verdict")
+    assert list(frame.columns) == ["run", "step", "x0", "x1", "verdict"]
+    X2, y2 = traces_from_frame(frame, demo_col="run", time_col="step", label_col="verdict")
+    np.testing.assert_array_equal(np.stack([x.to_numpy() for x in X2]), X.astype(bool))
+    assert y2.tolist() == ["ok", "bad"]
+    frame = traces_to_frame(X, feature_names=["p", "q"])
+    assert list(frame.columns) == ["demo_id", "t", "p", "q"]
+
+
+def test_reader_sorts_time_and_keeps_demo_order():
+    csv = "demo_id,t,a,b\nz,1,0,1\nz,0,1,0\nb,5,1,1\nb,6,0,0\n"
+    X, y = read_traces_csv(io.StringIO(csv))
+    assert y is None
+    np.testing.assert_array_equal(X[0].to_numpy(), [[True, False], [False, True]])
+    np.testing.assert_array_equal(X[1].to_numpy(), [[True, True], [False, False]])
+    X, _ = read_traces_csv(io.StringIO("demo_id;t;a\n0;0;True\n0;1;False\n"), sep=";")
+    assert X[0]["a"].tolist() == [True, False]
+
+
+@pytest.mark.parametrize("csv, message", [
+    ("demo_id,t,a\n0,0,1\n0,1,2\n", r"line 3: proposition 'a' has value 2"),
+    ("demo_id,t,a\n0,0,1\n0,1,x\n", r"line 3: proposition 'a' has value 'x'"),
+    ("demo_id,t,a\n0,0,1\n0,1,\n", r"line 3: proposition 'a' has value nan"),
+    ("demo_id,t,a\n0,0,1\n0,0,1\n", r"line 3: demonstration 0 has time step 0 twice"),
+    ("demo_id,t,a\n0,0,1\n0,2,1\n", r"line 3: demonstration 0 jumps from time 0 to 2"),
+    ("demo_id,t,a\n0,0,1\n0,0.5,1\n", r"line 3: time 0.5 is not an integer"),
+    ("demo_id,t,a,label\n0,0,1,1\n0,1,1,0\n", r"line 3: the label of demonstration 0"),
+    ("demo_id,t,a,label\n0,0,1,\n", r"line 2: the label of demonstration 0 is missing"),
+    ("demo_id,a\n0,1\n", r"no 't' column"),
+    ("demo_id,t\n0,0\n", r"no proposition columns"),
+    ("demo_id,t,a\n", r"no rows"),
+    ("demo_id,t,a\n,0,1\n", r"line 2: missing 'demo_id'"),
+    ("", r"No columns to parse"),
+])
+def test_csv_errors_name_the_line(csv, message):
+    buf = io.StringIO(csv)
+    buf.name = "bad.csv"
+    with pytest.raises(ValueError, match=rf"bad\.csv.*{message}"):
+        read_traces_csv(buf)
+
+
+def test_frame_errors_name_the_row():
+    df = pd.DataFrame({"demo_id": [0, 0], "t": [0, 1], "a": [1, 3]}, index=[10, 11])
+    with pytest.raises(ValueError, match=r"frame, row 11: proposition 'a' has value 3"):
+        traces_from_frame(df)
+    with pytest.raises(ValueError, match="expected a pandas DataFrame"):
+        traces_from_frame(df.to_numpy())
+
+
+def test_writer_errors():
+    X = [np.ones((2, 1))]
+    with pytest.raises(ValueError, match="one label per demonstration"):
+        traces_to_frame(X, [1, 0])
+    with pytest.raises(ValueError, match="clash"):
+        traces_to_frame([pd.DataFrame({"t": [1]})])
+    with pytest.raises(ValueError, match="feature_names has 2 names"):
+        traces_to_frame(X, feature_names=["a", "b"])
+    with pytest.raises(ValueError, match="pass the destination as path_or_buffer"):
+        write_traces_csv(X, "out.csv")
+    with pytest.raises(ValueError, match="demonstration 0 has value 2"):
+        traces_to_frame([np.full((1, 1), 2)])
