@@ -396,14 +396,14 @@ def write_trace_file(path, X, y, *, operators=_DEFAULT_OPERATORS, depth=None, ta
     >>> buf = io.StringIO()
     >>> write_trace_file(buf, [np.array([[1, 0], [1, 1]]), np.array([[0, 1]])], [1, 0],
     ...                  target="G(x0)")
-    >>> print(buf.getvalue())
+    >>> print(buf.getvalue(), end="")
     1,0;1,1
     ---
     0,1
     ---
     G,F,!,U,&,|,->,X
     ---
-    2
+    1
     ---
     G(x0)
     """
