@@ -99,16 +99,23 @@ class _Lines:
 
 
 def _split_sections(lines):
-    """Sections between ``---`` lines as lists of (1-based line number, text)."""
-    sections, current = [], []
+    """Sections between ``---`` lines as lists of (1-based line number, text).
+
+    Also returns, per section, the line to blame when it is empty: the ``---`` line that
+    closes it, or for the last section the ``---`` line that opens it.
+    """
+    sections, current, blame = [], [], []
+    opened = 1
     for k, line in enumerate(lines.lines, start=1):
         if line.strip() == _SEPARATOR:
             sections.append(current)
-            current = []
+            blame.append(k)
+            current, opened = [], k
         else:
             current.append((k, line))
     sections.append(current)
-    return sections
+    blame.append(opened)
+    return sections, blame
 
 
 _WELL_FORMED = re.compile(r"[01](?:,[01])*(?:;[01](?:,[01])*)*")
@@ -155,13 +162,12 @@ def _parse_trace(lines, lineno, text, n_props):
     return np.array(rows, dtype=bool), n_props
 
 
-def _one_line(lines, section, what):
+def _one_line(lines, section, what, blame):
     content = [(k, t) for k, t in section if t.strip()]
     if len(content) != 1:
-        k = content[1][0] if len(content) > 1 else (section[0][0] if section else None)
-        where = f"line {k}" if k is not None else "an empty section"
-        raise ValueError(f"{lines.name}, {where}: the {what} section must hold exactly one "
-                         f"line, found {len(content)}")
+        k = content[1][0] if len(content) > 1 else blame
+        raise lines.error(k, f"the {what} section must hold exactly one line, found "
+                             f"{len(content)}")
     return content[0]
 
 
@@ -250,16 +256,15 @@ def read_trace_file(path, *, formulas="auto"):
 def _parse_trace_text(text, path, formulas="auto"):
     name = str(path) if path is not None else "<trace text>"
     lines = _Lines(text, name)
-    sections = _split_sections(lines)
+    sections, blame = _split_sections(lines)
     if len(sections) < 3:
         last = len(lines.lines)
         raise lines.error(max(last, 1), f"missing '---' separator: found {len(sections) - 1}, "
                                         "expected at least 2 (positives --- negatives --- "
                                         "operators)")
     if len(sections) > 6:
-        raise lines.error(sections[6][0][0] - 1 if sections[6] else len(lines.lines),
-                          "too many '---' separators (at most 5: positives, negatives, "
-                          "operators, depth, target, alphabet)")
+        raise lines.error(blame[5], "too many '---' separators (at most 5: positives, "
+                                    "negatives, operators, depth, target, alphabet)")
     n_props = None
     traces = []
     for section in sections[:2]:
@@ -271,33 +276,33 @@ def _parse_trace_text(text, path, formulas="auto"):
     if n_props is None:
         raise ValueError(f"{name}: the file holds no traces (positives and negatives are "
                          "both empty)")
-    _, op_line = _one_line(lines, sections[2], "operators")
+    _, op_line = _one_line(lines, sections[2], "operators", blame[2])
     operators = tuple(o.strip() for o in op_line.split(",") if o.strip())
 
     depth = alphabet = target = source = None
     rest = sections[3:]
     if rest:
-        lineno, first = _one_line(lines, rest[0], "depth or alphabet")
+        lineno, first = _one_line(lines, rest[0], "depth or alphabet", blame[3])
         if first.strip().lstrip("-").isdigit():
             depth = int(first)
             if depth < 0:
                 raise lines.error(lineno, f"depth must be >= 0, got {depth}")
             if len(rest) > 1:
-                lineno, formula = _one_line(lines, rest[1], "target formula")
+                lineno, formula = _one_line(lines, rest[1], "target formula", blame[4])
                 try:
                     target = parse_ltl(formula.strip(), notation="prefix")
                 except ValueError as exc:
                     raise lines.error(lineno, f"target formula: {exc}") from None
                 source = "file"
                 target_line = lineno
-            alphabet_section = rest[2] if len(rest) > 2 else None
+            alphabet_section = (rest[2], blame[5]) if len(rest) > 2 else None
         else:
             if len(rest) > 1:
-                raise lines.error(rest[1][0][0] if rest[1] else lineno,
-                                  "unexpected section after the alphabet")
-            alphabet_section = rest[0]
+                raise lines.error(blame[3], "unexpected section after the alphabet")
+            alphabet_section = (rest[0], blame[3])
         if alphabet_section is not None:
-            lineno, line = _one_line(lines, alphabet_section, "alphabet")
+            section, at = alphabet_section
+            lineno, line = _one_line(lines, section, "alphabet", at)
             alphabet = tuple(a.strip() for a in line.split(","))
             if any(not a for a in alphabet) or len(set(alphabet)) != len(alphabet):
                 raise lines.error(lineno, f"alphabet {line!r} has empty or repeated names")

@@ -108,6 +108,10 @@ def test_accepts_crlf_final_newline_and_empty_negatives(tmp_path):
     ("1,0\n---\n0,0\n---\nG\n---\na,a", 7, "empty or repeated"),
     ("1,0\n---\n0,0\n---\nG\nF", 6, "operators section must hold exactly one line"),
     ("1,0::1\n---\n0,0\n---\nG", 1, "lasso"),
+    ("1,0\n---\n0,0\n---\n---\n1", 5, "operators section must hold exactly one line, found 0"),
+    ("1,0\n---\n0,0\n---\nG\n---\n1\n---\n", 8, "target formula section must hold"),
+    ("1,0\n---\n0,0\n---\nG\n---\na\n---\nF(a)", 8, "unexpected section after the"),
+    ("1,0\n---\n0,0\n---\nG\n---\n1\n---\nF(x0)\n---\nx\n---\n", 12, "too many"),
 ])
 def test_malformed_files_name_file_and_line(tmp_path, text, line, message):
     path = write(tmp_path, text, "bad.trace")
