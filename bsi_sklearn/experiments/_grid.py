@@ -162,7 +162,7 @@ def _fit_one(setting, pool, size, negative_ratio, seed, classifier_params, k):
 
 def progress(iterable, *, total, desc, verbose):
     """A tqdm progress bar on stderr when ``verbose > 0`` and stderr is a terminal."""
-    from tqdm.auto import tqdm
+    from tqdm import tqdm
 
     enabled = bool(verbose) and sys.stderr.isatty()
     return tqdm(iterable, total=total, desc=desc, disable=not enabled, leave=False)

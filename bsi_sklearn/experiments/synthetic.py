@@ -64,7 +64,7 @@ NEGATIVE_RATIO = 0.5
 #: inference; the MCMC settings only apply if a custom run exceeds ``max_exact_hypotheses``.
 CLASSIFIER_PARAMS = {"inference": "auto", "n_samples": 10_000, "burn_in": 100, "n_chains": 4}
 
-QUICK = {"sizes": (2, 5, 10), "n_repeats": 2, "n_test": 5}
+QUICK = {"sizes": (2, 10), "n_repeats": 2, "n_test": 5}
 SCENARIOS = (1, 2, 3)
 PRIORS_23 = ("sets_of_chains", "forest")
 
@@ -352,9 +352,9 @@ def run_synthetic(out=None, *, quick=False, sizes=None, n_repeats=None, scenario
     out : str or Path, default=None
         Output folder; nothing is written when None.
     quick : bool, default=False
-        Small sizes and two repeats (well under a minute), for tests and notebooks.
+        Sizes 2 and 10 and two repeats (well under a minute), for tests and notebooks.
     sizes : sequence of int, default=None
-        Training-set sizes (positives); default :data:`SIZES` (quick: 2, 5, 10).
+        Training-set sizes (positives); default :data:`SIZES` (quick: 2 and 10).
     n_repeats : int, default=None
         Draws per size; default :data:`N_REPEATS` (quick: 2).
     scenarios : sequence of {1, 2, 3}, default=(1, 2, 3)
