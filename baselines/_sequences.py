@@ -2,11 +2,17 @@
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
+
+from bsi_sklearn._validation import (
+    Traces,
+    _is_frame,
+    _Words,
+    check_consistent_traces,
+    check_traces,
+)
 
 __all__ = [
     "Sequences",
@@ -69,41 +75,7 @@ class Sequences:
         return Sequences(data, offsets, self.feature_names)
 
 
-def _is_frame(obj):
-    return hasattr(obj, "columns") and hasattr(obj, "to_numpy") and hasattr(obj, "iloc")
-
-
-def _frame_names(frame, where):
-    cols = list(frame.columns)
-    str_cols = [isinstance(c, str) for c in cols]
-    if cols and all(str_cols):
-        if len(set(cols)) != len(cols):
-            raise ValueError(f"{where} has duplicate column names")
-        return np.asarray(cols, dtype=object)
-    if any(str_cols):
-        raise ValueError(
-            f"{where} mixes string and non-string column names; use strings for all columns"
-        )
-    return None
-
-
-def _to_float(arr, where):
-    """Turn one sequence's values into finite float64, or raise naming ``where``."""
-    if arr.dtype.kind == "c":
-        raise ValueError(f"Complex data not supported: {where} has complex values")
-    if arr.dtype.kind not in "biuf":
-        try:
-            arr = arr.astype(np.float64)
-        except ValueError as exc:
-            raise ValueError(f"{where} has non-numeric values: {exc}") from None
-        except TypeError as exc:
-            raise TypeError(f"{where} has non-numeric values: {exc}") from None
-    arr = np.asarray(arr, dtype=np.float64)
-    bad = ~np.isfinite(arr)
-    if bad.any():
-        t, f = map(int, np.argwhere(bad)[0])
-        raise ValueError(f"{where} has a NaN or infinite value at step {t}, feature {f}")
-    return arr
+_SEQUENCE_WORDS = _Words(item="sequence", unit="feature")
 
 
 def check_sequences(X, *, estimator_name="estimator"):
@@ -141,117 +113,8 @@ def check_sequences(X, *, estimator_name="estimator"):
     >>> seqs.n_sequences, seqs.n_features, seqs.lengths.tolist()
     (2, 2, [3, 5])
     """
-    if X is None:
-        raise ValueError(f"{estimator_name} expects sequences, got None")
-    if sp.issparse(X):
-        raise TypeError(
-            f"{estimator_name} does not support sparse input; pass a list of dense arrays"
-        )
-    if _is_frame(X):
-        names = _frame_names(X, "the DataFrame")
-        return _stack_rows(_to_float(X.to_numpy(), "the DataFrame"), names, estimator_name)
-    if isinstance(X, (list, tuple)):
-        if len(X) == 0:
-            raise ValueError(f"{estimator_name} needs at least one sequence, got 0")
-        if not any(_is_frame(item) or np.ndim(item) >= 2 for item in X):
-            # a nested list of rows (or of scalars): read it as one array, like the 2-D layout
-            try:
-                arr = np.asarray(X)
-            except ValueError as exc:
-                raise ValueError(f"X is a ragged list of rows: {exc}") from None
-            if arr.ndim == 2:
-                return _stack_rows(_to_float(arr, "X"), None, estimator_name)
-            raise _not_sequences(arr.ndim)
-        return _stack_list(X)
-    if isinstance(X, np.ndarray) or hasattr(X, "__array__"):
-        arr = np.asarray(X)
-    else:
-        raise ValueError(
-            "sequences must be a list of 2-D arrays or DataFrames, or a 2-D / 3-D array; "
-            f"got {type(X).__name__}"
-        )
-    if arr.dtype == object and arr.ndim == 1:
-        if arr.shape[0] == 0:
-            raise ValueError(f"{estimator_name} needs at least one sequence, got 0")
-        return _stack_list(list(arr))
-    if arr.ndim == 3:
-        if arr.shape[0] == 0:
-            raise ValueError(f"{estimator_name} needs at least one sequence, got 0")
-        return _stack_list(list(arr))
-    if arr.ndim == 2:
-        return _stack_rows(_to_float(arr, "X"), None, estimator_name)
-    raise _not_sequences(arr.ndim)
-
-
-def _not_sequences(ndim):
-    return ValueError(
-        "sequences must be a list of 2-D arrays, a 3-D array (n_sequences, T, n_features) or a "
-        f"2-D array (n_sequences, n_features); got an array with {ndim} dimension(s). Reshape "
-        "your data with array.reshape(-1, 1) if it has a single feature or array.reshape(1, -1) "
-        "if it is a single sample"
-    )
-
-
-def _stack_rows(rows, names, estimator_name):
-    if rows.shape[0] == 0:
-        raise ValueError(
-            f"Found array with 0 sample(s) (shape={rows.shape}) while a minimum of 1 is "
-            f"required by {estimator_name}"
-        )
-    if rows.shape[1] == 0:
-        raise ValueError(
-            f"Found array with 0 feature(s) (shape={rows.shape}) while a minimum of 1 is "
-            f"required by {estimator_name}"
-        )
-    offsets = np.arange(rows.shape[0] + 1, dtype=np.int64)
-    return Sequences(np.ascontiguousarray(rows), offsets, names)
-
-
-def _stack_list(items):
-    arrays, names, n_features = [], None, None
-    for i, item in enumerate(items):
-        where = f"sequence {i}"
-        if _is_frame(item):
-            item_names = _frame_names(item, where)
-            if i == 0:
-                names = item_names
-            elif (names is None) != (item_names is None) or (
-                names is not None and list(names) != list(item_names)
-            ):
-                raise ValueError(
-                    f"{where} has columns {list(item.columns)}, but sequence 0 has "
-                    f"{list(names) if names is not None else 'no string names'}"
-                )
-            arr = item.to_numpy()
-        else:
-            if i > 0 and names is not None:
-                raise ValueError(f"{where} is not a DataFrame, but sequence 0 is")
-            try:
-                arr = np.asarray(item)
-            except ValueError as exc:
-                raise ValueError(f"{where} is ragged: {exc}") from None
-        if arr.dtype == object and arr.ndim == 1:
-            raise ValueError(f"{where} is ragged or not a 2-D array (T, n_features)")
-        if arr.ndim != 2:
-            raise ValueError(
-                f"{where} must be a 2-D array (T, n_features), got {arr.ndim} dimension(s) "
-                f"with shape {arr.shape}"
-            )
-        if arr.shape[0] == 0:
-            raise ValueError(f"{where} has zero length; every sequence needs at least one step")
-        if arr.shape[1] == 0:
-            raise ValueError(f"{where} has 0 features; at least one is required")
-        if n_features is None:
-            n_features = arr.shape[1]
-        elif arr.shape[1] != n_features:
-            raise ValueError(
-                f"{where} has {arr.shape[1]} features, but sequence 0 has {n_features}"
-            )
-        arrays.append(_to_float(arr, where))
-    lengths = np.array([a.shape[0] for a in arrays], dtype=np.int64)
-    offsets = np.zeros(len(arrays) + 1, dtype=np.int64)
-    np.cumsum(lengths, out=offsets[1:])
-    return Sequences(np.ascontiguousarray(np.concatenate(arrays, axis=0)), offsets, names)
+    t = check_traces(X, estimator_name=estimator_name, numeric=True, words=_SEQUENCE_WORDS)
+    return Sequences(t.data, t.offsets, t.feature_names)
 
 
 def check_consistent_sequences(sequences, n_features_in, feature_names_in, estimator_name):
@@ -259,31 +122,10 @@ def check_consistent_sequences(sequences, n_features_in, feature_names_in, estim
 
     The messages are scikit-learn's, so its estimator checks recognise them.
     """
-    if sequences.n_features != n_features_in:
-        raise ValueError(
-            f"X has {sequences.n_features} features, but {estimator_name} is expecting "
-            f"{n_features_in} features as input."
-        )
-    fitted, given = feature_names_in, sequences.feature_names
-    if fitted is not None and given is not None:
-        if list(fitted) != list(given):
-            raise ValueError(
-                "The feature names should match those that were passed during fit.\n"
-                f"Fitted with: {list(fitted)}\nGot: {list(given)}"
-            )
-    elif fitted is not None:
-        warnings.warn(
-            f"X does not have valid feature names, but {estimator_name} was fitted with "
-            "feature names",
-            UserWarning,
-            stacklevel=3,
-        )
-    elif given is not None:
-        warnings.warn(
-            f"X has feature names, but {estimator_name} was fitted without feature names",
-            UserWarning,
-            stacklevel=3,
-        )
+    check_consistent_traces(
+        Traces(sequences.data, sequences.offsets, sequences.feature_names),
+        n_features_in, feature_names_in, estimator_name,
+    )
 
 
 def check_phases(phases, lengths, n_phases):

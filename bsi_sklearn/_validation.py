@@ -59,6 +59,17 @@ def _is_frame(obj):
     return hasattr(obj, "columns") and hasattr(obj, "to_numpy") and hasattr(obj, "iloc")
 
 
+@dataclass(frozen=True)
+class _Words:
+    """What the items and their columns are called in messages."""
+
+    item: str = "demonstration"
+    unit: str = "proposition"
+
+
+_TRACE_WORDS = _Words()
+
+
 def _frame_names(frame, where):
     cols = list(frame.columns)
     str_cols = [isinstance(c, str) for c in cols]
@@ -73,38 +84,51 @@ def _frame_names(frame, where):
     return None
 
 
-def _to_bool(arr, where, binarize):
-    """Turn one demonstration's values into uint8 0/1, or raise naming ``where``."""
+def _as_numbers(arr, where):
+    """Values as a real array (bool kept), or raise naming ``where``."""
     if arr.dtype == bool:
-        return arr.astype(np.uint8)
+        return arr
     if arr.dtype.kind == "c":
-        raise ValueError(f"{where}: Complex data not supported; traces must be boolean")
+        raise ValueError(f"{where}: Complex data not supported")
     if arr.dtype.kind not in "biuf":
         try:
             arr = arr.astype(np.float64)
         except (TypeError, ValueError) as exc:
             raise NonNumericTraceError(
-                f"{where} has non-numeric values (dtype {arr.dtype}): {exc}; traces must be "
-                "boolean"
+                f"{where} has non-numeric values (dtype {arr.dtype}): {exc}"
             ) from None
     if arr.dtype.kind == "f":
         bad = ~np.isfinite(arr)
         if bad.any():
             t, p = map(int, np.argwhere(bad)[0])
-            raise ValueError(f"{where} has a NaN or infinite value at step {t}, proposition {p}")
+            raise ValueError(f"{where} has a NaN or infinite value at step {t}, column {p}")
+    return arr
+
+
+def _to_bool(arr, where, binarize):
+    """Turn one demonstration's values into uint8 0/1, or raise naming ``where``."""
+    arr = _as_numbers(arr, where)
+    if arr.dtype == bool:
+        return arr.astype(np.uint8)
     if binarize is not None:
         return (arr > binarize).astype(np.uint8)
     bad = (arr != 0) & (arr != 1)
     if bad.any():
         t, p = map(int, np.argwhere(bad)[0])
         raise ValueError(
-            f"{where} has value {arr[t, p].item()!r} at step {t}, proposition {p}; traces must be "
-            "0/1 or boolean (set binarize=<threshold> to threshold numeric data)"
+            f"{where} has value {arr[t, p].item()!r} at step {t}, proposition {p}; traces must "
+            "be 0/1 or boolean (set binarize=<threshold> to threshold numeric data)"
         )
     return arr.astype(np.uint8)
 
 
-def check_traces(X, *, binarize=None, estimator_name="estimator"):
+def _to_float(arr, where, binarize=None):
+    """Turn one sequence's values into finite float64 (numeric sequences, not traces)."""
+    return np.asarray(_as_numbers(arr, where), dtype=np.float64)
+
+
+def check_traces(X, *, binarize=None, estimator_name="estimator", numeric=False,
+                 words=_TRACE_WORDS):
     """Validate demonstrations and stack them for the kernels.
 
     Parameters
@@ -117,6 +141,11 @@ def check_traces(X, *, binarize=None, estimator_name="estimator"):
         When set, values ``> binarize`` become true; otherwise values must be 0/1 or boolean.
     estimator_name : str
         Used in messages.
+    numeric : bool, default=False
+        Keep finite real values as float64 instead of requiring booleans (the sequence models
+        of ``baselines`` share this validation).
+    words : _Words
+        Names of the items and columns in messages.
 
     Returns
     -------
@@ -127,20 +156,22 @@ def check_traces(X, *, binarize=None, estimator_name="estimator"):
         or not np.isfinite(binarize)
     ):
         raise ValueError(f"binarize must be None or a finite number, got {binarize!r}")
+    convert = _to_float if numeric else _to_bool
+    items = words.item + "s"
     if X is None:
-        raise ValueError(f"{estimator_name} expects demonstrations, got None")
+        raise ValueError(f"{estimator_name} expects {items}, got None")
     if hasattr(X, "tocsr") or hasattr(X, "to_dense") and not _is_frame(X):
         raise TypeError(
-            f"{estimator_name} does not support sparse input; pass dense boolean traces "
+            f"{estimator_name} does not support sparse input; pass dense arrays "
             "(e.g. X.toarray())"
         )
+    names = None
     if _is_frame(X):
         names = _frame_names(X, "the DataFrame")
-        rows = _to_bool(X.to_numpy(), "the DataFrame", binarize)
-        return _stack_rows(rows, names)
+        X = X.to_numpy()
     if isinstance(X, (list, tuple)):
         if len(X) == 0:
-            raise ValueError(f"{estimator_name} needs at least one demonstration, got 0")
+            raise ValueError(f"{estimator_name} needs at least one {words.item}, got 0")
         if not _is_frame(X[0]) and np.ndim(X[0]) == 1:
             # Nested lists of scalars: the 2-D format (each row a trace of length one).
             try:
@@ -148,54 +179,53 @@ def check_traces(X, *, binarize=None, estimator_name="estimator"):
             except ValueError:
                 arr = None
             if arr is not None and arr.ndim == 2 and arr.dtype != object:
-                return check_traces(arr, binarize=binarize, estimator_name=estimator_name)
-        return _stack_list(X, binarize)
+                return check_traces(arr, binarize=binarize, estimator_name=estimator_name,
+                                    numeric=numeric, words=words)
+        return _stack_list(X, convert, binarize, words)
     if hasattr(X, "__array__") or isinstance(X, np.ndarray):
         arr = np.asarray(X)
     else:
         raise ValueError(
-            f"demonstrations must be a list of 2-D arrays or DataFrames, or a 2-D / 3-D array; "
+            f"{items} must be a list of 2-D arrays or DataFrames, or a 2-D / 3-D array; "
             f"got {type(X).__name__}"
         )
     if arr.dtype == object and arr.ndim != 2:
-        return _stack_list(list(arr), binarize)
+        return _stack_list(list(arr), convert, binarize, words)
     if arr.ndim == 3:
         if arr.shape[0] == 0:
-            raise ValueError(f"{estimator_name} needs at least one demonstration, got 0")
-        return _stack_list(list(arr), binarize)
+            raise ValueError(f"{estimator_name} needs at least one {words.item}, got 0")
+        return _stack_list(list(arr), convert, binarize, words)
     if arr.ndim == 2:
         if arr.shape[0] == 0:
             raise ValueError(
-                f"{estimator_name} needs at least one demonstration: found array with 0 "
+                f"{estimator_name} needs at least one {words.item}: found array with 0 "
                 f"sample(s) (shape={arr.shape}) while a minimum of 1 is required."
             )
         if arr.shape[1] == 0:
             raise ValueError(
-                f"demonstrations have no propositions: found array with 0 feature(s) "
+                f"{items} have no {words.unit}s: found array with 0 feature(s) "
                 f"(shape={arr.shape}) while a minimum of 1 is required."
             )
-        return _stack_rows(_to_bool(arr, "X", binarize), None)
+        return _stack_rows(convert(arr, "X", binarize), names, words)
     hint = (" Reshape your data: X.reshape(1, -1) for one trace of length one, or wrap a "
             "(T, n_props) trace in a list." if arr.ndim == 1 else "")
     raise ValueError(
-        f"demonstrations must be a list of 2-D traces, a 3-D array (n_demos, T, n_props) or a "
-        f"2-D array (n_demos, n_props); got an array with {arr.ndim} dimension(s).{hint}"
+        f"{items} must be a list of 2-D arrays, a 3-D array (n_{items}, T, n_{words.unit}s) "
+        f"or a 2-D array (n_{items}, n_{words.unit}s); got an array with {arr.ndim} "
+        f"dimension(s).{hint}"
     )
 
 
-def _stack_rows(rows, names):
-    if rows.shape[0] == 0:
-        raise ValueError("at least one demonstration is required, got 0")
-    if rows.shape[1] == 0:
-        raise ValueError("demonstrations have 0 propositions; at least one is required")
+def _stack_rows(rows, names, words):
     offsets = np.arange(rows.shape[0] + 1, dtype=np.int64)
     return Traces(np.ascontiguousarray(rows), offsets, names)
 
 
-def _stack_list(items, binarize):
+def _stack_list(items, convert, binarize, words):
     arrays, names, n_props = [], None, None
+    unit = words.unit
     for i, item in enumerate(items):
-        where = f"demonstration {i}"
+        where = f"{words.item} {i}"
         if _is_frame(item):
             item_names = _frame_names(item, where)
             if i == 0:
@@ -204,13 +234,13 @@ def _stack_list(items, binarize):
                 names is not None and list(names) != list(item_names)
             ):
                 raise ValueError(
-                    f"{where} has columns {list(item.columns)}, but demonstration 0 has "
+                    f"{where} has columns {list(item.columns)}, but {words.item} 0 has "
                     f"{list(names) if names is not None else 'no string names'}"
                 )
             arr = item.to_numpy()
         else:
             if i > 0 and names is not None:
-                raise ValueError(f"{where} is not a DataFrame, but demonstration 0 is")
+                raise ValueError(f"{where} is not a DataFrame, but {words.item} 0 is")
             try:
                 arr = np.asarray(item)
             except ValueError as exc:
@@ -219,20 +249,21 @@ def _stack_list(items, binarize):
             raise ValueError(f"{where} is ragged: its time steps have different lengths")
         if arr.ndim != 2:
             raise ValueError(
-                f"{where} must be a 2-D array (T, n_props), got {arr.ndim} dimension(s) "
+                f"{where} must be a 2-D array (T, n_{unit}s), got {arr.ndim} dimension(s) "
                 f"with shape {arr.shape}"
             )
         if arr.shape[0] == 0:
-            raise ValueError(f"{where} has zero length; every trace needs at least one step")
+            raise ValueError(f"{where} has zero length; every {words.item} needs at least one "
+                             "step")
         if arr.shape[1] == 0:
-            raise ValueError(f"{where} has 0 propositions; at least one is required")
+            raise ValueError(f"{where} has 0 {unit}s; at least one is required")
         if n_props is None:
             n_props = arr.shape[1]
         elif arr.shape[1] != n_props:
             raise ValueError(
-                f"{where} has {arr.shape[1]} propositions, but demonstration 0 has {n_props}"
+                f"{where} has {arr.shape[1]} {unit}s, but {words.item} 0 has {n_props}"
             )
-        arrays.append(_to_bool(arr, where, binarize))
+        arrays.append(convert(arr, where, binarize))
     lengths = np.array([a.shape[0] for a in arrays], dtype=np.int64)
     offsets = np.zeros(len(arrays) + 1, dtype=np.int64)
     np.cumsum(lengths, out=offsets[1:])
@@ -244,7 +275,7 @@ def check_consistent_traces(traces, n_features_in, feature_names_in, estimator_n
     if traces.n_props != n_features_in:
         raise ValueError(
             f"X has {traces.n_props} features, but {estimator_name} is expecting "
-            f"{n_features_in} features as input (propositions per time step)"
+            f"{n_features_in} features as input."
         )
     fitted, given = feature_names_in, traces.feature_names
     if fitted is not None and given is not None:

@@ -111,3 +111,14 @@ def test_predict_checks_propositions():
         clf.predict([np.ones((2, 2))])
     with pytest.raises(ValueError, match="inference='exact' needs"):
         BSIClassifier(inference="exact", max_exact_hypotheses=10).fit([np.ones((2, 3))])
+
+
+def test_single_dataframe_is_2d_format():
+    t = check_traces(pd.DataFrame([[1, 0], [0, 1]], columns=["p", "q"]))
+    assert t.n_demos == 2 and list(t.feature_names) == ["p", "q"]
+    with pytest.raises(ValueError, match="0 sample"):
+        check_traces(pd.DataFrame(np.zeros((0, 2)), columns=["p", "q"]))
+    with pytest.raises(ValueError, match="0 feature"):
+        check_traces(pd.DataFrame(np.zeros((2, 0))))
+    numeric = check_traces([np.array([[0.5, 2.0]])], numeric=True)
+    assert numeric.data.dtype == np.float64 and numeric.data.tolist() == [[0.5, 2.0]]
