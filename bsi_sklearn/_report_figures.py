@@ -149,8 +149,8 @@ def order_dag_png(nodes, edges, labels, edge_probabilities):
     ax.set_xlim(-0.8, n_layers - 0.2)
     ax.set_ylim(-(height / 2 + 0.1), height / 2 + 0.1)
     ax.axis("off")
-    ax.set_title("Ordering constraints (arrow: must come first; label: posterior probability)",
-                 fontsize=9)
+    ax.set_title("Ordering constraints (A \u2192 B: A happens before B; "
+                 "label: posterior probability)", fontsize=9)
     return _png(fig)
 
 
