@@ -47,3 +47,5 @@ def test_notebook_runs(tmp_path):
     assert "Always, threat 1 is avoided." in proc.stdout
     assert (tmp_path / "poi_report" / "report.md").exists()
     assert (tmp_path / "poi_report.html").stat().st_size > 10_000
+    assert "MO1: Gain and maintain air superiority" in proc.stdout
+    assert (tmp_path / "lfe_report" / "index.html").exists()
