@@ -124,7 +124,7 @@ def check_consistent_sequences(sequences, n_features_in, feature_names_in, estim
     """
     check_consistent_traces(
         Traces(sequences.data, sequences.offsets, sequences.feature_names),
-        n_features_in, feature_names_in, estimator_name,
+        n_features_in, feature_names_in, estimator_name, _SEQUENCE_WORDS,
     )
 
 

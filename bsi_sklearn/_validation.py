@@ -270,12 +270,13 @@ def _stack_list(items, convert, binarize, words):
     return Traces(np.ascontiguousarray(np.concatenate(arrays, axis=0)), offsets, names)
 
 
-def check_consistent_traces(traces, n_features_in, feature_names_in, estimator_name):
+def check_consistent_traces(traces, n_features_in, feature_names_in, estimator_name,
+                            words=_TRACE_WORDS):
     """Check that traces given after fit have the propositions seen in fit."""
     if traces.n_props != n_features_in:
         raise ValueError(
             f"X has {traces.n_props} features, but {estimator_name} is expecting "
-            f"{n_features_in} features as input."
+            f"{n_features_in} features as input ({words.unit}s per time step)."
         )
     fitted, given = feature_names_in, traces.feature_names
     if fitted is not None and given is not None:
