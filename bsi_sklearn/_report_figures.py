@@ -182,12 +182,15 @@ def satisfaction_png(states, row_labels, column_labels, column_colors):
               aspect="auto", interpolation="nearest")
     ax.set_yticks(np.arange(n_rows), row_labels, fontsize=8, family="monospace")
     fontsize = 7 if n_cols <= 40 else 5
-    ax.set_xticks(np.arange(n_cols), column_labels, fontsize=fontsize)
-    for tick, color in zip(ax.get_xticklabels(), column_colors):
-        tick.set_color(color)
+    every = max(1, -(-n_cols // 80))  # at most 80 labelled columns
+    shown = np.arange(0, n_cols, every)
+    ax.set_xticks(shown, [column_labels[j] for j in shown], fontsize=fontsize)
+    for tick, j in zip(ax.get_xticklabels(), shown):
+        tick.set_color(column_colors[j])
     ax.set_xticks(np.arange(n_cols + 1) - 0.5, minor=True)
     ax.set_yticks(np.arange(n_rows + 1) - 0.5, minor=True)
-    ax.grid(which="minor", color="white", lw=1.0)
+    if n_cols <= 60:  # cell borders only while cells are wide enough
+        ax.grid(which="minor", color="white", lw=1.0)
     ax.tick_params(which="minor", length=0)
     if n_rows > 1:
         ax.axhline(n_rows - 1.5, color="black", lw=1.5)
