@@ -13,11 +13,13 @@ over ``--repeats`` calls after a warm-up call (numba compiled); see each section
 import argparse
 import importlib
 import json
+import os
 import sys
 import time
 import traceback
 from pathlib import Path
 
+os.environ.setdefault("MPLBACKEND", "Agg")  # figures are written to files, never shown
 HERE = Path(__file__).resolve().parent
 if str(HERE) not in sys.path:
     sys.path.insert(0, str(HERE))
