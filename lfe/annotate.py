@@ -48,7 +48,7 @@ def _first_time(times, mask, default):
     return float(times[idx[0]]) if len(idx) else float(default)
 
 
-def _debrief(sc, min_target_hits, max_attrition, superiority_fraction):
+def _debrief(sc, min_target_hits, max_attrition, superiority_fraction, max_air_losses):
     """Verdicts and transition times of one validated scenario, without judgement noise."""
     tracks, weapons, meta = sc.tracks, sc.weapons, sc.meta
     time = tracks["time"].to_numpy(dtype=float)
@@ -90,13 +90,14 @@ def _debrief(sc, min_target_hits, max_attrition, superiority_fraction):
     egress = float(all_off.index[all_off.to_numpy()][0]) if all_off.any() else t_end
 
     # ----- MO1: gain and maintain air superiority
+    attack = _first_time(time, striker & (phase == "on_target") & alive, tot_start)
     hostile = side == "hostile"
     hostile_ids = np.unique(ids[hostile])
     if len(hostile_ids):
-        at = time[time <= tot_start + 1e-9]
+        at = time[time <= attack + 1e-9]
         t_check = float(at[-1]) if len(at) else float(time[0])
         snap = (time == t_check) & hostile
-        out = (~alive[snap]) | np.isin(phase[snap], ("withdraw", "marshal"))
+        out = (~alive[snap]) | (phase[snap] == "withdraw")
         gained = out.sum() >= superiority_fraction * len(hostile_ids) - 1e-9
     else:
         gained = True
@@ -106,7 +107,7 @@ def _debrief(sc, min_target_hits, max_attrition, superiority_fraction):
     on_striker = np.array([aircraft_role.get(s) == "striker" for s in w_target], dtype=bool)
     losses_in_strike = air_to_air & on_friendly & w_hit & (w_impact >= strikers_push) & (
         w_impact <= tot_end)
-    maintained = not losses_in_strike.any()
+    maintained = losses_in_strike.sum() <= max_air_losses
     strikers_engaged = (air_to_air & on_striker).any()
     mo1 = bool(gained and maintained and not strikers_engaged)
 
@@ -129,7 +130,8 @@ def _debrief(sc, min_target_hits, max_attrition, superiority_fraction):
 
 
 def annotate_scenario(scenario, *, noise=0.0, time_noise=0.0, min_target_hits=1,
-                      max_attrition=0.25, superiority_fraction=0.75, random_state=None):
+                      max_attrition=0.25, superiority_fraction=0.5, max_air_losses=1,
+                      random_state=None):
     """Debrief one scenario as a mission commander: objective verdicts and phase times.
 
     The commander works from the raw tables (see :func:`annotate_scenarios` for the rules).
@@ -147,9 +149,11 @@ def annotate_scenario(scenario, *, noise=0.0, time_noise=0.0, min_target_hits=1,
         Munition hits on the target inside the TOT window needed for MO2.
     max_attrition : float, default=0.25
         Largest acceptable fraction of friendly aircraft lost (MO3).
-    superiority_fraction : float, default=0.75
-        Fraction of hostile fighters that must be shot down or withdrawing when the TOT window
-        opens (MO1).
+    superiority_fraction : float, default=0.5
+        Fraction of hostile fighters that must be shot down or withdrawing when the strikers
+        begin their attack run (MO1).
+    max_air_losses : int, default=1
+        Friendly aircraft that hostile fighters may shoot down during the strike (MO1).
     random_state : int, RandomState instance or None, default=None
         Source of the judgement and timing noise.
 
@@ -173,28 +177,30 @@ def annotate_scenario(scenario, *, noise=0.0, time_noise=0.0, min_target_hits=1,
     labels, phases = annotate_scenarios(
         [scenario], noise=noise, time_noise=time_noise, min_target_hits=min_target_hits,
         max_attrition=max_attrition, superiority_fraction=superiority_fraction,
-        random_state=random_state)
+        max_air_losses=max_air_losses, random_state=random_state)
     out = {k: int(labels.iloc[0][k]) for k in MISSION_OBJECTIVES}
     out.update({k: float(phases.iloc[0][k]) for k in PHASE_NAMES})
     return out
 
 
 def annotate_scenarios(scenarios, *, noise=0.0, time_noise=0.0, min_target_hits=1,
-                       max_attrition=0.25, superiority_fraction=0.75, random_state=None):
+                       max_attrition=0.25, superiority_fraction=0.5, max_air_losses=1,
+                       random_state=None):
     """Debrief scenarios as a mission commander: objective verdicts and phase times.
 
     The rules read only the raw tables of each scenario:
 
     **MO1 — gain and maintain air superiority.** Achieved when all three hold:
 
-    1. *gained*: when the TOT window opens (the last track time at or before
-       ``meta["tot_start"]``), at least ``superiority_fraction`` of the hostile fighters are
-       out of the fight — shot down (``alive`` false), withdrawing (flight phase
-       ``withdraw``) or still on the ground (``marshal``); a scenario without hostile
-       fighters passes;
-    2. *maintained*: no friendly aircraft is shot down by a hostile fighter's air-to-air
-       missile (weapon type ``aam``, outcome ``hit``) with impact between the strikers' push
-       and the close of the TOT window; losses to SAMs do not count against air superiority;
+    1. *gained*: when the strikers begin their attack run (the first track time a live
+       striker is ``on_target``; the planned ``meta["tot_start"]`` if that never happens), at
+       least ``superiority_fraction`` of the hostile fighters are out of the fight — shot
+       down (``alive`` false) or withdrawing (flight phase ``withdraw``); fighters still on
+       the ground count as a threat; a scenario without hostile fighters passes;
+    2. *maintained*: hostile fighters' air-to-air missiles (weapon type ``aam``, outcome
+       ``hit``) shoot down at most ``max_air_losses`` friendly aircraft with impact between the
+       strikers' push and the close of the TOT window; losses to SAMs do not count against air
+       superiority;
     3. *strikers protected*: no hostile fighter ever fires an air-to-air missile at a
        striker (SAM shots at strikers do not count).
 
@@ -232,8 +238,10 @@ def annotate_scenarios(scenarios, *, noise=0.0, time_noise=0.0, min_target_hits=
         Hits on the target inside the TOT window needed for MO2.
     max_attrition : float, default=0.25
         Largest acceptable fraction of friendly aircraft lost (MO3).
-    superiority_fraction : float, default=0.75
-        Fraction of hostile fighters out of the fight at TOT needed for MO1.
+    superiority_fraction : float, default=0.5
+        Fraction of hostile fighters out of the fight at the attack run needed for MO1.
+    max_air_losses : int, default=1
+        Friendly aircraft hostile fighters may shoot down during the strike (MO1).
     random_state : int, RandomState instance or None, default=None
         Source of the noise (unused when both noises are 0).
 
@@ -260,6 +268,9 @@ def annotate_scenarios(scenarios, *, noise=0.0, time_noise=0.0, min_target_hits=
     time_noise = _check_nonnegative(time_noise, "time_noise")
     max_attrition = _check_probability(max_attrition, "max_attrition")
     superiority_fraction = _check_probability(superiority_fraction, "superiority_fraction")
+    if (isinstance(max_air_losses, bool) or not isinstance(max_air_losses, numbers.Integral)
+            or max_air_losses < 0):
+        raise ValueError(f"max_air_losses must be an integer >= 0, got {max_air_losses!r}")
     if (isinstance(min_target_hits, bool) or not isinstance(min_target_hits, numbers.Integral)
             or min_target_hits < 1):
         raise ValueError(f"min_target_hits must be an integer >= 1, got {min_target_hits!r}")
@@ -268,7 +279,7 @@ def annotate_scenarios(scenarios, *, noise=0.0, time_noise=0.0, min_target_hits=
     ids, label_rows, phase_rows = [], [], []
     for sc in scenarios:
         verdicts, times, t_end = _debrief(sc, int(min_target_hits), max_attrition,
-                                          superiority_fraction)
+                                          superiority_fraction, int(max_air_losses))
         flips = rng.random_sample(len(MISSION_OBJECTIVES)) < noise if noise > 0 else None
         if flips is not None:
             for k, name in enumerate(MISSION_OBJECTIVES):

@@ -36,7 +36,7 @@ def random_scenario_config(random_state=None):
     The paper's package is fixed (8 escorts, 8 SEAD, 2 strikers); the threat and the
     execution vary: 4 to 12 hostile fighters, 0 to 5 SAM sites, weapon loads and
     probabilities of kill, the TOT window (opening 1300-1700 s, 240-360 s long), the escorts'
-    push time and the strikers' push error (-300 to +360 s around the plan), and the losses
+    push time and the strikers' push error (-300 to +300 s around the plan), and the losses
     that make hostile fighters withdraw.
 
     Parameters
@@ -60,18 +60,18 @@ def random_scenario_config(random_state=None):
         n_hostile=int(rng.randint(4, 13)),
         n_sams=int(rng.randint(0, 6)),
         escort_push_time=float(10 * rng.randint(12, 31)),
-        striker_push_offset=float(10 * rng.randint(-30, 37)),
+        striker_push_offset=float(10 * rng.randint(-30, 31)),
         tot_start=float(10 * rng.randint(130, 171)),
         tot_window=float(rng.choice([240.0, 300.0, 360.0])),
         escort_missiles=int(rng.randint(3, 7)),
         hostile_missiles=int(rng.randint(2, 5)),
         sead_harms=int(rng.randint(1, 4)),
-        sam_missiles=int(rng.randint(4, 9)),
+        sam_missiles=int(rng.randint(4, 11)),
         pk_escort=round(float(rng.uniform(0.4, 0.7)), 3),
-        pk_hostile=round(float(rng.uniform(0.3, 0.55)), 3),
+        pk_hostile=round(float(rng.uniform(0.35, 0.6)), 3),
         pk_harm=round(float(rng.uniform(0.4, 0.7)), 3),
-        pk_sam=round(float(rng.uniform(0.15, 0.4)), 3),
-        pk_bomb=round(float(rng.uniform(0.3, 0.6)), 3),
+        pk_sam=round(float(rng.uniform(0.2, 0.45)), 3),
+        pk_bomb=round(float(rng.uniform(0.15, 0.45)), 3),
         hostile_withdraw_fraction=round(float(rng.uniform(0.4, 0.8)), 3),
         hostile_alert_fraction=round(float(rng.uniform(0.0, 0.5)), 3),
     )
@@ -193,7 +193,9 @@ class LFEDataset:
         with open(header_file, encoding="utf-8") as fh:
             header = json.load(fh)
         if header.get("format") != _FORMAT:
-            raise ValueError(f"{header_file}: not an LFE dataset (format {header.get('format')!r})")
+            raise ValueError(
+                f"{header_file}: not an LFE dataset (format {header.get('format')!r})"
+            )
         with open(path / "meta.json", encoding="utf-8") as fh:
             metas = json.load(fh)
         tables = {}

@@ -101,8 +101,10 @@ _FLOAT_SITE = ("x", "y", "detection_range", "weapon_range")
 
 
 def normalise_table(frame, table):
-    """Give a raw table its schema: the schema's columns in order, numbers as float64,
-    ``alive`` as bool, everything else as strings (pandas' default string dtype).
+    """Give a raw table its schema's columns and dtypes.
+
+    The schema's columns in order, numbers as float64, ``alive`` as bool, everything else as
+    strings (pandas' default string dtype).
 
     Parameters
     ----------
@@ -220,9 +222,10 @@ def _check_numeric(frame, name, columns, where):
 
 
 def _check_values(frame, name, column, allowed, where):
-    values = frame[column].astype(object).to_numpy()
-    ok = np.isin(values, np.asarray(allowed, dtype=object))
+    values = frame[column]
+    ok = values.isin(allowed).to_numpy()
     if not ok.all():
+        values = values.astype(object).to_numpy()
         row = int(np.flatnonzero(~ok)[0])
         raise ValueError(
             f"{where}: {name} column {column!r} has unknown value {values[row]!r} at row {row}; "
@@ -257,7 +260,7 @@ def check_scenario(scenario, index=0):
     >>> check_scenario(bad, 3)
     Traceback (most recent call last):
     ...
-    ValueError: scenario 'lfe-0000' (index 3): tracks is missing column 'alive' ...
+    ValueError: scenario ... (index 3): tracks is missing column 'alive' ...
     """
     if isinstance(scenario, Mapping):
         missing = [k for k in ("tracks", "weapons", "sites", "meta") if k not in scenario]
@@ -316,7 +319,10 @@ def check_scenario(scenario, index=0):
             f"{time[row - 1]})"
         )
     ids = tracks["aircraft_id"].astype(str).to_numpy()
-    dup = pd.Series(list(zip(time, ids))).duplicated().to_numpy()
+    id_codes, id_uniques = pd.factorize(ids)
+    time_codes = pd.factorize(time)[0]
+    dup = pd.Series(time_codes.astype(np.int64) * len(id_uniques) + id_codes).duplicated()
+    dup = dup.to_numpy()
     if dup.any():
         row = int(np.flatnonzero(dup)[0])
         raise ValueError(
@@ -325,24 +331,24 @@ def check_scenario(scenario, index=0):
         )
     sides = tracks["side"].astype(str).to_numpy()
     roles = tracks["role"].astype(str).to_numpy()
-    bad = (sides == "friendly") & ~np.isin(roles, FRIENDLY_ROLES)
-    bad |= (sides == "hostile") & ~np.isin(roles, HOSTILE_ROLES)
+    friendly_role = tracks["role"].isin(FRIENDLY_ROLES).to_numpy()
+    bad = ((sides == "friendly") & ~friendly_role) | ((sides == "hostile") & friendly_role)
     if bad.any():
         row = int(np.flatnonzero(bad)[0])
         raise ValueError(
             f"{where}: tracks column 'role' has {roles[row]!r} for a {sides[row]} aircraft at "
             f"row {row}"
         )
-    per_aircraft = pd.DataFrame({"id": ids, "side": sides, "role": roles})
+    per_aircraft = pd.DataFrame({"id": id_codes, "side": sides, "role": roles})
     n_labels = per_aircraft.drop_duplicates().groupby("id").size()
     if (n_labels > 1).any():
-        aircraft = n_labels.index[np.flatnonzero(n_labels.to_numpy() > 1)[0]]
+        aircraft = id_uniques[n_labels.index[np.flatnonzero(n_labels.to_numpy() > 1)[0]]]
         raise ValueError(
             f"{where}: aircraft {aircraft!r} changes column 'side' or 'role' over time"
         )
-    order = np.argsort(ids, kind="stable")
+    order = np.argsort(id_codes, kind="stable")
     alive_sorted = tracks["alive"].astype(bool).to_numpy()[order]
-    same = ids[order][1:] == ids[order][:-1]
+    same = id_codes[order][1:] == id_codes[order][:-1]
     revived = same & ~alive_sorted[:-1] & alive_sorted[1:]
     if revived.any():
         row = int(order[np.flatnonzero(revived)[0] + 1])

@@ -262,7 +262,7 @@ def simulate_scenario(config=None, random_state=None, *, scenario_id=None):
     (18, 6)
     >>> sorted(sc.tracks["role"].unique())
     ['escort', 'fighter', 'sead', 'striker']
-    >>> sc.tracks.groupby("aircraft_id")["alive"].is_monotonic_decreasing.all()
+    >>> bool(sc.tracks.groupby("aircraft_id")["alive"].is_monotonic_decreasing.all())
     True
     """
     if config is None:
@@ -478,9 +478,9 @@ class _Simulation:
             self.sam_emitting[sam_live] |= (d_sf <= self.sam_detect[sam_live, None]).any(axis=1)
 
         strikers = np.flatnonzero(self.role == _STK)
+        ph_s = self.phase[strikers]
         strikers_done = bool(np.all(
-            ~self.alive[strikers]
-            | np.isin(self.phase[strikers], (_PH["egress"], _PH["rtb"]))
+            ~self.alive[strikers] | (ph_s == _PH["egress"]) | (ph_s == _PH["rtb"])
         )) and t >= self.striker_push
         bingo = t > self.tot_end + 600.0
 
@@ -490,8 +490,8 @@ class _Simulation:
             self.hostile_withdraw = True  # the fighters airborne now break off
             self.withdrawing |= ~self.friendly & (self.scramble <= t)
         # Escorts screen 15 km ahead of the strikers between their push and their egress.
-        ingress = strikers[self.alive[strikers] & np.isin(
-            self.phase[strikers], (_PH["push"], _PH["on_target"], _PH["defensive"]))]
+        ingress = strikers[self.alive[strikers] & (
+            (ph_s == _PH["push"]) | (ph_s == _PH["on_target"]) | (ph_s == _PH["defensive"]))]
         self.screen = None
         if len(ingress) and t >= self.striker_push:
             centre = pos[ingress].mean(axis=0)
@@ -502,8 +502,9 @@ class _Simulation:
         live_strikers = strikers[self.alive[strikers]]
         gci = np.hypot(pos[live_strikers, 0] - self.target[0],
                        pos[live_strikers, 1] - self.target[1]) <= _GCI_RANGE
-        self.gci_tracks = live_strikers[gci]
-        if len(self.gci_tracks):
+        self.gci_seen = np.zeros(n, dtype=bool)
+        self.gci_seen[live_strikers[gci]] = True
+        if gci.any():
             waiting = np.isinf(self.scramble)
             self.scramble[waiting] = t + self.alert_delay[waiting]
 
@@ -701,7 +702,7 @@ class _Simulation:
             goal[i] = self._away(i, self.pos[friendly_alive[int(np.argmin(d_col))]])
             want[i] = _SPEED["defensive"]
             return
-        ok = (d_col <= _DETECT[_FTR]) | np.isin(friendly_alive, self.gci_tracks)
+        ok = (d_col <= _DETECT[_FTR]) | self.gci_seen[friendly_alive]
         ok &= self.pos[friendly_alive, 0] >= _HOSTILE_FLOOR_X
         if ok.any():
             cand = np.flatnonzero(ok)
