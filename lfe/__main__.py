@@ -1,0 +1,7 @@
+"""``python -m lfe`` runs the ``bsi-lfe`` command line."""
+
+import sys
+
+from lfe.cli import main
+
+sys.exit(main())
