@@ -4,9 +4,10 @@ Each subcommand lives in its own module exposing ``add_arguments(parser)`` and `
 this file only wires them, importing a module when its subcommand runs.
 """
 
-import argparse
-import importlib
 import sys
+
+from bsi_sklearn._cli_common import build_parser as build_parser_from
+from bsi_sklearn._cli_common import run_command
 
 __all__ = ["main"]
 
@@ -21,31 +22,14 @@ SUBCOMMANDS = {
 
 def build_parser():
     """The argument parser of ``bsi`` (subcommand modules add their own arguments)."""
-    parser = argparse.ArgumentParser(
-        prog="bsi", description="Bayesian Specification Inference from demonstrations."
+    return build_parser_from(
+        "bsi", "Bayesian Specification Inference from demonstrations.", SUBCOMMANDS
     )
-    sub = parser.add_subparsers(dest="command", required=True)
-    for name, (module_name, help_) in SUBCOMMANDS.items():
-        try:
-            module = importlib.import_module(module_name)
-        except ImportError:
-            continue
-        p = sub.add_parser(name, help=help_, description=help_)
-        module.add_arguments(p)
-        p.set_defaults(_run=module.run)
-    return parser
 
 
 def main(argv=None):
     """Entry point of the ``bsi`` console script; returns the exit status."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    try:
-        status = args._run(args)
-    except (ValueError, FileNotFoundError) as exc:
-        print(f"bsi {args.command}: error: {exc}", file=sys.stderr)
-        return 2
-    return 0 if status is None else int(status)
+    return run_command(build_parser(), argv)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,0 +1,47 @@
+"""Shared plumbing of the ``bsi`` and ``bsi-lfe`` command lines.
+
+Each subcommand lives in its own module exposing ``add_arguments(parser)`` and ``run(args)``;
+a command line is a table ``name -> (module, help)`` wired by :func:`build_parser`.
+"""
+
+import argparse
+import importlib
+import sys
+
+__all__ = ["build_parser", "run_command"]
+
+
+def build_parser(prog, description, subcommands):
+    """An argument parser with one subparser per importable subcommand module.
+
+    A subcommand whose module is absent (an optional part not installed) is left out; an
+    import error inside a present module propagates.
+    """
+    parser = argparse.ArgumentParser(prog=prog, description=description)
+    sub = parser.add_subparsers(dest="command", required=True)
+    for name, (module_name, help_) in subcommands.items():
+        try:
+            module = importlib.import_module(module_name)
+        except ModuleNotFoundError as exc:
+            if exc.name != module_name:
+                raise
+            continue
+        p = sub.add_parser(name, help=help_, description=help_)
+        module.add_arguments(p)
+        p.set_defaults(_run=module.run)
+    return parser
+
+
+def run_command(parser, argv=None):
+    """Parse ``argv``, run the chosen subcommand and return its exit status.
+
+    A ``ValueError`` or ``FileNotFoundError`` (bad input) prints ``prog command: error: ...``
+    on stderr and gives status 2, as argparse does for bad arguments.
+    """
+    args = parser.parse_args(argv)
+    try:
+        status = args._run(args)
+    except (ValueError, FileNotFoundError) as exc:
+        print(f"{parser.prog} {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    return 0 if status is None else int(status)
