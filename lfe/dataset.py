@@ -14,6 +14,9 @@ from sklearn.utils import check_random_state
 
 from lfe.annotate import MISSION_OBJECTIVES, PHASE_NAMES, annotate_scenarios
 from lfe.scenario import (
+    _FLOAT_SITE,
+    _FLOAT_TRACK,
+    _FLOAT_WEAPON,
     SITE_COLUMNS,
     TRACK_COLUMNS,
     WEAPON_COLUMNS,
@@ -28,6 +31,19 @@ __all__ = ["LFEDataset", "make_lfe_dataset", "load_lfe_dataset", "random_scenari
 _FORMAT = "bsi-sklearn-lfe"
 _FORMAT_VERSION = 1
 _COLUMNS = {"tracks": TRACK_COLUMNS, "weapons": WEAPON_COLUMNS, "sites": SITE_COLUMNS}
+# pandas 3 parses floats exactly by default (and deprecates the option); pandas 2 needs it.
+_EXACT_FLOATS = ({} if int(pd.__version__.split(".")[0]) >= 3
+                 else {"float_precision": "round_trip"})
+_NUMERIC = {"tracks": _FLOAT_TRACK, "weapons": _FLOAT_WEAPON, "sites": _FLOAT_SITE}
+
+
+def _json_default(value):
+    # numpy scalars pass validation (numbers.Real) but json cannot write them
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    raise TypeError(f"meta value {value!r} of type {type(value).__name__} cannot be saved")
 
 
 def random_scenario_config(random_state=None):
@@ -165,7 +181,7 @@ class LFEDataset:
             data = data[["scenario_id", *_COLUMNS[table]]]
             data.to_csv(path / f"{table}.csv", index=False)
         with open(path / "meta.json", "w", encoding="utf-8") as fh:
-            json.dump([sc.meta for sc in self.scenarios], fh, indent=1)
+            json.dump([sc.meta for sc in self.scenarios], fh, indent=1, default=_json_default)
         self.labels.to_csv(path / "labels.csv")
         self.phases.to_csv(path / "phases.csv")
         with open(path / "dataset.json", "w", encoding="utf-8") as fh:
@@ -200,8 +216,12 @@ class LFEDataset:
             metas = json.load(fh)
         tables = {}
         for table in ("tracks", "weapons", "sites"):
-            data = pd.read_csv(path / f"{table}.csv", float_precision="round_trip",
-                               dtype={"scenario_id": str})
+            # Text columns stay text: ids such as "007", "1e3" or "NA" must not become numbers
+            # or missing values (the numeric columns are finite by validation).
+            text = {c: str for c in ("scenario_id", *_COLUMNS[table])
+                    if c not in _NUMERIC[table] and c != "alive"}
+            data = pd.read_csv(path / f"{table}.csv", dtype=text, keep_default_na=False,
+                               **_EXACT_FLOATS)
             tables[table] = dict(iter(data.groupby("scenario_id", sort=False)))
         scenarios = []
         for meta in metas:
@@ -215,10 +235,12 @@ class LFEDataset:
                 parts[table] = normalise_table(frame, table)
             scenarios.append(Scenario(parts["tracks"], parts["weapons"], parts["sites"], meta))
         labels = pd.read_csv(path / "labels.csv", index_col="scenario_id",
-                             dtype={"scenario_id": str})
+                             dtype={"scenario_id": str}, keep_default_na=False)
         labels = labels[list(MISSION_OBJECTIVES)].astype(np.int64)
         phases = pd.read_csv(path / "phases.csv", index_col="scenario_id",
-                             dtype={"scenario_id": str}, float_precision="round_trip")
+                             dtype={"scenario_id": str}, keep_default_na=False,
+                             na_values={p: ["", "NaN", "nan"] for p in PHASE_NAMES},
+                             **_EXACT_FLOATS)
         phases = phases[list(PHASE_NAMES)].astype(float)
         return cls(scenarios, labels, phases, info=header.get("info"))
 
