@@ -14,6 +14,7 @@ from lfe.extractor import (
     LFEPropositionExtractor,
     proposition_roles,
 )
+from lfe.plots import plot_scenario_map, plot_timeline
 from lfe.scenario import Scenario, check_scenario, check_scenarios
 from lfe.simulator import ScenarioConfig, simulate_scenario
 
@@ -33,6 +34,8 @@ __all__ = [
     "load_lfe_dataset",
     "make_lfe_dataset",
     "phase_labels",
+    "plot_scenario_map",
+    "plot_timeline",
     "proposition_roles",
     "random_scenario_config",
     "simulate_scenario",
