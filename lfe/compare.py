@@ -468,23 +468,23 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     >>> full = compare()   # the paper's setting: 1.5 to 4 minutes on 2 cores  # doctest: +SKIP
     """
     start_run = time.perf_counter()
-    if dataset is None:
-        dataset = (make_lfe_dataset(_QUICK["n_scenarios"], random_state=0) if quick
-                   else load_lfe_dataset())
-    if not isinstance(dataset, LFEDataset):
-        raise ValueError(f"dataset must be an LFEDataset, got {type(dataset).__name__}")
     if n_splits is None:
         n_splits = _QUICK["n_splits"] if quick else 4
     _check_int("n_splits", n_splits, 2)
-    if n_splits > len(dataset):
-        raise ValueError(
-            f"n_splits={n_splits} is more than the {len(dataset)} scenarios of the dataset"
-        )
     _check_int("seed", seed, 0)
     _check_int("verbose", verbose, 0)
     if n_jobs is not None and (isinstance(n_jobs, bool) or not isinstance(n_jobs, numbers.Integral)
                                or n_jobs == 0):
         raise ValueError(f"n_jobs must be None or a non-zero integer, got {n_jobs!r}")
+    if dataset is None:
+        dataset = (make_lfe_dataset(_QUICK["n_scenarios"], random_state=0) if quick
+                   else load_lfe_dataset())
+    if not isinstance(dataset, LFEDataset):
+        raise ValueError(f"dataset must be an LFEDataset, got {type(dataset).__name__}")
+    if n_splits > len(dataset):
+        raise ValueError(
+            f"n_splits={n_splits} is more than the {len(dataset)} scenarios of the dataset"
+        )
 
     objectives = list(MISSION_OBJECTIVES)
     labels = dataset.labels[objectives]
