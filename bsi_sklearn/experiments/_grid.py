@@ -18,7 +18,8 @@ from sklearn.utils.parallel import Parallel, delayed
 from bsi_sklearn.classifier import BSIClassifier
 from bsi_sklearn.metrics import classify_orders, similarity_summary
 
-__all__ = ["Setting", "make_pool", "run_grid", "aggregate", "METRICS", "SETTING_COLUMNS"]
+__all__ = ["Setting", "make_pool", "run_grid", "aggregate", "format_orders", "METRICS",
+           "SETTING_COLUMNS"]
 
 #: Per-fit measures that :func:`aggregate` summarises (booleans become fractions).
 METRICS = (
@@ -58,17 +59,32 @@ class Setting:
     likelihood : {"cb", "ci"}, default="cb"
     supervised : bool, default=False
         False: positive demonstrations only; True: the same positives plus negatives.
+    params : tuple of (str, float), default=()
+        Prior hyperparameters passed to ``BSIClassifier`` (e.g. ``(("n_new", 0.5),)``);
+        empty: the classifier's defaults.
     """
 
     domain: str
     prior: str
     likelihood: str = "cb"
     supervised: bool = False
+    params: tuple = ()
 
     @property
     def labels(self):
         """``"positive"`` (positive-only learning) or ``"supervised"``."""
         return "supervised" if self.supervised else "positive"
+
+    @property
+    def hyperparameters(self):
+        """``"default"`` or the ``params`` as ``"name=value, ..."``.
+
+        Examples
+        --------
+        >>> Setting("d", "forest", params=(("n_new", 0.5),)).hyperparameters
+        'n_new=0.5'
+        """
+        return ", ".join(f"{k}={v:g}" for k, v in self.params) or "default"
 
 
 def make_pool(positives, negatives, X_test, y_test, roles, truth, random_state):
@@ -121,13 +137,14 @@ def _fit_one(setting, pool, size, negative_ratio, seed, classifier_params, k):
         X += pool.negatives[:n_neg]
         y = np.r_[np.ones(size, dtype=int), np.zeros(n_neg, dtype=int)]
     clf = BSIClassifier(prior=setting.prior, likelihood=setting.likelihood, **pool.roles,
-                        **classifier_params, random_state=seed)
+                        **{**classifier_params, **dict(setting.params)}, random_state=seed)
     start = time.perf_counter()
     clf.fit(X, y)
     fit_time = time.perf_counter() - start
     post = clf.posterior_
     summary = similarity_summary(post, pool.truth, k=k)
-    map_orders = classify_orders(clf.map_specification_, pool.truth).counts
+    map_split = classify_orders(clf.map_specification_, pool.truth)
+    map_orders = map_split.counts
     cum = np.cumsum(post.probabilities)
     row = {
         **asdict(setting),
@@ -142,6 +159,7 @@ def _fit_one(setting, pool, size, negative_ratio, seed, classifier_params, k):
         "map_correct_orders": map_orders.correct,
         "map_extra_orders": map_orders.extra,
         "map_incorrect_orders": map_orders.incorrect,
+        "map_extra_pairs": format_orders(map_split.extra),
         "map_ltl": clf.map_specification_.to_ltl(),
         "fit_time": fit_time,
         "rhat": np.nan,
@@ -156,8 +174,20 @@ def _fit_one(setting, pool, size, negative_ratio, seed, classifier_params, k):
     if clf.mcmc_diagnostics_ is not None:
         row["rhat"] = clf.mcmc_diagnostics_["rhat"]
         row["converged"] = bool(row["rhat"] <= _RHAT_OK)
-    del row["supervised"]
+    row["hyperparameters"] = setting.hyperparameters
+    del row["supervised"], row["params"]
     return row
+
+
+def format_orders(orders):
+    """Orders as sorted ``"a<b"`` items joined by ``";"`` (``""`` for none): a CSV-safe cell.
+
+    Examples
+    --------
+    >>> format_orders({("omega_fork", "omega_spoon"), ("omega_a", "omega_b")})
+    'omega_a<omega_b;omega_fork<omega_spoon'
+    """
+    return ";".join(sorted(f"{a}<{b}" for a, b in orders))
 
 
 def progress(iterable, *, total, desc, verbose):
@@ -199,7 +229,8 @@ def run_grid(pools, settings, sizes, *, classifier_params=None, negative_ratio=0
     -------
     results : DataFrame
         One row per fit: setting columns, ``size``, ``repeat``, the similarity summary
-        (:func:`bsi_sklearn.metrics.similarity_summary`), order counts of the MAP,
+        (:func:`bsi_sklearn.metrics.similarity_summary`), order counts of the MAP and its
+        extra orders (``map_extra_pairs``, see :func:`format_orders`),
         ``n_formulas_99`` (fewest specifications holding 99% of the mass), held-out
         ``test_accuracy`` / ``test_f1``, ``fit_time``, ``inference``, ``rhat``.
     """

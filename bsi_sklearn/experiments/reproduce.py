@@ -34,8 +34,8 @@ def add_arguments(parser):
     parser.add_argument("--quick", action="store_true",
                         help="small sizes and few repeats: well under a minute")
     parser.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
-    parser.add_argument("--n-jobs", type=_n_jobs, default=None,
-                        help="fits run in this many threads (default: 1; -1: all cores)")
+    parser.add_argument("--n-jobs", type=_n_jobs, default=-1,
+                        help="fits run in this many threads (default: -1, all cores)")
     parser.add_argument("--repeats", type=_positive_int, default=None,
                         help="random draws of the training set per size (default: the "
                              "experiment's)")
@@ -43,6 +43,9 @@ def add_arguments(parser):
                         help="training-set sizes (default: the experiment's)")
     parser.add_argument("--no-supervised", action="store_true",
                         help="skip the supervised variant (positives and negatives)")
+    parser.add_argument("--no-alt-priors", action="store_true",
+                        help="synthetic: skip the rerun of Priors 2 and 3 with p_part=0.7 and "
+                             "n_new=0.5")
     parser.add_argument("--verbose", type=int, default=1,
                         help="0: silent; 1 (default): progress bars on a terminal and the "
                              "claims table")
@@ -53,16 +56,22 @@ def run(args):
     from bsi_sklearn.experiments import run_dinner, run_synthetic
 
     out = args.out if args.out is not None else f"bsi_reproduce/{args.experiment}"
-    runner = run_synthetic if args.experiment == "synthetic" else run_dinner
+    kwargs = {}
+    if args.experiment == "synthetic":
+        runner = run_synthetic
+        kwargs["alternative_priors"] = not args.no_alt_priors
+    else:
+        runner = run_dinner
     result = runner(out, quick=args.quick, sizes=args.sizes, n_repeats=args.repeats,
                     supervised=not args.no_supervised, n_jobs=args.n_jobs,
-                    random_state=args.seed, verbose=args.verbose)
+                    random_state=args.seed, verbose=args.verbose, **kwargs)
     if args.verbose:
         claims = result.claims[["id", "measured", "status"]]
         with pd.option_context("display.max_colwidth", 90, "display.width", 160):
             print(claims.to_string(index=False))
         n_pass = int((result.claims["status"] == "PASS").sum())
-        print(f"\n{n_pass}/{len(claims)} claims pass; {result.config['n_fits']} fits in "
+        n_fits = result.config["n_fits"] + result.config.get("n_alt_priors_fits", 0)
+        print(f"\n{n_pass}/{len(claims)} claims pass; {n_fits} fits in "
               f"{result.elapsed:.1f} s; files in {out}/:")
         for path in result.files:
             print(f"  {path.name}")

@@ -27,7 +27,8 @@ def synthetic_run(tmp_path_factory):
 @pytest.fixture(scope="module")
 def dinner_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("dinner")
-    status = main(["reproduce", "dinner", "--quick", "--out", str(out), "--verbose", "0"])
+    status = main(["reproduce", "dinner", "--quick", "--out", str(out), "--n-jobs", "1",
+                   "--verbose", "0"])
     return status, out
 
 
@@ -81,12 +82,17 @@ def _check_common(out, prefix, n_png):
 def test_synthetic_quick_writes_its_files(synthetic_run):
     status, out = synthetic_run
     assert status == 0
-    results, summary, claims, config = _check_common(out, "synthetic", n_png=5)
+    results, summary, claims, config = _check_common(out, "synthetic", n_png=8)
     assert config["quick"] and config["inference_used"] == {"exact": len(results)}
     assert set(results["domain"]) == {"scenario 1", "scenario 2", "scenario 3"}
+    comparisons = {"S1-P3-few", "S1-P3-orders-few", "S1-P3-misses", "S2-P3-chains",
+                   "S3-equal", "S3-P3-extra"}
     assert set(claims["id"]) == {"SYN-0.9-expected", "SYN-0.9-best", "S1-CB>CI", "S1-peaky",
-                                 "S1-P3-few", "S1-P2-exact", "S2-top5", "S3-MAP",
-                                 "S3-P3-extra"}
+                                 "S1-P2-exact", "S1-P2-orders", "S2-top5", "S2-converge",
+                                 "S3-MAP", "SYN-runtime"} | comparisons | {
+                                     f"{c}@alt" for c in comparisons}
+    # the paper's runtimes are at 5 and 50 demonstrations, which --quick does not run
+    assert claims.set_index("id").loc["SYN-runtime", "status"] == "NOT MEASURED"
     # orders are counted against the scenario's ground truth
     for s in (1, 2, 3):
         n_true = len(poi_threat_specification(s).orders)
@@ -116,6 +122,31 @@ def test_synthetic_claims_are_computed_from_the_results(synthetic_run):
         assert got["S2-top5"] == expected
 
 
+def test_alternative_priors_use_their_hyperparameters(synthetic_run):
+    _, out = synthetic_run
+    main_fits = pd.read_csv(out / "synthetic_results.csv")
+    alt = pd.read_csv(out / "synthetic_alt_priors_results.csv")
+    assert set(main_fits["hyperparameters"]) == {"default"}
+    assert dict(zip(alt["prior"], alt["hyperparameters"])) == {
+        "sets_of_chains": "p_part=0.7", "forest": "n_new=0.5"}
+    assert set(alt["labels"]) == {"positive"} and set(alt["likelihood"]) == {"cb"}
+    keys = ["domain", "prior", "size", "repeat"]
+    both = main_fits[main_fits["labels"] == "positive"].merge(alt, on=keys,
+                                                               suffixes=("", "_alt"))
+    assert len(both) == len(alt)
+    # the same training sets, other priors: the posteriors differ
+    assert (both["expected_similarity"] != both["expected_similarity_alt"]).any()
+    # the @alt claims are computed on these fits
+    claims = pd.read_csv(out / "synthetic_claims.csv").set_index("id")
+    lo = alt["size"].min()
+    s1 = alt[(alt["domain"] == "scenario 1") & (alt["size"] == lo)]
+    means = s1.groupby("prior")["expected_similarity"].mean()
+    assert claims.loc["S1-P3-few@alt", "value"] == pytest.approx(
+        means["forest"] - means["sets_of_chains"])
+    assert "n_new=0.5" in claims.loc["S1-P3-few@alt", "experiment"]
+    assert "Priors 2 and 3 with p_part = 0.7" in (out / "synthetic_report.md").read_text()
+
+
 def test_dinner_quick_writes_its_files(dinner_run):
     status, out = dinner_run
     assert status == 0
@@ -123,7 +154,12 @@ def test_dinner_quick_writes_its_files(dinner_run):
     assert config["inference_used"] == {"mcmc": len(results)}
     assert config["classifier_params"]["n_chains"] == 2
     assert set(claims["id"]) == {"DIN-0.9-expected", "DIN-0.9-best", "DIN-P2-top5",
-                                 "DIN-P3-extra"}
+                                 "DIN-P3-extra", "DIN-P3-fork-spoon"}
+    assert len(config["spoon_before_fork_positives_per_repeat"]) == config["n_repeats"]
+    # the extra orders of the MAP are recorded as "a<b" items; counts agree
+    extras = results["map_extra_pairs"].fillna("").astype(str)
+    n_items = extras.map(lambda cell: len(cell.split(";")) if cell else 0)
+    assert (n_items == results["map_extra_orders"]).all()
     n_true = len(dinner_table_specification().orders)
     assert (results["correct_orders"] <= n_true + 1e-9).all()
     from bsi_sklearn.experiments._grid import aggregate
@@ -137,6 +173,26 @@ def test_dinner_quick_writes_its_files(dinner_run):
     edited["expected_similarity"] = 0.85
     got = {c.id: c.status for c in dinner_claims(edited, aggregate(edited))}
     assert got["DIN-0.9-expected"] == "FALL SHORT"
+    # fork before spoon: exactly that extra order in most repeats, or not
+    for cell, expected in (("omega_fork<omega_spoon", "PASS"),
+                           ("omega_fork<omega_mug;omega_fork<omega_spoon", "FALL SHORT"),
+                           ("", "FALL SHORT")):
+        edited["map_extra_pairs"] = cell
+        got = {c.id: c for c in dinner_claims(edited, aggregate(edited), [4, 6])}
+        assert got["DIN-P3-fork-spoon"].status == expected
+        assert "5.0 of the" in got["DIN-P3-fork-spoon"].measured
+
+
+def test_fork_spoon_violations_follow_the_placements():
+    from bsi_sklearn.datasets import make_dinner_table_demos
+    from bsi_sklearn.experiments.dinner import fork_spoon_violations
+
+    data = make_dinner_table_demos(24, random_state=3)
+    expected = sum("fork" in placed and "spoon" in placed
+                   and placed.index("spoon") < placed.index("fork")
+                   for placed in data.placements)
+    assert fork_spoon_violations(data.traces, data.roles["conditions"]) == expected
+    assert 0 < expected < 12  # only swaps and participant 5 (no fixed habit) put spoon first
 
 
 def test_same_seed_same_results_whatever_n_jobs(tmp_path, dinner_run):
@@ -175,12 +231,15 @@ def test_bad_arguments_exit_with_usage(argv, capsys):
 
 def test_claims_needing_ten_demonstrations_are_not_measured(tmp_path):
     assert main(["reproduce", "synthetic", "--out", str(tmp_path), "--sizes", "2",
-                 "--repeats", "1", "--no-supervised", "--verbose", "0"]) == 0
+                 "--repeats", "1", "--no-supervised", "--no-alt-priors", "--verbose",
+                 "0"]) == 0
     claims = pd.read_csv(tmp_path / "synthetic_claims.csv").set_index("id")
     assert claims.loc["S2-top5", "status"] == "NOT MEASURED"
     assert claims.loc["S3-MAP", "status"] == "NOT MEASURED"
     assert np.isnan(claims.loc["S3-MAP", "value"])
     assert claims.loc["SYN-0.9-expected", "status"] in {"PASS", "FALL SHORT"}
+    assert not claims.index.str.endswith("@alt").any()
+    assert not (tmp_path / "synthetic_alt_priors_results.csv").exists()
 
 
 def test_unknown_scenario_is_a_value_error():
