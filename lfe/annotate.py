@@ -94,11 +94,12 @@ def _debrief(sc, min_target_hits, max_attrition, superiority_fraction, max_air_l
     hostile = side == "hostile"
     hostile_ids = np.unique(ids[hostile])
     if len(hostile_ids):
-        at = time[time <= attack + 1e-9]
-        t_check = float(at[-1]) if len(at) else float(time[0])
-        snap = (time == t_check) & hostile
-        out = (~alive[snap]) | (phase[snap] == "withdraw")
-        gained = out.sum() >= superiority_fraction * len(hostile_ids) - 1e-9
+        # Each fighter's last report at or before the attack run: a fighter whose rows stop
+        # once shot down is still down; one not reported yet (on the ground) is a threat.
+        seen = hostile & (time <= attack + 1e-9)
+        last_seen = pd.DataFrame({"id": ids[seen], "out": (~alive[seen])
+                                  | (phase[seen] == "withdraw")}).groupby("id")["out"].last()
+        gained = int(last_seen.sum()) >= superiority_fraction * len(hostile_ids) - 1e-9
     else:
         gained = True
     air_to_air = (w_type == "aam") & np.array(
@@ -117,10 +118,11 @@ def _debrief(sc, min_target_hits, max_attrition, superiority_fraction, max_air_l
     mo2 = bool(hits_in_window.sum() >= min_target_hits)
 
     # ----- MO3: friendly attrition not above max_attrition
-    last = time == t_end
-    friendly_last = side[last] == "friendly"
-    n_friendly = int(friendly_last.sum())
-    lost = int((~alive[last][friendly_last]).sum())
+    # An aircraft is lost once any of its rows says so (validation keeps the dead dead), so
+    # losses count even when a destroyed aircraft stops being reported.
+    friendly = side == "friendly"
+    n_friendly = len(np.unique(ids[friendly]))
+    lost = len(np.unique(ids[friendly & ~alive]))
     mo3 = bool(lost <= max_attrition * n_friendly + 1e-9)
 
     verdicts = {"MO1": int(mo1), "MO2": int(mo2), "MO3": int(mo3)}
@@ -196,7 +198,8 @@ def annotate_scenarios(scenarios, *, noise=0.0, time_noise=0.0, min_target_hits=
        striker is ``on_target``; the planned ``meta["tot_start"]`` if that never happens), at
        least ``superiority_fraction`` of the hostile fighters are out of the fight — shot
        down (``alive`` false) or withdrawing (flight phase ``withdraw``); fighters still on
-       the ground count as a threat; a scenario without hostile fighters passes;
+       the ground or not reported yet count as a threat; a scenario without hostile fighters
+       passes;
     2. *maintained*: hostile fighters' air-to-air missiles (weapon type ``aam``, outcome
        ``hit``) shoot down at most ``max_air_losses`` friendly aircraft with impact between the
        strikers' push and the close of the TOT window; losses to SAMs do not count against air
@@ -210,8 +213,11 @@ def annotate_scenarios(scenarios, *, noise=0.0, time_noise=0.0, min_target_hits=
     count).
 
     **MO3 — friendly attrition should not exceed 25 %.** Achieved when the friendly aircraft
-    not alive at the last recorded time are at most ``max_attrition`` of all friendly
+    shot down (a row with ``alive`` false) are at most ``max_attrition`` of all friendly
     aircraft (4 of 18 by default).
+
+    Each aircraft's state at a time is its last row at or before it, so a destroyed aircraft
+    whose rows stop counts as destroyed.
 
     **Phase transitions** (times in s, the start of each phase):
 

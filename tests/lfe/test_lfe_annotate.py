@@ -179,3 +179,45 @@ def test_time_noise_keeps_phases_ordered_and_reproducible():
 def test_bad_parameters_raise(kw, match):
     with pytest.raises(ValueError, match=match):
         annotate_scenarios([_case()], **kw)
+
+
+def test_aircraft_that_stop_reporting_once_destroyed():
+    """Raw data may drop a destroyed aircraft's rows: the verdicts must not change."""
+    sams = [_loss(f"w{k}", "sam_1", f"escort_0{k}", 30.0 + 5 * k, "sam") for k in (3, 4, 5)]
+    dead = {f"escort_0{k}": _dead("escort", 30.0 + 5 * k) for k in (3, 4, 5)}
+    fleet = _fleet(**dead)
+    full = scenario(fleet, 100.0, [KILL, BOMB, *sams], tot=(40.0, 70.0))
+    sparse = scenario(fleet, 100.0, [KILL, BOMB, *sams], tot=(40.0, 70.0),
+                      drop_after_death=True)
+    assert len(sparse.tracks) < len(full.tracks)
+    assert annotate_scenario(full) == annotate_scenario(sparse)
+    assert _verdicts(sparse) == (1, 1, 0)  # fighter_01 down at the attack run; 3 of 8 lost
+    # a fighter first reported after the attack run (scrambled late) is still a threat
+    late = aircraft(H, "fighter", phases=((0.0, "cap"),), x0=150.0, vx=0.0)
+    sc = _case(fighter_02=late)
+    tracks = sc.tracks[~((sc.tracks["aircraft_id"] == "fighter_02")
+                         & (sc.tracks["time"] < 60.0))].reset_index(drop=True)
+    sc.tracks = tracks
+    assert _verdicts(sc, superiority_fraction=0.6) == (0, 1, 1)
+    assert _verdicts(sc, superiority_fraction=0.5) == (1, 1, 1)
+
+
+def test_simulated_scenarios_without_rows_after_death(default_dataset):
+    """Dropping every destroyed aircraft's later rows changes neither reader's output."""
+    from lfe import LFEPropositionExtractor, Scenario
+
+    full = default_dataset.scenarios[:6]
+    sparse = []
+    for sc in full:
+        t = sc.tracks
+        dead_before = t.groupby("aircraft_id")["alive"].transform(
+            lambda a: (~a).cumsum().shift(fill_value=0) > 0)
+        sparse.append(Scenario(t[~dead_before].reset_index(drop=True), sc.weapons, sc.sites,
+                               sc.meta))
+    assert sum(len(sc.tracks) for sc in sparse) < sum(len(sc.tracks) for sc in full)
+    a_labels, a_phases = annotate_scenarios(full)
+    b_labels, b_phases = annotate_scenarios(sparse)
+    assert a_labels.equals(b_labels) and a_phases.equals(b_phases)
+    ext = LFEPropositionExtractor().fit(full)
+    for x, y in zip(ext.transform(full), ext.transform(sparse)):
+        assert x.equals(y)
