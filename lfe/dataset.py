@@ -182,8 +182,9 @@ class LFEDataset:
             data.to_csv(path / f"{table}.csv", index=False)
         with open(path / "meta.json", "w", encoding="utf-8") as fh:
             json.dump([sc.meta for sc in self.scenarios], fh, indent=1, default=_json_default)
-        self.labels.to_csv(path / "labels.csv")
-        self.phases.to_csv(path / "phases.csv")
+        # the index is written as scenario_id whatever its name, as load reads it
+        self.labels.to_csv(path / "labels.csv", index_label="scenario_id")
+        self.phases.to_csv(path / "phases.csv", index_label="scenario_id")
         with open(path / "dataset.json", "w", encoding="utf-8") as fh:
             json.dump({"format": _FORMAT, "version": _FORMAT_VERSION,
                        "n_scenarios": len(self), "info": self.info}, fh, indent=1)

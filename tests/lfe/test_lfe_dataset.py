@@ -153,3 +153,15 @@ def test_cli_simulate_refuses_a_file_as_output(tmp_path, capsys):
     assert main(["simulate", "--n-scenarios", "1", "--out", str(target)]) == 2
     assert "is a file" in capsys.readouterr().err
     assert target.read_text() == "keep me"
+
+
+def test_round_trip_of_frames_built_by_hand(default_dataset, tmp_path):
+    """Labels and phases indexed by the ids without an index name still load."""
+    scs = default_dataset.scenarios[:2]
+    ids = [sc.scenario_id for sc in scs]
+    labels = pd.DataFrame({"MO1": [1, 0], "MO2": [0, 1], "MO3": [1, 1]}, index=ids)
+    phases = pd.DataFrame([[0.0, 10.0, 20.0, 30.0], [1.0, 2.0, 3.0, 4.0]], index=ids,
+                          columns=list(PHASE_NAMES))
+    back = LFEDataset.load(LFEDataset(scs, labels, phases).save(tmp_path / "byhand"))
+    pd.testing.assert_frame_equal(back.labels, labels, check_names=False)
+    pd.testing.assert_frame_equal(back.phases, phases, check_names=False)
