@@ -137,3 +137,13 @@ def test_timeline_accepts_a_one_row_phases_frame():
 def test_map_rejects_bad_scenarios():
     with pytest.raises(ValueError, match="expected a Scenario"):
         plot_scenario_map("lfe-000")
+
+
+def test_map_of_a_quiet_scenario():
+    """No weapons, no SAM sites, nobody lost: tracks, starts and the target only."""
+    fleet = {"escort_01": aircraft("friendly", "escort"),
+             "striker_01": aircraft("friendly", "striker", y0=3.0)}
+    ax = plot_scenario_map(scenario(fleet, 30.0, [], n_sams=0))
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == [
+        "friendly escort", "friendly striker", "start", "target"]
+    assert not ax.patches
