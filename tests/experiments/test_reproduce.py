@@ -89,8 +89,8 @@ def test_synthetic_quick_writes_its_files(synthetic_run):
                    "S3-equal", "S3-P3-extra"}
     assert set(claims["id"]) == {"SYN-0.9-expected", "SYN-0.9-best", "S1-CB>CI", "S1-peaky",
                                  "S1-P2-exact", "S1-P2-orders", "S2-top5", "S2-converge",
-                                 "S3-MAP", "SYN-runtime"} | comparisons | {
-                                     f"{c}@alt" for c in comparisons}
+                                 "S3-MAP", "SYN-runtime", "P3-prior-chains"} | comparisons | {
+                                     f"{c}@alt" for c in comparisons | {"P3-prior-chains"}}
     # the paper's runtimes are at 5 and 50 demonstrations, which --quick does not run
     assert claims.set_index("id").loc["SYN-runtime", "status"] == "NOT MEASURED"
     # orders are counted against the scenario's ground truth
@@ -145,6 +145,26 @@ def test_alternative_priors_use_their_hyperparameters(synthetic_run):
         means["forest"] - means["sets_of_chains"])
     assert "n_new=0.5" in claims.loc["S1-P3-few@alt", "experiment"]
     assert "Priors 2 and 3 with p_part = 0.7" in (out / "synthetic_report.md").read_text()
+
+
+@pytest.mark.parametrize("prior, n, params", [
+    ("sets_of_chains", 4, {"p_part": 0.3}),
+    ("sets_of_chains", 5, {"p_part": 0.7}),
+    ("forest", 4, {"n_new": 5.0}),
+    ("forest", 5, {"n_new": 0.5}),
+    ("linear_chain", 4, {}),
+])
+def test_prior_expected_orders_agree_with_sampling(prior, n, params):
+    from bsi_sklearn.experiments.synthetic import prior_expected_orders
+    from bsi_sklearn.priors import n_orders_of, sample_order_structure
+
+    rng = np.random.default_rng(0)
+    draws = [n_orders_of(sample_order_structure(prior, n, rng, **params)) for _ in range(4000)]
+    exact = prior_expected_orders(prior, n, **params)
+    # 4000 draws: the standard error is below 0.05 orders
+    assert exact == pytest.approx(np.mean(draws), abs=0.15)
+    if prior == "linear_chain":
+        assert exact == pytest.approx(n * (n - 1) / 2)
 
 
 def test_dinner_quick_writes_its_files(dinner_run):
