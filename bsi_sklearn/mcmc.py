@@ -56,15 +56,38 @@ def deduplicate_demos(truth, y01):
     return np.ascontiguousarray(rows.T), w_pos, w_neg
 
 
-@njit(cache=True, nogil=True)
+# The weights are whole numbers (demonstration counts), so their sums are exact in any order:
+# letting LLVM reassociate them (SIMD reductions) cannot change a result.
+_SUMS = {"reassoc"}
+
+
+@njit(cache=True, nogil=True, fastmath=_SUMS)
 def _sat_counts(viol, w_pos, w_neg):
     ps = 0.0
     ns = 0.0
     for d in range(viol.shape[0]):
-        if viol[d] == 0:
-            ps += w_pos[d]
-            ns += w_neg[d]
+        ok = viol[d] == 0
+        ps += w_pos[d] if ok else 0.0
+        ns += w_neg[d] if ok else 0.0
     return ps, ns
+
+
+@njit(cache=True, nogil=True, fastmath=_SUMS)
+def _flip_sums(viol, truth_t, c, inc, w_pos, w_neg):
+    # Weighted counts of demonstrations satisfying the hypothesis without / with clause c.
+    ps_out = 0.0
+    ns_out = 0.0
+    ps_in = 0.0
+    ns_in = 0.0
+    for d in range(viol.shape[0]):
+        t = truth_t[c, d]
+        ok = viol[d] - (inc if t == 0 else 0) == 0
+        both = ok and t != 0
+        ps_out += w_pos[d] if ok else 0.0
+        ns_out += w_neg[d] if ok else 0.0
+        ps_in += w_pos[d] if both else 0.0
+        ns_in += w_neg[d] if both else 0.0
+    return ps_out, ns_out, ps_in, ns_in
 
 
 @njit(cache=True, nogil=True)
@@ -93,28 +116,14 @@ def _draw(lw, k, rng):
 @njit(cache=True, nogil=True)
 def _add_pair(viol, truth_t, c, sign):
     for d in range(viol.shape[0]):
-        if truth_t[c, d] == 0:
-            viol[d] += sign
+        viol[d] += sign if truth_t[c, d] == 0 else 0
 
 
 @njit(cache=True, nogil=True)
 def _flip_move(c, inc, lp_in, lp_out, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj,
                log_eps, lik_code, rng):
     # Gibbs update of one inclusion bit: returns the new bit and the new log-likelihood.
-    ps_out = 0.0
-    ns_out = 0.0
-    ps_in = 0.0
-    ns_in = 0.0
-    for d in range(viol.shape[0]):
-        base = viol[d]
-        if inc and truth_t[c, d] == 0:
-            base -= 1
-        if base == 0:
-            ps_out += w_pos[d]
-            ns_out += w_neg[d]
-            if truth_t[c, d]:
-                ps_in += w_pos[d]
-                ns_in += w_neg[d]
+    ps_out, ns_out, ps_in, ns_in = _flip_sums(viol, truth_t, c, inc, w_pos, w_neg)
     n_out = n_conj - inc
     ll_out = log_likelihood(ps_out, ns_out, n_pos, n_neg, n_out, log_eps, lik_code)
     ll_in = log_likelihood(ps_in, ns_in, n_pos, n_neg, n_out + 1, log_eps, lik_code)
@@ -179,8 +188,7 @@ def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, ba
         while u >= 0:
             c = base + v * n + u
             for d in range(D):
-                if truth_t[c, d] == 0:
-                    cur[d] += 1
+                cur[d] += 1 if truth_t[c, d] == 0 else 0
             L += 1
             u = child[u]
         m_new = m_rem
@@ -197,7 +205,7 @@ def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, ba
                 ca = base + u * n + v
                 cb = base + v * n + u
                 for d in range(D):
-                    cur[d] += (1 - truth_t[ca, d]) - (1 - truth_t[cb, d])
+                    cur[d] += (truth_t[cb, d] != 0) - (truth_t[ca, d] != 0)
                 u = child[u]
     if code == 1 or k == 0:
         ps, ns = _sat_counts(viol, w_pos, w_neg)
@@ -279,8 +287,7 @@ def _forest_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, b
             if in_s[s]:
                 c = base + a * n + s
                 for d in range(D):
-                    if truth_t[c, d] == 0:
-                        cost[a, d] += 1
+                    cost[a, d] += 1 if truth_t[c, d] == 0 else 0
     k = 0
     for u in range(-1, n):
         if u >= 0 and in_s[u]:
@@ -325,7 +332,8 @@ def _log_prior_total(tau, w1, parent, code, p_global, p_eventual, p_part, n_new)
 @njit(cache=True, nogil=True)
 def _init_viol(tau, w1, parent, truth_t, n_g, n):
     D = truth_t.shape[1]
-    viol = np.zeros(D, dtype=np.int64)
+    # int32 counts (not int64): twice as many lanes in the kernels' vectorised loops.
+    viol = np.zeros(D, dtype=np.int32)
     n_conj = 0
     for j in range(n_g):
         if tau[j]:
@@ -357,14 +365,14 @@ def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global
     n_keep = n_sweeps - burn_in
     states = np.empty((n_keep, n_g + 2 * n), dtype=np.int16)
     trace_lp = np.empty(n_keep)
-    cur = np.empty(D, dtype=np.int64)
+    cur = np.empty(D, dtype=np.int32)
     lw = np.empty(2 * n + 2)
     cand_lp = np.empty(2 * n + 2)
     cand_head = np.empty(2 * n + 2, dtype=np.int64)
     cand_pos = np.empty(2 * n + 2, dtype=np.int64)
     child = np.empty(n, dtype=np.int64)
     in_s = np.zeros(n, dtype=np.int64)
-    cost = np.zeros((n, D), dtype=np.int64)
+    cost = np.zeros((n, D), dtype=np.int32)
     old_parent = parent.copy()
     lg_in = math.log(p_global) if p_global > 0 else -np.inf
     lg_out = math.log1p(-p_global) if p_global < 1 else -np.inf
