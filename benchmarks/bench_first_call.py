@@ -41,7 +41,7 @@ def run(cfg):
     warm = [fresh_process() for _ in range(cfg.pick(3, 1))]
     cold = []
     if not cfg.quick:
-        for _ in range(2):
+        for _ in range(1):  # compilation is deterministic work: one run
             with tempfile.TemporaryDirectory() as tmp:
                 cold.append(fresh_process({"NUMBA_CACHE_DIR": tmp}))
     keys = [("import_s", "import bsi_sklearn"), ("mcmc_fit_s", "first MCMC fit"),

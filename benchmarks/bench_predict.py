@@ -37,7 +37,8 @@ def run(cfg):
         X, _, _ = make_demos(n, 200, seed=8)
         row = [fmt_n(n)]
         for name, m in models.items():
-            wall, _, _, _ = time_call(lambda m=m, X=X: m.predict_proba(X), reps)
+            wall, _, _, _ = time_call(lambda m=m, X=X: m.predict_proba(X),
+                                      min(reps, 3) if n >= 10_000 else reps)
             curves[name].append(n / wall)
             row += [fmt_s(wall), fmt_n(n / wall)]
         rows.append(row)
@@ -57,7 +58,8 @@ def run(cfg):
         steps = sum(len(x) for x in X)
         row = [fmt_n(L), fmt_n(steps)]
         for name, m in models.items():
-            wall, _, _, _ = time_call(lambda m=m, X=X: m.predict_proba(X), reps)
+            wall, _, _, _ = time_call(lambda m=m, X=X: m.predict_proba(X),
+                                      min(reps, 3) if steps >= 1_000_000 else reps)
             len_curves[name].append(n / wall)
             row += [fmt_s(wall), fmt_n(n / wall), fmt_n(steps / wall)]
         rows.append(row)

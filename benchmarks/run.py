@@ -110,6 +110,9 @@ def write_results(sections, info, cfg, total_s, argv_text, note=None):
         lines += [f"## {sec.title}", ""]
         lines += [chunk.rstrip() + "\n" for chunk in sec.text]
         lines += [f"*({sec.name}: {sec.seconds:.0f} s)*", ""]
+    history = HERE / "HISTORY.md"
+    if history.is_file():
+        lines += [history.read_text().rstrip(), ""]
     out = cfg.out
     out.mkdir(parents=True, exist_ok=True)
     (out / "RESULTS.md").write_text("\n".join(lines))
