@@ -91,19 +91,21 @@ def _flip_sums(viol, truth_t, c, inc, w_pos, w_neg):
 
 
 @njit(cache=True, nogil=True)
-def _draw(lw, k, rng):
-    # Sample index i < k with probability proportional to exp(lw[i]).
+def _draw(lw, k, rng, ew):
+    # Sample index i < k with probability proportional to exp(lw[i]); ew is scratch space
+    # (each weight is exponentiated once).
     mx = -np.inf
     for i in range(k):
         if lw[i] > mx:
             mx = lw[i]
     total = 0.0
     for i in range(k):
-        total += math.exp(lw[i] - mx)
+        ew[i] = math.exp(lw[i] - mx)
+        total += ew[i]
     u = rng.random() * total
     acc = 0.0
     for i in range(k):
-        acc += math.exp(lw[i] - mx)
+        acc += ew[i]
         if u < acc:
             return i
     # Fall back to the last candidate with non-zero weight (rounding at the top end).
@@ -146,7 +148,7 @@ def _flip_move(c, inc, lp_in, lp_out, viol, truth_t, w_pos, w_neg, n_pos, n_neg,
 @njit(cache=True, nogil=True)
 def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base,
                 n, code, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_lp, cand_head,
-                cand_pos, child):
+                cand_pos, child, cand_ew):
     # Prior 1 / 2: take v out of its chain and redraw its place.
     # Returns (n_conj, log prior of the structure, log-likelihood) of the new state.
     D = viol.shape[0]
@@ -214,7 +216,7 @@ def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, ba
         cand_head[k] = -1
         cand_pos[k] = 0
         k += 1
-    j = _draw(lw, k, rng)
+    j = _draw(lw, k, rng, cand_ew)
     h = cand_head[j]
     if h < 0:
         return n_conj, cand_lp[j], lw[j] - cand_lp[j]
@@ -256,9 +258,30 @@ def log_prior_structure_chains(n, m, code, p_part):
 
 
 @njit(cache=True, nogil=True)
+def _forest_size_terms(n, n_new):
+    """Prior 3 (``priors.log_prior_structure``, code 2) as a sum over subtree sizes.
+
+    Every subtask v with subtree size s_v enters the forest prior through lgamma(s_v) (its
+    block in its parent's, or the top-level, CRP partition), -log(s_v) (its root is its
+    first element) and, when s_v > 1, the CRP normaliser lgamma(theta) - lgamma(theta + s_v
+    - 1) of its descendants' partition. The per-block log(theta) terms add up to
+    n log(theta) (every subtask is a root or one parent's child). So
+    ``log p = const + sum_v g[s_v]``; returns ``(g, const)``.
+    """
+    log_theta = math.log(n_new)
+    lg0 = math.lgamma(n_new)
+    g = np.zeros(n + 2)
+    for k in range(1, n + 1):
+        g[k] = math.lgamma(float(k)) - math.log(float(k))
+        if k > 1:
+            g[k] += lg0 - math.lgamma(n_new + k - 1)
+    return g, n * log_theta + lg0 - math.lgamma(n_new + n)
+
+
+@njit(cache=True, nogil=True)
 def _forest_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base,
                  n, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_lp, cand_head, in_s,
-                 cost):
+                 cost, g, g_const, size, cand_ew):
     # Prior 3: prune the subtree rooted at v and regraft it anywhere outside it.
     D = viol.shape[0]
     size_s = 0
@@ -288,6 +311,18 @@ def _forest_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, b
                 c = base + a * n + s
                 for d in range(D):
                     cost[a, d] += 1 if truth_t[c, d] == 0 else 0
+    # Subtree sizes with S cut off (S's own sizes do not change when it is regrafted), and
+    # the log prior of that forest: regrafting S under u adds size_s to u and its ancestors.
+    for u in range(n):
+        size[u] = 1
+    for u in range(n):
+        a = parent[u]
+        while a >= 0:
+            size[a] += 1
+            a = parent[a]
+    lp_cut = g_const
+    for u in range(n):
+        lp_cut += g[size[u]]
     k = 0
     for u in range(-1, n):
         if u >= 0 and in_s[u]:
@@ -295,22 +330,21 @@ def _forest_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, b
         for d in range(D):
             cur[d] = viol[d]
         depth = 0
+        lp = lp_cut
         a = u
         while a >= 0:
             for d in range(D):
                 cur[d] += cost[a, d]
+            lp += g[size[a] + size_s] - g[size[a]]
             depth += 1
             a = parent[a]
-        parent[v] = u
-        lp = log_prior_structure(parent, 2, p_part, n_new)
-        parent[v] = -1
         ps, ns = _sat_counts(cur, w_pos, w_neg)
         cand_lp[k] = lp
         lw[k] = lp + log_likelihood(ps, ns, n_pos, n_neg, n_conj + depth * size_s,
                                     log_eps, lik_code)
         cand_head[k] = u
         k += 1
-    j = _draw(lw, k, rng)
+    j = _draw(lw, k, rng, cand_ew)
     u = cand_head[j]
     parent[v] = u
     a = u
@@ -370,9 +404,12 @@ def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global
     cand_lp = np.empty(2 * n + 2)
     cand_head = np.empty(2 * n + 2, dtype=np.int64)
     cand_pos = np.empty(2 * n + 2, dtype=np.int64)
+    cand_ew = np.empty(2 * n + 2)
     child = np.empty(n, dtype=np.int64)
     in_s = np.zeros(n, dtype=np.int64)
     cost = np.zeros((n, D), dtype=np.int32)
+    g, g_const = _forest_size_terms(n, n_new)
+    size = np.empty(n, dtype=np.int64)
     old_parent = parent.copy()
     lg_in = math.log(p_global) if p_global > 0 else -np.inf
     lg_out = math.log1p(-p_global) if p_global < 1 else -np.inf
@@ -413,12 +450,12 @@ def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global
                     n_conj, lp_struct, ll = _forest_move(
                         v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base, n,
                         p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_lp, cand_head,
-                        in_s, cost)
+                        in_s, cost, g, g_const, size, cand_ew)
                 else:
                     n_conj, lp_struct, ll = _chain_move(
                         v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base, n,
                         code, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_lp,
-                        cand_head, cand_pos, child)
+                        cand_head, cand_pos, child, cand_ew)
                 for u in range(n):
                     if parent[u] != old_parent[u]:
                         moved += 1
