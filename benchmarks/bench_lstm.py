@@ -2,11 +2,13 @@
 
 import statistics
 import time
+import warnings
 
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 from _common import Section, fmt_s, md_table, save_figure
+from sklearn.exceptions import ConvergenceWarning
 from sklearn.model_selection import KFold
 
 from bsi_sklearn import BSIClassifier
@@ -39,6 +41,20 @@ def _fit_time(name, params, X, y, phases):
     t0 = time.perf_counter()
     clf.fit(X, y, phases=phases)
     return time.perf_counter() - t0, clf.n_epochs_
+
+
+def _bsi_fold_times(data, folds, n_train):
+    """Seconds per fold of one default BSIClassifier per objective (after a warm-up fit)."""
+    BSIClassifier(**data["roles"], random_state=0).fit(data["traces"][:n_train],
+                                                       data["y"][:n_train, 0])
+    times = []
+    for train, _ in folds:
+        t0 = time.perf_counter()
+        for k in range(data["y"].shape[1]):
+            Xtr = [data["traces"][i] for i in train]
+            BSIClassifier(**data["roles"], random_state=0).fit(Xtr, data["y"][train, k])
+        times.append(time.perf_counter() - t0)
+    return times
 
 
 def run(cfg):
@@ -92,15 +108,11 @@ def run(cfg):
                      f"{fx['epochs']:.0f}", fmt_s(fx["s"] / max(fx["epochs"], 1))])
 
     # BSI on the same folds: one classifier per objective, as in the paper.
-    bsi_times = []
-    BSIClassifier(**data["roles"], random_state=0).fit(data["traces"][:n_train],
-                                                       data["y"][:n_train, 0])  # warm-up
-    for train, _ in folds:
-        t0 = time.perf_counter()
-        for k in range(data["y"].shape[1]):
-            Xtr = [data["traces"][i] for i in train]
-            BSIClassifier(**data["roles"], random_state=0).fit(Xtr, data["y"][train, k])
-        bsi_times.append(time.perf_counter() - t0)
+    # R-hat warnings on these small, label-noisy folds are about mixing, not time: counted.
+    with warnings.catch_warnings(record=True) as records:
+        warnings.simplefilter("always", ConvergenceWarning)
+        bsi_times = _bsi_fold_times(data, folds, n_train)
+    n_warn = sum(issubclass(r.category, ConvergenceWarning) for r in records)
     bsi_s = statistics.median(bsi_times)
     data_out["bsi_three_objectives_s"] = bsi_s
     rows.append(["BSIClassifier (defaults), MO1-MO3 fitted separately", fmt_s(bsi_s), "", "",
@@ -112,7 +124,9 @@ def run(cfg):
             "one-off set-up is not counted; the times include the per-fit work (seeding, "
             "standardisation, the validation split). The BSI row is three fits (one per "
             "objective; 5 globals x 6 subtasks, 8,296,448 hypotheses, so MCMC with 4 chains "
-            "x 10,000 samples) on the DataFrame traces, validation included.")
+            "x 10,000 samples) on the DataFrame traces, validation included"
+            + (f"; {n_warn} of its {3 * len(folds) + 1} fits warned that the chains disagree "
+               "(split-R-hat > 1.05)." if n_warn else "."))
     fig, ax = plt.subplots(figsize=(7, 3.5))
     names = list(PAPER_BASELINES)
     x = np.arange(len(names) + 1)
