@@ -741,6 +741,8 @@ def _group_stats(g, min_support):
         "scarlet_files": len(ran),
         "scarlet_timeouts": int((ran["scarlet_status"] == "timeout").sum()),
         "scarlet_failed": int(ran["scarlet_status"].isin(["error", "none"]).sum()),
+        "scarlet_scored": len(scored),
+        "scarlet_timeouts_scored": int((scored["scarlet_status"] == "timeout").sum()),
         # both learners on the files where Scarlet returned a formula
         "bsi_accuracy_on_scarlet_files": _mean(scored["bsi_accuracy"]),
         "scarlet_accuracy": _mean(scored["scarlet_accuracy"]),
@@ -837,16 +839,20 @@ def write_report(df, summary, out, cfg, command, seconds, csv_path):
     ]
     if cfg.scarlet:
         lines.append(
-            f"* Scarlet on {int(a['scarlet_files'])} files ({int(a['scarlet_timeouts'])} "
-            f"timeouts, {int(a['scarlet_failed'])} without formula): mean test accuracy "
-            f"**{_f(a['scarlet_accuracy'])}** vs BSI **{_f(a['bsi_accuracy_on_scarlet_files'])}**"
-            f" on the files where Scarlet returned a formula; median Scarlet time "
-            f"{_f(a['scarlet_s_median'], 2)} s.")
+            f"* Scarlet ran on {int(a['scarlet_files'])} files and gave a formula on "
+            f"{int(a['scarlet_scored'])} ({int(a['scarlet_timeouts'])} timeouts at "
+            f"{cfg.scarlet_timeout:.0f} s, {int(a['scarlet_timeouts_scored'])} of them with a "
+            f"formula found by then; {int(a['scarlet_failed'])} errors or no formula). On those "
+            f"{int(a['scarlet_scored'])} files: Scarlet mean test accuracy "
+            f"**{_f(a['scarlet_accuracy'])}**, BSI **{_f(a['bsi_accuracy_on_scarlet_files'])}**"
+            f". Median time: Scarlet {_f(a['scarlet_s_median'], 2)} s, BSI "
+            f"{_f(a['bsi_fit_s_median'], 2)} s. Files where Scarlet gave no formula count for "
+            "neither learner in this comparison.")
     header = ["family", "files", "BSI acc", "MAP acc", "target acc", "in template",
               "recovered", "recovered / identifiable", "BSI fit (median s)"]
     if cfg.scarlet:
-        header += ["Scarlet files", "timeouts", "BSI acc (same files)", "Scarlet acc",
-                   "Scarlet s (median)"]
+        header += ["Scarlet files", "timeouts", "with formula", "BSI acc (same files)",
+                   "Scarlet acc", "Scarlet s (median)"]
     table = []
     for fam, s in summary.iterrows():
         r = [f"**{fam}**" if fam == "ALL" else fam, int(s["files"]), _f(s["bsi_accuracy"]),
@@ -856,7 +862,7 @@ def write_report(df, summary, out, cfg, command, seconds, csv_path):
              f"{int(s['recovered_identifiable'])}/{int(s['identifiable'])}" if s["in_template"]
              else "-", _f(s["bsi_fit_s_median"], 2)]
         if cfg.scarlet:
-            r += [int(s["scarlet_files"]), int(s["scarlet_timeouts"]),
+            r += [int(s["scarlet_files"]), int(s["scarlet_timeouts"]), int(s["scarlet_scored"]),
                   _f(s["bsi_accuracy_on_scarlet_files"]), _f(s["scarlet_accuracy"]),
                   _f(s["scarlet_s_median"], 2)]
         table.append(r)
@@ -952,8 +958,9 @@ def main(argv=None):
     p.add_argument("--data", type=Path, default=DEFAULT_DATA,
                    help="folder of the benchmark traces (default ../shared/benchmarks-data)")
     p.add_argument("--quick", action="store_true", help="two files per folder, short timeouts")
-    p.add_argument("--out", type=Path, default=HERE / "RESULTS_external.md",
-                   help="Markdown report; the per-file CSV goes beside it (.csv)")
+    p.add_argument("--out", type=Path, default=None,
+                   help="Markdown report, the per-file CSV beside it (.csv); default "
+                        "benchmarks/RESULTS_external.md, with --quick a temporary folder")
     p.add_argument("--no-scarlet", action="store_true", help="do not run Scarlet")
     p.add_argument("--n-jobs", type=int, default=1, help="BSI fits in parallel (default 1)")
     p.add_argument("--scarlet-timeout", type=float, default=None,
@@ -988,6 +995,10 @@ def main(argv=None):
         n_jobs=args.n_jobs, verbose=args.verbose)
     if args.quick:
         files = quick_files(files)
+    if args.out is None:
+        # a --quick run must not overwrite the recorded results
+        args.out = (Path(tempfile.mkdtemp(prefix="bsi-external-")) / "RESULTS_external.md"
+                    if args.quick else HERE / "RESULTS_external.md")
     t0 = time.perf_counter()
     df = run_evaluation(files, args.data, cfg, scarlet_subset(files, cfg.scarlet_every))
     summary = summarize(df, cfg.min_support)
