@@ -148,7 +148,7 @@ def _flip_move(c, inc, lp_in, lp_out, viol, truth_t, w_pos, w_neg, n_pos, n_neg,
 @njit(cache=True, nogil=True)
 def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base,
                 n, code, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_lp, cand_head,
-                cand_pos, child, cand_ew):
+                cand_pos, child, cand_ew, lp_chains):
     # Prior 1 / 2: take v out of its chain and redraw its place.
     # Returns (n_conj, log prior of the structure, log-likelihood) of the new state.
     D = viol.shape[0]
@@ -194,7 +194,7 @@ def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, ba
             L += 1
             u = child[u]
         m_new = m_rem
-        lp = log_prior_structure_chains(n, m_new, code, p_part)
+        lp = lp_chains[m_new]
         u = h
         for p in range(L + 1):
             ps, ns = _sat_counts(cur, w_pos, w_neg)
@@ -211,7 +211,7 @@ def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, ba
                 u = child[u]
     if code == 1 or k == 0:
         ps, ns = _sat_counts(viol, w_pos, w_neg)
-        cand_lp[k] = log_prior_structure_chains(n, m_rem + 1, code, p_part)
+        cand_lp[k] = lp_chains[m_rem + 1]
         lw[k] = cand_lp[k] + log_likelihood(ps, ns, n_pos, n_neg, n_conj, log_eps, lik_code)
         cand_head[k] = -1
         cand_pos[k] = 0
@@ -409,6 +409,10 @@ def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global
     in_s = np.zeros(n, dtype=np.int64)
     cost = np.zeros((n, D), dtype=np.int32)
     g, g_const = _forest_size_terms(n, n_new)
+    # Log prior of a chain structure by its number of chains (Priors 1, 2), looked up per move.
+    lp_chains = np.empty(n + 2)
+    for m in range(n + 2):
+        lp_chains[m] = log_prior_structure_chains(n, m, code, p_part)
     size = np.empty(n, dtype=np.int64)
     old_parent = parent.copy()
     lg_in = math.log(p_global) if p_global > 0 else -np.inf
@@ -455,7 +459,7 @@ def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global
                     n_conj, lp_struct, ll = _chain_move(
                         v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base, n,
                         code, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_lp,
-                        cand_head, cand_pos, child, cand_ew)
+                        cand_head, cand_pos, child, cand_ew, lp_chains)
                 for u in range(n):
                     if parent[u] != old_parent[u]:
                         moved += 1
