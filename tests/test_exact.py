@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 from _reference import brute_force_posterior
-from conftest import make_poi_problem
+from poi_problems import make_poi_problem
 
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.likelihood import (

@@ -4,7 +4,7 @@ import warnings
 
 import numpy as np
 import pytest
-from conftest import make_poi_problem
+from poi_problems import make_poi_problem
 
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.mcmc import split_rhat, unique_states

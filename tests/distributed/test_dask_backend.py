@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from conftest import make_poi_problem
+from poi_problems import make_poi_problem
 from sklearn.model_selection import GridSearchCV, StratifiedKFold, cross_val_score
 
 from bsi_sklearn import BSIClassifier
