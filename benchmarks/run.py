@@ -102,6 +102,14 @@ def write_results(sections, info, cfg, total_s, argv_text, note=None):
         "process CPU time. The machine is shared: the load average above was taken when "
         "the run started.",
         "",
+        "Recorded by their own commands, beside this file: "
+        "[`RESULTS_lfe.md`](RESULTS_lfe.md) (`bsi-lfe compare`, the paper's table), "
+        "[`RESULTS_reproduce.md`](RESULTS_reproduce.md) (`bsi reproduce synthetic|dinner`, "
+        "the paper's claims), [`RESULTS_reference.md`](RESULTS_reference.md) "
+        "(`benchmarks/bench_reference.py`, webppl side by side), "
+        "[`RESULTS_external.md`](RESULTS_external.md) (`benchmarks/external.py`, "
+        "samples2LTL / Scarlet benchmarks).",
+        "",
     ]
     table = _targets_table(sections)
     if table:
