@@ -203,3 +203,21 @@ def test_paper_numbers_are_the_papers():
         assert numbers == PAPER_F1.loc[name].tolist(), name
     sentence = re.search(r"F1 scores obtained were ([0-9.]+), ([0-9.]+), and ([0-9.]+)", tex)
     assert [float(v) for v in sentence.groups()] == list(PAPER_MAP_F1["BSI (Prior 2)"].values())
+
+
+def test_baseline_names_match_the_baselines_package():
+    from baselines import PAPER_BASELINES
+    from lfe import compare
+
+    assert compare.PAPER_BASELINES == tuple(PAPER_BASELINES)
+
+
+def test_cli_parser_does_not_import_torch():
+    import subprocess
+    import sys
+
+    code = ("import sys; from lfe.cli import build_parser; build_parser(); "
+            "print('torch' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    assert out == "False"
