@@ -13,7 +13,9 @@ are never read: only the precomputed clause-truth matrix is.
 import math
 
 import numpy as np
-from numba import njit
+from numba import carray, njit
+from numba.core import types
+from numba.extending import intrinsic
 
 from bsi_sklearn.likelihood import log_likelihood
 from bsi_sklearn.priors import log_prior_structure, log_prior_subset, sample_hypothesis
@@ -56,6 +58,27 @@ def deduplicate_demos(truth, y01):
     return np.ascontiguousarray(rows.T), w_pos, w_neg
 
 
+@intrinsic
+def _data_pointer(typingctx, arr):
+    # The raw data pointer of a contiguous array.
+    def codegen(context, builder, signature, args):
+        return context.make_array(signature.args[0])(context, builder, args[0]).data
+
+    return types.CPointer(arr.dtype)(arr), codegen
+
+
+@njit(cache=True, nogil=True)
+def _unmanaged(a):
+    """A view of contiguous ``a`` without a reference count (no NRT meminfo).
+
+    Passing a managed array to a non-inlined jitted function costs an atomic increment and
+    decrement of its reference count; the chain kernel makes hundreds of such calls per sweep,
+    and those atomics took about 60% of its time. Views are only valid while ``a`` is alive:
+    the kernel takes them of buffers its Python caller owns for the whole call.
+    """
+    return carray(_data_pointer(a), a.shape)
+
+
 # The weights are whole numbers (demonstration counts), so their sums are exact in any order:
 # letting LLVM reassociate them (SIMD reductions) cannot change a result.
 _SUMS = {"reassoc"}
@@ -91,9 +114,9 @@ def _flip_sums(viol, truth_t, c, inc, w_pos, w_neg):
 
 
 @njit(cache=True, nogil=True)
-def _draw(lw, k, rng, ew):
-    # Sample index i < k with probability proportional to exp(lw[i]); ew is scratch space
-    # (each weight is exponentiated once).
+def _draw(lw, k, u, ew):
+    # Sample index i < k with probability proportional to exp(lw[i]), from a uniform u in
+    # [0, 1); ew is scratch space (each weight is exponentiated once).
     mx = -np.inf
     for i in range(k):
         if lw[i] > mx:
@@ -102,7 +125,7 @@ def _draw(lw, k, rng, ew):
     for i in range(k):
         ew[i] = math.exp(lw[i] - mx)
         total += ew[i]
-    u = rng.random() * total
+    u = u * total
     acc = 0.0
     for i in range(k):
         acc += ew[i]
@@ -123,8 +146,9 @@ def _add_pair(viol, truth_t, c, sign):
 
 @njit(cache=True, nogil=True)
 def _flip_move(c, inc, lp_in, lp_out, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj,
-               log_eps, lik_code, rng):
-    # Gibbs update of one inclusion bit: returns the new bit and the new log-likelihood.
+               log_eps, lik_code, u):
+    # Gibbs update of one inclusion bit: returns the new bit, the new log-likelihood and
+    # whether the uniform u was used (only when both outcomes are possible).
     ps_out, ns_out, ps_in, ns_in = _flip_sums(viol, truth_t, c, inc, w_pos, w_neg)
     n_out = n_conj - inc
     ll_out = log_likelihood(ps_out, ns_out, n_pos, n_neg, n_out, log_eps, lik_code)
@@ -132,6 +156,7 @@ def _flip_move(c, inc, lp_in, lp_out, viol, truth_t, w_pos, w_neg, n_pos, n_neg,
     lw_out = lp_out + ll_out
     lw_in = lp_in + ll_in
     # P(in) = 1 / (1 + exp(lw_out - lw_in)), computed without overflow.
+    used = 0
     if lw_in == -np.inf:
         new = 0
     elif lw_out == -np.inf:
@@ -139,15 +164,16 @@ def _flip_move(c, inc, lp_in, lp_out, viol, truth_t, w_pos, w_neg, n_pos, n_neg,
     else:
         diff = lw_out - lw_in
         p_in = 1.0 / (1.0 + math.exp(diff)) if diff < 700.0 else 0.0
-        new = 1 if rng.random() < p_in else 0
+        new = 1 if u < p_in else 0
+        used = 1
     if new != inc:
         _add_pair(viol, truth_t, c, 1 if new else -1)
-    return new, (ll_in if new else ll_out)
+    return new, (ll_in if new else ll_out), used
 
 
 @njit(cache=True, nogil=True)
 def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base,
-                n, code, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_lp, cand_head,
+                n, code, p_part, n_new, log_eps, lik_code, unif, cur, lw, cand_lp, cand_head,
                 cand_pos, child, cand_ew, lp_chains):
     # Prior 1 / 2: take v out of its chain and redraw its place.
     # Returns (n_conj, log prior of the structure, log-likelihood) of the new state.
@@ -216,7 +242,7 @@ def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, ba
         cand_head[k] = -1
         cand_pos[k] = 0
         k += 1
-    j = _draw(lw, k, rng, cand_ew)
+    j = _draw(lw, k, unif, cand_ew)
     h = cand_head[j]
     if h < 0:
         return n_conj, cand_lp[j], lw[j] - cand_lp[j]
@@ -280,7 +306,7 @@ def _forest_size_terms(n, n_new):
 
 @njit(cache=True, nogil=True)
 def _forest_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base,
-                 n, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_lp, cand_head, in_s,
+                 n, p_part, n_new, log_eps, lik_code, unif, cur, lw, cand_lp, cand_head, in_s,
                  cost, g, g_const, size, cand_ew):
     # Prior 3: prune the subtree rooted at v and regraft it anywhere outside it.
     D = viol.shape[0]
@@ -344,7 +370,7 @@ def _forest_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, b
                                     log_eps, lik_code)
         cand_head[k] = u
         k += 1
-    j = _draw(lw, k, rng, cand_ew)
+    j = _draw(lw, k, unif, cand_ew)
     u = cand_head[j]
     parent[v] = u
     a = u
@@ -365,9 +391,15 @@ def _log_prior_total(tau, w1, parent, code, p_global, p_eventual, p_part, n_new)
 
 @njit(cache=True, nogil=True)
 def _init_viol(tau, w1, parent, truth_t, n_g, n):
-    D = truth_t.shape[1]
     # int32 counts (not int64): twice as many lanes in the kernels' vectorised loops.
-    viol = np.zeros(D, dtype=np.int32)
+    viol = np.zeros(truth_t.shape[1], dtype=np.int32)
+    return viol, _fill_viol(viol, tau, w1, parent, truth_t, n_g, n)
+
+
+@njit(cache=True, nogil=True)
+def _fill_viol(viol, tau, w1, parent, truth_t, n_g, n):
+    # Per demonstration, the number of clauses of the hypothesis it violates; returns N.
+    viol[:] = 0
     n_conj = 0
     for j in range(n_g):
         if tau[j]:
@@ -383,38 +415,50 @@ def _init_viol(tau, w1, parent, truth_t, n_g, n):
             _add_pair(viol, truth_t, n_g + n + a * n + v, 1)
             n_conj += 1
             a = parent[a]
-    return viol, n_conj
+    return n_conj
 
 
 @njit(cache=True, nogil=True)
 def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global,
-                  p_eventual, p_part, n_new, log_eps, lik_code, n_sweeps, burn_in, rng):
+                  p_eventual, p_part, n_new, log_eps, lik_code, n_sweeps, burn_in, rng, ubuf,
+                  viol, cur, lw, cand_lp, cand_head, cand_pos, cand_ew, child, in_s, cost, g,
+                  g_const, lp_chains, size, old_parent):
     # One sweep updates every coordinate once (tau bits, W1 bits, every subtask's place);
-    # the state is recorded after each sweep past burn-in.
-    D = truth_t.shape[1]
+    # the state is recorded after each sweep past burn-in. The state and the scratch buffers
+    # (allocated by run_chain) are used through unmanaged views: see _unmanaged.
+    tau = _unmanaged(tau)
+    w1 = _unmanaged(w1)
+    parent = _unmanaged(parent)
+    truth_t = _unmanaged(truth_t)
+    w_pos = _unmanaged(w_pos)
+    w_neg = _unmanaged(w_neg)
+    viol = _unmanaged(viol)
+    cur = _unmanaged(cur)
+    lw = _unmanaged(lw)
+    cand_lp = _unmanaged(cand_lp)
+    cand_head = _unmanaged(cand_head)
+    cand_pos = _unmanaged(cand_pos)
+    cand_ew = _unmanaged(cand_ew)
+    child = _unmanaged(child)
+    in_s = _unmanaged(in_s)
+    cost = _unmanaged(cost)
+    g = _unmanaged(g)
+    lp_chains = _unmanaged(lp_chains)
+    size = _unmanaged(size)
+    old_parent = _unmanaged(old_parent)
+    # Uniforms come from a buffer refilled in bulk (the same stream as one rng.random() per
+    # draw), so that the generator, a managed object, is not passed to every move.
+    ubuf = _unmanaged(ubuf)
+    n_u = ubuf.shape[0]
+    upos = n_u
     n_pos = w_pos.sum()
     n_neg = w_neg.sum()
-    viol, n_conj = _init_viol(tau, w1, parent, truth_t, n_g, n)
+    n_conj = _fill_viol(viol, tau, w1, parent, truth_t, n_g, n)
     base = n_g + n
     n_keep = n_sweeps - burn_in
     states = np.empty((n_keep, n_g + 2 * n), dtype=np.int16)
     trace_lp = np.empty(n_keep)
-    cur = np.empty(D, dtype=np.int32)
-    lw = np.empty(2 * n + 2)
-    cand_lp = np.empty(2 * n + 2)
-    cand_head = np.empty(2 * n + 2, dtype=np.int64)
-    cand_pos = np.empty(2 * n + 2, dtype=np.int64)
-    cand_ew = np.empty(2 * n + 2)
-    child = np.empty(n, dtype=np.int64)
-    in_s = np.zeros(n, dtype=np.int64)
-    cost = np.zeros((n, D), dtype=np.int32)
-    g, g_const = _forest_size_terms(n, n_new)
-    # Log prior of a chain structure by its number of chains (Priors 1, 2), looked up per move.
-    lp_chains = np.empty(n + 2)
-    for m in range(n + 2):
-        lp_chains[m] = log_prior_structure_chains(n, m, code, p_part)
-    size = np.empty(n, dtype=np.int64)
-    old_parent = parent.copy()
+    old_parent[:] = parent
     lg_in = math.log(p_global) if p_global > 0 else -np.inf
     lg_out = math.log1p(-p_global) if p_global < 1 else -np.inf
     le_in = math.log(p_eventual) if p_eventual > 0 else -np.inf
@@ -430,17 +474,26 @@ def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global
     k = -1
     last_moved = -1
     for sweep in range(n_sweeps):
+        # A sweep uses at most one uniform per coordinate: top the buffer up first.
+        if upos + n_g + 2 * n > n_u:
+            rest = n_u - upos
+            ubuf[:rest] = ubuf[upos:]
+            ubuf[rest:] = rng.random(n_u - rest)
+            upos = 0
         for j in range(n_g):
-            new, ll = _flip_move(j, tau[j], lg_in, lg_out, viol, truth_t, w_pos, w_neg,
-                                 n_pos, n_neg, n_conj, log_eps, lik_code, rng)
+            new, ll, used = _flip_move(j, tau[j], lg_in, lg_out, viol, truth_t, w_pos, w_neg,
+                                       n_pos, n_neg, n_conj, log_eps, lik_code, ubuf[upos])
+            upos += used
             if new != tau[j]:
                 n_conj += 1 if new else -1
                 lp_sub += (lg_in - lg_out) if new else (lg_out - lg_in)
                 tau[j] = new
                 moved += 1
         for w in range(n):
-            new, ll = _flip_move(n_g + w, w1[w], le_in, le_out, viol, truth_t, w_pos, w_neg,
-                                 n_pos, n_neg, n_conj, log_eps, lik_code, rng)
+            new, ll, used = _flip_move(n_g + w, w1[w], le_in, le_out, viol, truth_t, w_pos,
+                                       w_neg, n_pos, n_neg, n_conj, log_eps, lik_code,
+                                       ubuf[upos])
+            upos += used
             if new != w1[w]:
                 n_conj += 1 if new else -1
                 lp_sub += (le_in - le_out) if new else (le_out - le_in)
@@ -453,13 +506,14 @@ def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global
                 if code == 2:
                     n_conj, lp_struct, ll = _forest_move(
                         v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base, n,
-                        p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_lp, cand_head,
-                        in_s, cost, g, g_const, size, cand_ew)
+                        p_part, n_new, log_eps, lik_code, ubuf[upos], cur, lw, cand_lp,
+                        cand_head, in_s, cost, g, g_const, size, cand_ew)
                 else:
                     n_conj, lp_struct, ll = _chain_move(
                         v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base, n,
-                        code, p_part, n_new, log_eps, lik_code, rng, cur, lw, cand_lp,
+                        code, p_part, n_new, log_eps, lik_code, ubuf[upos], cur, lw, cand_lp,
                         cand_head, cand_pos, child, cand_ew, lp_chains)
+                upos += 1  # a structure move always draws
                 for u in range(n):
                     if parent[u] != old_parent[u]:
                         moved += 1
@@ -494,9 +548,31 @@ def run_chain(seed, truth_t, w_pos, w_neg, n_g, n, prior_code, prior_name, p_glo
     rng = np.random.default_rng(seed)
     tau, w1, parent = sample_hypothesis(prior_name, n_g, n, rng, p_global, p_eventual,
                                         p_part, n_new)
-    return _chain_kernel(tau.astype(np.int64), w1.astype(np.int64), parent, truth_t, w_pos,
-                         w_neg, n_g, n, prior_code, p_global, p_eventual, p_part, n_new,
-                         log_eps, lik_code, burn_in + n_samples, burn_in, rng)
+    # The kernel's state and scratch buffers live here, for the whole call (see _unmanaged).
+    tau = np.ascontiguousarray(tau, dtype=np.int64)
+    w1 = np.ascontiguousarray(w1, dtype=np.int64)
+    parent = np.ascontiguousarray(parent, dtype=np.int64)
+    truth_t = np.ascontiguousarray(truth_t)
+    w_pos = np.ascontiguousarray(w_pos, dtype=np.float64)
+    w_neg = np.ascontiguousarray(w_neg, dtype=np.float64)
+    D = truth_t.shape[1]
+    k = 2 * n + 2  # the most candidate places of one structure move
+    g, g_const = _forest_size_terms(n, n_new)
+    # Log prior of a chain structure by its number of chains (Priors 1, 2), looked up per move.
+    lp_chains = np.array([log_prior_structure_chains(n, m, prior_code, p_part)
+                          for m in range(n + 2)], dtype=np.float64)
+    uniforms = np.empty(max(1024, 2 * (n_g + 2 * n)))
+    viol, cur = np.zeros(D, dtype=np.int32), np.empty(D, dtype=np.int32)
+    lw, cand_lp, cand_ew = np.empty(k), np.empty(k), np.empty(k)
+    cand_head, cand_pos = np.empty(k, dtype=np.int64), np.empty(k, dtype=np.int64)
+    child, in_s = np.empty(n, dtype=np.int64), np.zeros(n, dtype=np.int64)
+    size, old_parent = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
+    cost = np.zeros((n, D), dtype=np.int32)
+    return _chain_kernel(
+        tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, prior_code, p_global, p_eventual,
+        p_part, n_new, log_eps, lik_code, burn_in + n_samples, burn_in, rng, uniforms, viol,
+        cur, lw, cand_lp, cand_head, cand_pos, cand_ew, child, in_s, cost, g, g_const,
+        lp_chains, size, old_parent)
 
 
 @njit(cache=True, nogil=True)
