@@ -1,11 +1,12 @@
-"""Recurrent baselines of the paper's large-force-exercise comparison (LSTM, Bi-LSTM, coupled)."""
+"""Recurrent baselines of the paper's large-force-exercise comparison (LSTM, Bi-LSTM, coupled).
 
-from baselines.lstm import (
-    PAPER_BASELINES,
-    LSTMSequenceClassifier,
-    make_paper_baseline,
-    paper_baselines,
-)
+The torch-backed names are imported on first use, so that ``PAPER_BASELINES`` (and the
+``bsi-lfe`` command line that lists it) does not load torch.
+"""
+
+import importlib
+
+from baselines._paper import PAPER_BASELINES
 
 __all__ = [
     "LSTMSequenceClassifier",
@@ -13,3 +14,15 @@ __all__ = [
     "make_paper_baseline",
     "paper_baselines",
 ]
+
+_TORCH_NAMES = {"LSTMSequenceClassifier", "make_paper_baseline", "paper_baselines"}
+
+
+def __getattr__(name):
+    if name in _TORCH_NAMES:
+        return getattr(importlib.import_module("baselines.lstm"), name)
+    raise AttributeError(f"module 'baselines' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | _TORCH_NAMES)

@@ -19,6 +19,7 @@ from sklearn.utils.multiclass import type_of_target
 from sklearn.utils.validation import check_is_fitted
 from torch import nn
 
+from baselines._paper import PAPER_BASELINES
 from baselines._sequences import (
     check_consistent_sequences,
     check_phases,
@@ -34,15 +35,6 @@ __all__ = [
     "make_paper_baseline",
     "paper_baselines",
 ]
-
-#: The four recurrent baselines of the paper's large-force-exercise comparison (its Table
-#: "Weighted F1 scores"), as parameters of :class:`LSTMSequenceClassifier`.
-PAPER_BASELINES = {
-    "LSTM": {"bidirectional": False, "coupled": False},
-    "Bi-LSTM": {"bidirectional": True, "coupled": False},
-    "LSTM Coupled": {"bidirectional": False, "coupled": True},
-    "Bi-LSTM Coupled": {"bidirectional": True, "coupled": True},
-}
 
 _POOLINGS = ("last", "mean", "max")
 

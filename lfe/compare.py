@@ -21,6 +21,8 @@ from sklearn.exceptions import ConvergenceWarning
 from sklearn.model_selection import KFold, StratifiedKFold
 from sklearn.utils.parallel import Parallel, delayed
 
+import baselines
+from baselines import PAPER_BASELINES
 from bsi_sklearn.classifier import BSIClassifier
 from bsi_sklearn.experiments._report import markdown_table
 from lfe.annotate import MISSION_OBJECTIVES
@@ -41,10 +43,6 @@ __all__ = [
 
 #: BSI classifiers of the comparison: name -> ``BSIClassifier(prior=...)``.
 BSI_PRIORS = {"BSI (Prior 2)": "sets_of_chains", "BSI (Prior 3)": "forest"}
-
-#: The paper's four recurrent baselines (``baselines.PAPER_BASELINES``), named here so that
-#: building the ``bsi-lfe`` parser does not import torch; a test keeps the two in step.
-PAPER_BASELINES = ("LSTM", "Bi-LSTM", "LSTM Coupled", "Bi-LSTM Coupled")
 
 #: The six classifiers of the paper's table, in its order.
 CLASSIFIERS = (*PAPER_BASELINES, *BSI_PRIORS)
@@ -365,9 +363,7 @@ def _run_task(kind, name, fold, data, train, test, params, seed):
         return [seqs[i] for i in idx]
 
     if kind == "baseline":
-        from baselines import make_paper_baseline  # torch, only when a baseline is trained
-
-        clf = make_paper_baseline(name, random_state=seed, **params)
+        clf = baselines.make_paper_baseline(name, random_state=seed, **params)
         X = data["coupled"] if clf.coupled else data["props"]
         start = time.perf_counter()
         clf.fit(sub(X, train), y[train], phases=sub(data["phases"], train))

@@ -205,13 +205,6 @@ def test_paper_numbers_are_the_papers():
     assert [float(v) for v in sentence.groups()] == list(PAPER_MAP_F1["BSI (Prior 2)"].values())
 
 
-def test_baseline_names_match_the_baselines_package():
-    from baselines import PAPER_BASELINES
-    from lfe import compare
-
-    assert compare.PAPER_BASELINES == tuple(PAPER_BASELINES)
-
-
 def test_cli_parser_does_not_import_torch():
     import subprocess
     import sys
