@@ -40,10 +40,9 @@ def run(cfg):
     fresh_process()
     warm = [fresh_process() for _ in range(cfg.pick(3, 1))]
     cold = []
-    if not cfg.quick:
-        for _ in range(1):  # compilation is deterministic work: one run
-            with tempfile.TemporaryDirectory() as tmp:
-                cold.append(fresh_process({"NUMBA_CACHE_DIR": tmp}))
+    if not cfg.quick:  # compilation is deterministic work: one run
+        with tempfile.TemporaryDirectory() as tmp:
+            cold.append(fresh_process({"NUMBA_CACHE_DIR": tmp}))
     keys = [("import_s", "import bsi_sklearn"), ("mcmc_fit_s", "first MCMC fit"),
             ("predict_s", "first predict_proba"), ("exact_fit_s", "first exact fit"),
             ("process_s", "whole process (interpreter start to exit)")]
