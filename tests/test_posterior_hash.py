@@ -1,0 +1,112 @@
+"""Fitted posteriors are bit-for-bit what they were before the redesign (issue 11).
+
+The digests below were recorded with the code as it stood before the kernels moved behind the
+model bundle. Every prior x likelihood x (positive-only, supervised) x (exact, MCMC) fit on a
+fixed problem is hashed: the specifications' structures and masks exactly, and every float
+(probabilities, clause marginals, dropped mass, R-hat, log-posterior traces, sample
+frequencies) to 12 significant digits, so that a change of the sampled chain or of the scores
+shows, while a last-bit difference of ``exp`` between CPU types does not.
+"""
+
+import hashlib
+
+import numpy as np
+import pytest
+
+from bsi_sklearn import BSIClassifier
+from poi_problems import make_poi_problem
+
+PRIORS = ("linear_chain", "sets_of_chains", "forest")
+LIKELIHOODS = ("cb", "ci")
+
+
+def _problem():
+    demos, labels, roles = make_poi_problem(n_demos=18, n_threats=2, n_pois=4, chain=(0, 2),
+                                            n_negative=6, seed=3, always_violated=(1,))
+    return demos, labels, roles
+
+
+def _floats(x):
+    return np.array2string(np.asarray(x, dtype=float).ravel(), precision=11,
+                           floatmode="maxprec", threshold=10**9, separator=",")
+
+
+def posterior_digest(clf):
+    """One SHA-256 over everything a fit computed."""
+    h = hashlib.sha256()
+    post = clf.posterior_
+    for spec in post.specifications:
+        h.update(repr(sorted(spec.clauses(), key=repr)).encode())
+    h.update(_floats(post.probabilities).encode())
+    h.update(repr(sorted((repr(k), round(float(v), 11))
+                         for k, v in post.clause_marginals().items())).encode())
+    h.update(_floats([post.dropped_mass]).encode())
+    diag = clf.mcmc_diagnostics_
+    if diag is not None:
+        h.update(_floats([diag["rhat"], diag["acceptance_rate"]]).encode())
+        h.update(_floats(diag["acceptance_rate_per_chain"]).encode())
+        h.update(_floats(diag["log_posterior_traces"]).encode())
+        h.update(_floats(diag["sample_frequencies"]).encode())
+        h.update(repr((diag["n_updates"], diag["n_visited"])).encode())
+    return h.hexdigest()[:16]
+
+
+def fit_case(prior, likelihood, supervised, inference):
+    demos, labels, roles = _problem()
+    if not supervised:
+        keep = labels == 1
+        demos = [d for d, k in zip(demos, keep) if k]
+        labels = labels[keep]
+    clf = BSIClassifier(prior=prior, likelihood=likelihood, inference=inference,
+                        n_samples=1_500, burn_in=50, n_chains=2, random_state=7, **roles)
+    return clf.fit(demos, labels)
+
+
+RECORDED = {
+    "linear_chain/cb/positive/exact": "623c61ce4efd464c",
+    "linear_chain/cb/positive/mcmc": "955bfd5ef9e501ff",
+    "linear_chain/cb/supervised/exact": "5a1a5aeedcc40cdf",
+    "linear_chain/cb/supervised/mcmc": "4e14468f4b449827",
+    "linear_chain/ci/positive/exact": "8d2d24cdbb078425",
+    "linear_chain/ci/positive/mcmc": "4713e7f1f3e2e245",
+    "linear_chain/ci/supervised/exact": "7da04ed1fe508bab",
+    "linear_chain/ci/supervised/mcmc": "981fbf6b9c493ec1",
+    "sets_of_chains/cb/positive/exact": "6e275684bdfc4e88",
+    "sets_of_chains/cb/positive/mcmc": "1103be458fa553e4",
+    "sets_of_chains/cb/supervised/exact": "b06c355858dbe712",
+    "sets_of_chains/cb/supervised/mcmc": "aaffd0c379be1889",
+    "sets_of_chains/ci/positive/exact": "537b77d51812b64b",
+    "sets_of_chains/ci/positive/mcmc": "49f3fc2c25078c12",
+    "sets_of_chains/ci/supervised/exact": "3e0ab1be3dcf57c9",
+    "sets_of_chains/ci/supervised/mcmc": "9e989735e9432126",
+    "forest/cb/positive/exact": "0f9aebe08050f14d",
+    "forest/cb/positive/mcmc": "bf54a69a20755b64",
+    "forest/cb/supervised/exact": "b06c355858dbe712",
+    "forest/cb/supervised/mcmc": "a9f2f2d98e6f2649",
+    "forest/ci/positive/exact": "5eb1710859a34a69",
+    "forest/ci/positive/mcmc": "d24dd7e55904960e",
+    "forest/ci/supervised/exact": "9d2230c7b92d0bb1",
+    "forest/ci/supervised/mcmc": "5f07b94ac8f6bcb0",
+}
+
+
+@pytest.mark.parametrize("key", sorted(RECORDED))
+def test_posterior_digest_unchanged(key):
+    prior, likelihood, mode, inference = key.split("/")
+    clf = fit_case(prior, likelihood, mode == "supervised", inference)
+    assert posterior_digest(clf) == RECORDED[key]
+
+
+def test_every_case_recorded():
+    cases = {f"{p}/{lik}/{m}/{i}" for p in PRIORS for lik in LIKELIHOODS
+             for m in ("positive", "supervised") for i in ("exact", "mcmc")}
+    assert set(RECORDED) == cases
+
+
+if __name__ == "__main__":  # prints the table above (run from tests/)
+    for p in PRIORS:
+        for lik in LIKELIHOODS:
+            for m in ("positive", "supervised"):
+                for i in ("exact", "mcmc"):
+                    clf = fit_case(p, lik, m == "supervised", i)
+                    print(f'    "{p}/{lik}/{m}/{i}": "{posterior_digest(clf)}",')
