@@ -8,7 +8,7 @@ from _common import Section, fmt_n, fmt_s, md_table, problem_roles, target, time
 from _data import make_demos, poi_demos
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn._clauses import clause_truth
+from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn._validation import check_traces, resolve_roles
 from bsi_sklearn.likelihood import resolve_log_epsilon
 from bsi_sklearn.mcmc import deduplicate_demos, run_chain

@@ -17,7 +17,7 @@ from _common import (
 from _data import make_demos
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn._clauses import clause_truth
+from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn._validation import check_traces, resolve_roles
 from bsi_sklearn.exact import count_hypotheses
 from bsi_sklearn.likelihood import resolve_log_epsilon

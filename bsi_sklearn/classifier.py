@@ -10,7 +10,7 @@ from sklearn.utils import check_random_state
 from sklearn.utils.parallel import Parallel, delayed
 from sklearn.utils.validation import check_is_fitted
 
-from bsi_sklearn._clauses import clause_truth
+from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn._validation import (
     check_consistent_traces,
     check_labels,

@@ -254,7 +254,7 @@ def exact_posterior(truth, y01, n_g, n, prior_code, p_global, p_eventual, p_part
     -------
     ExactResult
     """
-    from bsi_sklearn._clauses import pack_rows
+    from bsi_sklearn.clauses import pack_rows
 
     n_demos = truth.shape[0]
     clause_bits = pack_rows(np.ascontiguousarray(truth.T))           # (n_clauses, words)

@@ -5,7 +5,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from bsi_sklearn._clauses import clause_truth
+from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn._validation import check_traces, resolve_roles
 
 

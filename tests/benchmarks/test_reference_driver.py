@@ -32,7 +32,7 @@ from reference.webppl import (  # noqa: E402
 )
 
 from bsi_sklearn import BSIClassifier, Specification  # noqa: E402
-from bsi_sklearn._clauses import clause_index_order  # noqa: E402
+from bsi_sklearn.clauses import clause_index_order  # noqa: E402
 from bsi_sklearn.likelihood import default_log_epsilon  # noqa: E402
 from bsi_sklearn.posterior import total_variation  # noqa: E402
 

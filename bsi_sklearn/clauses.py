@@ -1,4 +1,4 @@
-"""Clause-truth precomputation: one pass over each trace gives every candidate clause's truth.
+"""Clause truth, precomputed once per fit: one pass over each trace gives every candidate clause's truth.
 
 Clause layout for ``n_g`` global candidates and ``n`` subtasks (``n_clauses = n_g + n + n*n``):
 
@@ -11,8 +11,6 @@ import numpy as np
 from numba import njit
 
 __all__ = [
-    "clause_index_global",
-    "clause_index_eventual",
     "clause_index_order",
     "n_clauses",
     "clause_truth",
@@ -23,16 +21,6 @@ __all__ = [
 def n_clauses(n_g, n):
     """Number of clause slots for ``n_g`` global candidates and ``n`` subtasks."""
     return n_g + n + n * n
-
-
-def clause_index_global(j, n_g, n):
-    """Slot of ``G(tau_j)``."""
-    return j
-
-
-def clause_index_eventual(w, n_g, n):
-    """Slot of ``pi_w -> F(omega_w)``."""
-    return n_g + w
 
 
 def clause_index_order(a, b, n_g, n):
