@@ -17,17 +17,19 @@ from bsi_sklearn._validation import (
     check_traces,
     resolve_roles,
 )
-from bsi_sklearn.exact import count_hypotheses, exact_posterior
-from bsi_sklearn.likelihood import LIKELIHOODS, likelihood_code, resolve_log_epsilon
+from bsi_sklearn.diagnostics import split_rhat
+from bsi_sklearn.exact import exact_posterior
+from bsi_sklearn.likelihood import LIKELIHOODS
 from bsi_sklearn.mcmc import (
     deduplicate_demos,
+    make_demos,
     run_chain,
     score_states,
-    split_rhat,
     unique_states,
 )
+from bsi_sklearn.model import make_model
 from bsi_sklearn.posterior import Posterior
-from bsi_sklearn.priors import PRIORS, prior_code
+from bsi_sklearn.priors import PRIORS, count_hypotheses
 
 __all__ = ["BSIClassifier"]
 
@@ -257,7 +259,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
                               traces.n_props, traces.feature_names)
         n_g, n = roles.n_globals, roles.n_subtasks
         truth = clause_truth(traces, roles)
-        log_eps = resolve_log_epsilon(self.epsilon, n_g, n)
+        model = make_model(prior=self.prior, likelihood=self.likelihood, n_globals=n_g,
+                           n_subtasks=n, p_global=self.p_global, p_eventual=self.p_eventual,
+                           p_part=self.p_part, n_new=self.n_new, epsilon=self.epsilon)
         n_hyp = count_hypotheses(self.prior, n_g, n)
         inference = self.inference
         if inference == "auto":
@@ -268,16 +272,13 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
                 f"subtasks, prior={self.prior!r}), above max_exact_hypotheses="
                 f"{self.max_exact_hypotheses:,}; raise max_exact_hypotheses or use 'mcmc'"
             )
-        args = (n_g, n, prior_code(self.prior), float(self.p_global), float(self.p_eventual),
-                float(self.p_part), float(self.n_new), float(log_eps),
-                likelihood_code(self.likelihood))
         if inference == "exact":
-            self.posterior_, self.mcmc_diagnostics_ = self._fit_exact(truth, y01, roles, args)
+            self.posterior_, self.mcmc_diagnostics_ = self._fit_exact(truth, y01, roles, model)
         else:
             rng = check_random_state(self.random_state)
             seeds = rng.randint(np.iinfo(np.int32).max, size=self.n_chains)
             self.posterior_, self.mcmc_diagnostics_ = self._fit_mcmc(
-                truth, y01, roles, args, seeds
+                truth, y01, roles, model, seeds
             )
             if self.mcmc_diagnostics_["rhat"] > _RHAT_WARN:
                 warnings.warn(
@@ -295,24 +296,22 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
             del self.feature_names_in_
         self.inference_ = inference
         self.n_hypotheses_ = n_hyp
-        self.log_epsilon_ = float(log_eps)
+        self.log_epsilon_ = model.log_eps
         self.map_specification_ = self.posterior_.specification(0)
         self.n_unique_specifications_ = len(self.posterior_)
         return self
 
-    def _fit_exact(self, truth, y01, roles, args):
-        n_g, n, code, p_g, p_e, p_part, n_new, log_eps, lik = args
-        res = exact_posterior(truth, y01, n_g, n, code, p_g, p_e, p_part, n_new, log_eps, lik,
-                              tol=float(self.tol))
+    def _fit_exact(self, truth, y01, roles, model):
+        res = exact_posterior(truth, y01, model, tol=float(self.tol))
         probs = np.exp(res.log_prob)
         probs /= probs.sum()
         post = Posterior(res.structures, res.tau_masks, res.w1_masks, probs, roles,
                          clause_marginals=res.clause_marginals, dropped_mass=res.dropped_mass)
         return post, None
 
-    def _fit_mcmc(self, truth, y01, roles, args, seeds):
-        n_g, n, code, p_g, p_e, p_part, n_new, log_eps, lik = args
-        truth_t, w_pos, w_neg = deduplicate_demos(truth, y01)
+    def _fit_mcmc(self, truth, y01, roles, model, seeds):
+        n_g, n = model.n_g, model.n
+        demos = make_demos(*deduplicate_demos(truth, y01))
         seeds_iter = seeds
         if self.verbose:
             from tqdm.auto import tqdm
@@ -321,17 +320,14 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         # Chains are threads of this process (the kernels release the GIL), also when an outer
         # joblib backend such as dask distributes whole fits.
         results = Parallel(n_jobs=self.n_jobs, backend="threading")(
-            delayed(run_chain)(int(seed), truth_t, w_pos, w_neg, n_g, n, code, self.prior,
-                               p_g, p_e, p_part, n_new, log_eps, lik, int(self.n_samples),
-                               int(self.burn_in))
+            delayed(run_chain)(int(seed), demos, model, int(self.n_samples), int(self.burn_in))
             for seed in seeds_iter
         )
         uniq, counts = unique_states(np.concatenate([r[0] for r in results], axis=0),
                                      np.concatenate([r[1] for r in results]))
         traces = np.stack([r[2] for r in results])
         moves = np.array([r[3] for r in results])
-        scores = score_states(uniq, truth_t, w_pos, w_neg, n_g, n, code, p_g, p_e, p_part,
-                              n_new, log_eps, lik)
+        scores = score_states(uniq, demos, model)
         # Sort by decreasing posterior; ties keep np.unique's canonical order.
         order = np.argsort(-scores, kind="stable")
         uniq, counts, scores = uniq[order], counts[order], scores[order]

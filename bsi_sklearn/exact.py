@@ -8,80 +8,33 @@ the most probable hypotheses covering all but ``tol`` of the mass.
 """
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
+from bsi_sklearn.clauses import pack_rows
 from bsi_sklearn.likelihood import log_likelihood
-from bsi_sklearn.priors import count_structures, log_prior_structure, log_prior_subset
+from bsi_sklearn.priors import PRIORS, enumerate_structures, log_prior_structure, log_prior_subset
 
-__all__ = ["enumerate_structures", "count_hypotheses", "exact_posterior", "ExactResult"]
-
-
-def count_hypotheses(prior, n_globals, n_subtasks):
-    """Number of hypotheses in the prior's support."""
-    return count_structures(prior, n_subtasks) * 2**n_globals * 2**n_subtasks
+__all__ = ["exact_posterior", "ExactResult"]
 
 
-@njit(cache=True)
-def _enumerate_structures(n, code):
-    # Every parent array with values in {-1} U {other nodes}, kept when it is a forest of the
-    # prior's shape. n**n candidates: only called for the small n where exact inference fits.
-    total = 1
-    for _ in range(n):
-        total *= n
-    out = np.empty((max(total, 1), n), dtype=np.int64)
-    k = 0
-    digits = np.zeros(n, dtype=np.int64)
-    parent = np.empty(n, dtype=np.int64)
-    n_children = np.empty(n, dtype=np.int64)
-    for _ in range(total):
-        # digit d of node v: 0 -> root, else the d-th other node.
-        for v in range(n):
-            d = digits[v]
-            if d == 0:
-                parent[v] = -1
-            else:
-                parent[v] = d - 1 if d - 1 < v else d
-        ok = True
-        for v in range(n):  # acyclic: walking up ends within n steps
-            a = parent[v]
-            steps = 0
-            while a >= 0 and steps <= n:
-                a = parent[a]
-                steps += 1
-            if a >= 0:
-                ok = False
-                break
-        if ok and code <= 1:
-            n_children[:] = 0
-            n_roots = 0
-            for v in range(n):
-                if parent[v] < 0:
-                    n_roots += 1
-                else:
-                    n_children[parent[v]] += 1
-                    if n_children[parent[v]] > 1:
-                        ok = False
-            if code == 0 and n_roots != 1:
-                ok = False
-        if ok:
-            out[k] = parent
-            k += 1
-        # increment mixed-radix counter
-        for v in range(n):
-            digits[v] += 1
-            if digits[v] < n:
-                break
-            digits[v] = 0
-    return out[:k]
+class PartTable(NamedTuple):
+    """One part of the hypotheses (order structures, global subsets or eventual subsets)."""
+
+    bits: np.ndarray   # (n_items, n_words) uint64: the demonstrations each item satisfies
+    size: np.ndarray   # (n_items,) int64: its number of conjuncts
+    lp: np.ndarray     # (n_items,) float64: its log prior
 
 
-def enumerate_structures(prior_code, n):
-    """All order structures (parent arrays) of a prior's support, shape ``(count, n)``."""
-    if n == 0:
-        return np.zeros((1, 0), dtype=np.int64)
-    return _enumerate_structures(n, prior_code)
+class LabelMasks(NamedTuple):
+    """Which demonstrations are acceptable / unacceptable, as bitsets, and how many."""
+
+    pos: np.ndarray    # (n_words,) uint64
+    neg: np.ndarray    # (n_words,) uint64
+    n_pos: float
+    n_neg: float
 
 
 @njit(cache=True, nogil=True)
@@ -111,17 +64,18 @@ def _subset_tables(clause_bits, first_clause, n_items, p, full):
         size[m] = size[prev] + 1
     for m in range(n_sub):
         lp[m] = log_prior_subset(size[m], n_items, p)
-    return bits, size, lp
+    return PartTable(bits, size, lp)
 
 
 @njit(cache=True, nogil=True)
-def _structure_tables(structures, clause_bits, n_g, n, full, code, p_part, n_new):
+def _structure_tables(structures, clause_bits, full, model):
     n_s = structures.shape[0]
     n_words = clause_bits.shape[1]
     bits = np.empty((n_s, n_words), dtype=np.uint64)
     size = np.zeros(n_s, dtype=np.int64)
     lp = np.empty(n_s)
-    base = n_g + n
+    n = model.n
+    base = model.n_g + n
     for s in range(n_s):
         parent = structures[s]
         bits[s, :] = full
@@ -133,29 +87,29 @@ def _structure_tables(structures, clause_bits, n_g, n, full, code, p_part, n_new
                     bits[s, w] &= clause_bits[c, w]
                 size[s] += 1
                 a = parent[a]
-        lp[s] = log_prior_structure(parent, code, p_part, n_new)
-    return bits, size, lp
+        lp[s] = log_prior_structure(parent, model)
+    return PartTable(bits, size, lp)
 
 
 @njit(cache=True, nogil=True)
-def _hyp_logpost(s, t, e, s_bits, s_size, s_lp, t_bits, t_size, t_lp, e_bits, e_size, e_lp,
-                 pos_mask, neg_mask, n_pos, n_neg, log_eps, lik_code):
+def _hyp_logpost(s, t, e, parts_s, parts_t, parts_e, labels, model):
     pos_sat = 0
     neg_sat = 0
-    for w in range(pos_mask.shape[0]):
-        sat = s_bits[s, w] & t_bits[t, w] & e_bits[e, w]
-        pos_sat += _popcount64(sat & pos_mask[w])
-        neg_sat += _popcount64(sat & neg_mask[w])
-    n_conj = s_size[s] + t_size[t] + e_size[e]
-    return s_lp[s] + t_lp[t] + e_lp[e] + log_likelihood(
-        float(pos_sat), float(neg_sat), float(n_pos), float(n_neg), n_conj, log_eps, lik_code
+    for w in range(labels.pos.shape[0]):
+        sat = parts_s.bits[s, w] & parts_t.bits[t, w] & parts_e.bits[e, w]
+        pos_sat += _popcount64(sat & labels.pos[w])
+        neg_sat += _popcount64(sat & labels.neg[w])
+    n_conj = parts_s.size[s] + parts_t.size[t] + parts_e.size[e]
+    return parts_s.lp[s] + parts_t.lp[t] + parts_e.lp[e] + log_likelihood(
+        float(pos_sat), float(neg_sat), labels.n_pos, labels.n_neg, n_conj, model.log_eps,
+        model.likelihood
     )
 
 
 @njit(cache=True, nogil=True)
-def _exact_kernel(s_bits, s_size, s_lp, t_bits, t_size, t_lp, e_bits, e_size, e_lp,
-                  pos_mask, neg_mask, n_pos, n_neg, log_eps, lik_code, log_keep):
-    n_s, n_t, n_e = s_bits.shape[0], t_bits.shape[0], e_bits.shape[0]
+def _exact_kernel(parts_s, parts_t, parts_e, labels, model, log_keep):
+    s_lp = parts_s.lp
+    n_s, n_t, n_e = s_lp.shape[0], parts_t.lp.shape[0], parts_e.lp.shape[0]
     # Pass 1: log normaliser with a running maximum.
     mx = -np.inf
     acc = 0.0
@@ -164,9 +118,7 @@ def _exact_kernel(s_bits, s_size, s_lp, t_bits, t_size, t_lp, e_bits, e_size, e_
             continue
         for t in range(n_t):
             for e in range(n_e):
-                lp = _hyp_logpost(s, t, e, s_bits, s_size, s_lp, t_bits, t_size, t_lp,
-                                  e_bits, e_size, e_lp, pos_mask, neg_mask, n_pos, n_neg,
-                                  log_eps, lik_code)
+                lp = _hyp_logpost(s, t, e, parts_s, parts_t, parts_e, labels, model)
                 if lp == -np.inf:
                     continue
                 if lp > mx:
@@ -188,9 +140,7 @@ def _exact_kernel(s_bits, s_size, s_lp, t_bits, t_size, t_lp, e_bits, e_size, e_
             continue
         for t in range(n_t):
             for e in range(n_e):
-                lp = _hyp_logpost(s, t, e, s_bits, s_size, s_lp, t_bits, t_size, t_lp,
-                                  e_bits, e_size, e_lp, pos_mask, neg_mask, n_pos, n_neg,
-                                  log_eps, lik_code) - log_z
+                lp = _hyp_logpost(s, t, e, parts_s, parts_t, parts_e, labels, model) - log_z
                 if lp == -np.inf:
                     continue
                 p = math.exp(lp)
@@ -233,20 +183,17 @@ def _mask_bits(masks, n_items):
     return ((masks[:, None] >> np.arange(n_items)) & 1).astype(bool)
 
 
-def exact_posterior(truth, y01, n_g, n, prior_code, p_global, p_eventual, p_part, n_new,
-                    log_eps, lik_code, tol=1e-9):
+def exact_posterior(truth, y01, model, tol=1e-9):
     """Enumerate the support and return the posterior.
 
     Parameters
     ----------
     truth : ndarray (n_demos, n_clauses) uint8
-        Clause truth matrix (see ``_clauses``).
+        Clause truth matrix (:func:`bsi_sklearn.clauses.clause_truth`).
     y01 : ndarray (n_demos,)
         Labels in {0, 1}.
-    n_g, n : int
-        Numbers of global candidates and subtasks.
-    prior_code, lik_code : int
-    p_global, p_eventual, p_part, n_new, log_eps : float
+    model : Model
+        The model bundle (:func:`bsi_sklearn.model.make_model`).
     tol : float
         Posterior mass the result may drop (the least probable hypotheses).
 
@@ -254,27 +201,23 @@ def exact_posterior(truth, y01, n_g, n, prior_code, p_global, p_eventual, p_part
     -------
     ExactResult
     """
-    from bsi_sklearn.clauses import pack_rows
-
+    n_g, n = model.n_g, model.n
     n_demos = truth.shape[0]
     clause_bits = pack_rows(np.ascontiguousarray(truth.T))           # (n_clauses, words)
-    n_words = clause_bits.shape[1]
     full = pack_rows(np.ones((1, n_demos), dtype=np.uint8))[0]
-    pos_mask = pack_rows((y01 == 1).astype(np.uint8)[None, :])[0]
-    neg_mask = pack_rows((y01 == 0).astype(np.uint8)[None, :])[0]
-    assert n_words == full.shape[0]
-    structures = enumerate_structures(prior_code, n)
-    s_bits, s_size, s_lp = _structure_tables(structures, clause_bits, n_g, n, full,
-                                             prior_code, p_part, n_new)
-    t_bits, t_size, t_lp = _subset_tables(clause_bits, 0, n_g, p_global, full)
-    e_bits, e_size, e_lp = _subset_tables(clause_bits, n_g, n, p_eventual, full)
-    n_hyp = len(structures) * len(t_lp) * len(e_lp)
+    labels = LabelMasks(
+        pos=pack_rows((y01 == 1).astype(np.uint8)[None, :])[0],
+        neg=pack_rows((y01 == 0).astype(np.uint8)[None, :])[0],
+        n_pos=float((y01 == 1).sum()), n_neg=float((y01 == 0).sum()),
+    )
+    structures = enumerate_structures(PRIORS[model.prior], n)
+    parts_s = _structure_tables(structures, clause_bits, full, model)
+    parts_t = _subset_tables(clause_bits, 0, n_g, model.p_global, full)
+    parts_e = _subset_tables(clause_bits, n_g, n, model.p_eventual, full)
+    n_hyp = len(structures) * len(parts_t.lp) * len(parts_e.lp)
     log_keep = math.log(tol / n_hyp) if tol > 0 else -np.inf
     log_z, keep_idx, keep_lp, mass_s, mass_t, mass_e = _exact_kernel(
-        s_bits, s_size, s_lp, t_bits, t_size, t_lp, e_bits, e_size, e_lp,
-        pos_mask, neg_mask, int((y01 == 1).sum()), int((y01 == 0).sum()), log_eps, lik_code,
-        log_keep,
-    )
+        parts_s, parts_t, parts_e, labels, model, log_keep)
     # Smallest prefix of the sorted kept hypotheses that covers 1 - tol.
     order = np.argsort(-keep_lp, kind="stable")
     keep_idx, keep_lp = keep_idx[order], keep_lp[order]

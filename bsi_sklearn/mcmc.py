@@ -11,6 +11,7 @@ are never read: only the precomputed clause-truth matrix is.
 """
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import carray, njit
@@ -18,9 +19,52 @@ from numba.core import types
 from numba.extending import intrinsic
 
 from bsi_sklearn.likelihood import log_likelihood
-from bsi_sklearn.priors import log_prior_structure, log_prior_subset, sample_hypothesis
+from bsi_sklearn.model import Model
+from bsi_sklearn.priors import (
+    draw_hypothesis,
+    log_inclusion,
+    log_prior,
+    log_prior_structure,
+    log_prior_subset,
+)
 
-__all__ = ["run_chain", "deduplicate_demos", "split_rhat", "score_states", "unique_states"]
+__all__ = ["Demos", "run_chain", "deduplicate_demos", "score_states", "unique_states"]
+
+
+class Demos(NamedTuple):
+    """Deduplicated clause truth, clause-major, with the labels as weights."""
+
+    truth_t: np.ndarray   # (n_clauses, n_unique) uint8
+    w_pos: np.ndarray     # (n_unique,) float64: acceptable demonstrations behind each row
+    w_neg: np.ndarray     # (n_unique,) float64: unacceptable ones
+    n_pos: float          # w_pos.sum()
+    n_neg: float          # w_neg.sum()
+
+
+class ChainState(NamedTuple):
+    """The current hypothesis of a chain: inclusion bits of tau and W1, the parent array."""
+
+    tau: np.ndarray       # (n_g,) int64
+    w1: np.ndarray        # (n,) int64
+    parent: np.ndarray    # (n,) int64
+
+
+class ChainBuffers(NamedTuple):
+    """Scratch space of one chain, allocated once by :func:`run_chain`."""
+
+    ubuf: np.ndarray      # uniforms, refilled in bulk
+    viol: np.ndarray      # (D,) int32: clauses of the current hypothesis each row violates
+    cur: np.ndarray       # (D,) int32: the same for a candidate
+    lw: np.ndarray        # candidate log weights (prior + likelihood)
+    cand_lp: np.ndarray   # candidate log priors
+    cand_head: np.ndarray
+    cand_pos: np.ndarray
+    cand_ew: np.ndarray   # exponentiated weights
+    child: np.ndarray     # (n,) chain successor (Priors 1, 2)
+    in_s: np.ndarray      # (n,) membership of the pruned subtree (Prior 3)
+    cost: np.ndarray      # (n, D) violations added by an ancestor of the subtree (Prior 3)
+    size: np.ndarray      # (n,) subtree sizes (Prior 3)
+    old_parent: np.ndarray
 
 
 def unique_states(states, counts):
@@ -58,6 +102,15 @@ def deduplicate_demos(truth, y01):
     return np.ascontiguousarray(rows.T), w_pos, w_neg
 
 
+def make_demos(truth_t, w_pos, w_neg):
+    """The :class:`Demos` bundle of :func:`deduplicate_demos`'s output."""
+    w_pos = np.ascontiguousarray(w_pos, dtype=np.float64)
+    w_neg = np.ascontiguousarray(w_neg, dtype=np.float64)
+    # Whole-number weights: their sum is exact in any order.
+    return Demos(np.ascontiguousarray(truth_t), w_pos, w_neg, float(w_pos.sum()),
+                 float(w_neg.sum()))
+
+
 @intrinsic
 def _data_pointer(typingctx, arr):
     # The raw data pointer of a contiguous array.
@@ -77,6 +130,24 @@ def _unmanaged(a):
     the kernel takes them of buffers its Python caller owns for the whole call.
     """
     return carray(_data_pointer(a), a.shape)
+
+
+@njit(cache=True, nogil=True)
+def _unmanaged_bundles(state, demos, model, bufs):
+    # The same bundles made of unmanaged views (see _unmanaged).
+    state = ChainState(_unmanaged(state.tau), _unmanaged(state.w1), _unmanaged(state.parent))
+    demos = Demos(_unmanaged(demos.truth_t), _unmanaged(demos.w_pos), _unmanaged(demos.w_neg),
+                  demos.n_pos, demos.n_neg)
+    model = Model(model.n_g, model.n, model.prior, model.forest, model.p_global,
+                  model.p_eventual, model.p_part, model.n_new, model.log_eps, model.likelihood,
+                  _unmanaged(model.lp_chains), _unmanaged(model.forest_g), model.forest_const)
+    bufs = ChainBuffers(_unmanaged(bufs.ubuf), _unmanaged(bufs.viol), _unmanaged(bufs.cur),
+                        _unmanaged(bufs.lw), _unmanaged(bufs.cand_lp),
+                        _unmanaged(bufs.cand_head), _unmanaged(bufs.cand_pos),
+                        _unmanaged(bufs.cand_ew), _unmanaged(bufs.child), _unmanaged(bufs.in_s),
+                        _unmanaged(bufs.cost), _unmanaged(bufs.size),
+                        _unmanaged(bufs.old_parent))
+    return state, demos, model, bufs
 
 
 # The weights are whole numbers (demonstration counts), so their sums are exact in any order:
@@ -145,14 +216,16 @@ def _add_pair(viol, truth_t, c, sign):
 
 
 @njit(cache=True, nogil=True)
-def _flip_move(c, inc, lp_in, lp_out, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj,
-               log_eps, lik_code, u):
+def _flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u):
     # Gibbs update of one inclusion bit: returns the new bit, the new log-likelihood and
     # whether the uniform u was used (only when both outcomes are possible).
-    ps_out, ns_out, ps_in, ns_in = _flip_sums(viol, truth_t, c, inc, w_pos, w_neg)
+    truth_t = demos.truth_t
+    ps_out, ns_out, ps_in, ns_in = _flip_sums(viol, truth_t, c, inc, demos.w_pos, demos.w_neg)
     n_out = n_conj - inc
-    ll_out = log_likelihood(ps_out, ns_out, n_pos, n_neg, n_out, log_eps, lik_code)
-    ll_in = log_likelihood(ps_in, ns_in, n_pos, n_neg, n_out + 1, log_eps, lik_code)
+    ll_out = log_likelihood(ps_out, ns_out, demos.n_pos, demos.n_neg, n_out, model.log_eps,
+                            model.likelihood)
+    ll_in = log_likelihood(ps_in, ns_in, demos.n_pos, demos.n_neg, n_out + 1, model.log_eps,
+                           model.likelihood)
     lw_out = lp_out + ll_out
     lw_in = lp_in + ll_in
     # P(in) = 1 / (1 + exp(lw_out - lw_in)), computed without overflow.
@@ -172,11 +245,17 @@ def _flip_move(c, inc, lp_in, lp_out, viol, truth_t, w_pos, w_neg, n_pos, n_neg,
 
 
 @njit(cache=True, nogil=True)
-def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base,
-                n, code, p_part, n_new, log_eps, lik_code, unif, cur, lw, cand_lp, cand_head,
-                cand_pos, child, cand_ew, lp_chains):
-    # Prior 1 / 2: take v out of its chain and redraw its place.
+def _chain_move(v, parent, viol, n_conj, demos, model, bufs, unif):
+    # Priors 1 / 2: take v out of its chain and redraw its place among every position of every
+    # remaining chain and a new chain (a candidate only where the prior has such structures).
     # Returns (n_conj, log prior of the structure, log-likelihood) of the new state.
+    truth_t, w_pos, w_neg = demos.truth_t, demos.w_pos, demos.w_neg
+    n_pos, n_neg = demos.n_pos, demos.n_neg
+    n = model.n
+    base = model.n_g + n
+    log_eps, lik_code, lp_chains = model.log_eps, model.likelihood, model.lp_chains
+    cur, lw, cand_lp, cand_ew = bufs.cur, bufs.lw, bufs.cand_lp, bufs.cand_ew
+    cand_head, cand_pos, child = bufs.cand_head, bufs.cand_pos, bufs.child
     D = viol.shape[0]
     child[:] = -1
     for u in range(n):
@@ -199,7 +278,7 @@ def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, ba
         child[parent[v]] = child[v]
     parent[v] = -1
     child[v] = -1
-    # Candidates: every position of every remaining chain, plus a new chain (Prior 2).
+    # Candidates: every position of every remaining chain, plus a new chain.
     k = 0
     m_rem = 0
     for h in range(n):
@@ -235,7 +314,7 @@ def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, ba
                 for d in range(D):
                     cur[d] += (truth_t[cb, d] != 0) - (truth_t[ca, d] != 0)
                 u = child[u]
-    if code == 1 or k == 0:
+    if lp_chains[m_rem + 1] > -np.inf or k == 0:
         ps, ns = _sat_counts(viol, w_pos, w_neg)
         cand_lp[k] = lp_chains[m_rem + 1]
         lw[k] = cand_lp[k] + log_likelihood(ps, ns, n_pos, n_neg, n_conj, log_eps, lik_code)
@@ -269,46 +348,16 @@ def _chain_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, ba
 
 
 @njit(cache=True, nogil=True)
-def log_prior_structure_chains(n, m, code, p_part):
-    """Log prior of a chain structure with ``m`` chains over ``n`` subtasks (Priors 1, 2)."""
-    if code == 0:
-        if m != 1:
-            return -np.inf
-        return -math.lgamma(n + 1.0)
-    lp = math.lgamma(m + 1.0) - math.lgamma(n + 1.0)
-    if m - 1 > 0:
-        lp += (m - 1) * math.log(p_part) if p_part > 0 else -np.inf
-    if n - m > 0:
-        lp += (n - m) * math.log(1.0 - p_part) if p_part < 1 else -np.inf
-    return lp
-
-
-@njit(cache=True, nogil=True)
-def _forest_size_terms(n, n_new):
-    """Prior 3 (``priors.log_prior_structure``, code 2) as a sum over subtree sizes.
-
-    Every subtask v with subtree size s_v enters the forest prior through lgamma(s_v) (its
-    block in its parent's, or the top-level, CRP partition), -log(s_v) (its root is its
-    first element) and, when s_v > 1, the CRP normaliser lgamma(theta) - lgamma(theta + s_v
-    - 1) of its descendants' partition. The per-block log(theta) terms add up to
-    n log(theta) (every subtask is a root or one parent's child). So
-    ``log p = const + sum_v g[s_v]``; returns ``(g, const)``.
-    """
-    log_theta = math.log(n_new)
-    lg0 = math.lgamma(n_new)
-    g = np.zeros(n + 2)
-    for k in range(1, n + 1):
-        g[k] = math.lgamma(float(k)) - math.log(float(k))
-        if k > 1:
-            g[k] += lg0 - math.lgamma(n_new + k - 1)
-    return g, n * log_theta + lg0 - math.lgamma(n_new + n)
-
-
-@njit(cache=True, nogil=True)
-def _forest_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base,
-                 n, p_part, n_new, log_eps, lik_code, unif, cur, lw, cand_lp, cand_head, in_s,
-                 cost, g, g_const, size, cand_ew):
+def _forest_move(v, parent, viol, n_conj, demos, model, bufs, unif):
     # Prior 3: prune the subtree rooted at v and regraft it anywhere outside it.
+    truth_t, w_pos, w_neg = demos.truth_t, demos.w_pos, demos.w_neg
+    n_pos, n_neg = demos.n_pos, demos.n_neg
+    n = model.n
+    base = model.n_g + n
+    log_eps, lik_code = model.log_eps, model.likelihood
+    g, g_const = model.forest_g, model.forest_const
+    cur, lw, cand_lp, cand_ew = bufs.cur, bufs.lw, bufs.cand_lp, bufs.cand_ew
+    cand_head, in_s, cost, size = bufs.cand_head, bufs.in_s, bufs.cost, bufs.size
     D = viol.shape[0]
     size_s = 0
     for u in range(n):
@@ -383,22 +432,16 @@ def _forest_move(v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, b
 
 
 @njit(cache=True, nogil=True)
-def _log_prior_total(tau, w1, parent, code, p_global, p_eventual, p_part, n_new):
-    return (log_prior_subset(tau.sum(), tau.shape[0], p_global)
-            + log_prior_subset(w1.sum(), w1.shape[0], p_eventual)
-            + log_prior_structure(parent, code, p_part, n_new))
-
-
-@njit(cache=True, nogil=True)
-def _init_viol(tau, w1, parent, truth_t, n_g, n):
+def _init_viol(tau, w1, parent, truth_t, model):
     # int32 counts (not int64): twice as many lanes in the kernels' vectorised loops.
     viol = np.zeros(truth_t.shape[1], dtype=np.int32)
-    return viol, _fill_viol(viol, tau, w1, parent, truth_t, n_g, n)
+    return viol, _fill_viol(viol, tau, w1, parent, truth_t, model)
 
 
 @njit(cache=True, nogil=True)
-def _fill_viol(viol, tau, w1, parent, truth_t, n_g, n):
+def _fill_viol(viol, tau, w1, parent, truth_t, model):
     # Per demonstration, the number of clauses of the hypothesis it violates; returns N.
+    n_g, n = model.n_g, model.n
     viol[:] = 0
     n_conj = 0
     for j in range(n_g):
@@ -419,54 +462,31 @@ def _fill_viol(viol, tau, w1, parent, truth_t, n_g, n):
 
 
 @njit(cache=True, nogil=True)
-def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global,
-                  p_eventual, p_part, n_new, log_eps, lik_code, n_sweeps, burn_in, rng, ubuf,
-                  viol, cur, lw, cand_lp, cand_head, cand_pos, cand_ew, child, in_s, cost, g,
-                  g_const, lp_chains, size, old_parent):
+def _chain_kernel(state, demos, model, bufs, rng, n_sweeps, burn_in):
     # One sweep updates every coordinate once (tau bits, W1 bits, every subtask's place);
     # the state is recorded after each sweep past burn-in. The state and the scratch buffers
     # (allocated by run_chain) are used through unmanaged views: see _unmanaged.
-    tau = _unmanaged(tau)
-    w1 = _unmanaged(w1)
-    parent = _unmanaged(parent)
-    truth_t = _unmanaged(truth_t)
-    w_pos = _unmanaged(w_pos)
-    w_neg = _unmanaged(w_neg)
-    viol = _unmanaged(viol)
-    cur = _unmanaged(cur)
-    lw = _unmanaged(lw)
-    cand_lp = _unmanaged(cand_lp)
-    cand_head = _unmanaged(cand_head)
-    cand_pos = _unmanaged(cand_pos)
-    cand_ew = _unmanaged(cand_ew)
-    child = _unmanaged(child)
-    in_s = _unmanaged(in_s)
-    cost = _unmanaged(cost)
-    g = _unmanaged(g)
-    lp_chains = _unmanaged(lp_chains)
-    size = _unmanaged(size)
-    old_parent = _unmanaged(old_parent)
+    state, demos, model, bufs = _unmanaged_bundles(state, demos, model, bufs)
+    tau, w1, parent = state.tau, state.w1, state.parent
+    truth_t, viol, old_parent = demos.truth_t, bufs.viol, bufs.old_parent
+    n_g, n = model.n_g, model.n
     # Uniforms come from a buffer refilled in bulk (the same stream as one rng.random() per
     # draw), so that the generator, a managed object, is not passed to every move.
-    ubuf = _unmanaged(ubuf)
+    ubuf = bufs.ubuf
     n_u = ubuf.shape[0]
     upos = n_u
-    n_pos = w_pos.sum()
-    n_neg = w_neg.sum()
-    n_conj = _fill_viol(viol, tau, w1, parent, truth_t, n_g, n)
-    base = n_g + n
+    n_conj = _fill_viol(viol, tau, w1, parent, truth_t, model)
     n_keep = n_sweeps - burn_in
     states = np.empty((n_keep, n_g + 2 * n), dtype=np.int16)
     trace_lp = np.empty(n_keep)
-    lg_in = math.log(p_global) if p_global > 0 else -np.inf
-    lg_out = math.log1p(-p_global) if p_global < 1 else -np.inf
-    le_in = math.log(p_eventual) if p_eventual > 0 else -np.inf
-    le_out = math.log1p(-p_eventual) if p_eventual < 1 else -np.inf
-    lp_sub = (log_prior_subset(tau.sum(), n_g, p_global)
-              + log_prior_subset(w1.sum(), n, p_eventual))
-    lp_struct = log_prior_structure(parent, code, p_part, n_new)
-    ps, ns = _sat_counts(viol, w_pos, w_neg)
-    ll = log_likelihood(ps, ns, n_pos, n_neg, n_conj, log_eps, lik_code)
+    lg_in, lg_out = log_inclusion(model.p_global)
+    le_in, le_out = log_inclusion(model.p_eventual)
+    lp_sub = (log_prior_subset(tau.sum(), n_g, model.p_global)
+              + log_prior_subset(w1.sum(), n, model.p_eventual))
+    lp_struct = log_prior_structure(parent, model)
+    ps, ns = _sat_counts(viol, demos.w_pos, demos.w_neg)
+    ll = log_likelihood(ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps,
+                        model.likelihood)
     moved = 0
     updates = 0
     counts = np.zeros(n_keep, dtype=np.int64)
@@ -480,8 +500,8 @@ def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global
             ubuf[rest:] = rng.random(n_u - rest)
             upos = 0
         for j in range(n_g):
-            new, ll, used = _flip_move(j, tau[j], lg_in, lg_out, viol, truth_t, w_pos, w_neg,
-                                       n_pos, n_neg, n_conj, log_eps, lik_code, ubuf[upos])
+            new, ll, used = _flip_move(j, tau[j], lg_in, lg_out, viol, n_conj, demos, model,
+                                       ubuf[upos])
             upos += used
             if new != tau[j]:
                 n_conj += 1 if new else -1
@@ -489,9 +509,8 @@ def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global
                 tau[j] = new
                 moved += 1
         for w in range(n):
-            new, ll, used = _flip_move(n_g + w, w1[w], le_in, le_out, viol, truth_t, w_pos,
-                                       w_neg, n_pos, n_neg, n_conj, log_eps, lik_code,
-                                       ubuf[upos])
+            new, ll, used = _flip_move(n_g + w, w1[w], le_in, le_out, viol, n_conj, demos,
+                                       model, ubuf[upos])
             upos += used
             if new != w1[w]:
                 n_conj += 1 if new else -1
@@ -502,16 +521,12 @@ def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global
         if n > 1:
             for v in range(n):
                 old_parent[:] = parent
-                if code == 2:
-                    n_conj, lp_struct, ll = _forest_move(
-                        v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base, n,
-                        p_part, n_new, log_eps, lik_code, ubuf[upos], cur, lw, cand_lp,
-                        cand_head, in_s, cost, g, g_const, size, cand_ew)
+                if model.forest:
+                    n_conj, lp_struct, ll = _forest_move(v, parent, viol, n_conj, demos, model,
+                                                         bufs, ubuf[upos])
                 else:
-                    n_conj, lp_struct, ll = _chain_move(
-                        v, parent, viol, truth_t, w_pos, w_neg, n_pos, n_neg, n_conj, base, n,
-                        code, p_part, n_new, log_eps, lik_code, ubuf[upos], cur, lw, cand_lp,
-                        cand_head, cand_pos, child, cand_ew, lp_chains)
+                    n_conj, lp_struct, ll = _chain_move(v, parent, viol, n_conj, demos, model,
+                                                        bufs, ubuf[upos])
                 upos += 1  # a structure move always draws
                 for u in range(n):
                     if parent[u] != old_parent[u]:
@@ -535,93 +550,66 @@ def _chain_kernel(tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, code, p_global
     return states[:k + 1], counts[:k + 1], trace_lp, moved / max(updates, 1), updates
 
 
-def run_chain(seed, truth_t, w_pos, w_neg, n_g, n, prior_code, prior_name, p_global,
-              p_eventual, p_part, n_new, log_eps, lik_code, n_samples, burn_in):
+def run_chain(seed, demos, model, n_samples, burn_in):
     """Run one chain from a prior draw.
 
-    A sample is one Gibbs sweep (every coordinate updated once). Returns the recorded states,
-    run-length encoded (rows ``[tau (n_g), w1 (n), parent (n)]`` of int16 and how many
-    consecutive samples each row stands for), the log posterior after every sweep, the fraction
-    of coordinate updates that changed the state, and the number of updates.
+    Parameters
+    ----------
+    seed : int
+        Seed of the chain's ``numpy.random.Generator`` (prior draw and every move).
+    demos : Demos
+        Deduplicated clause truth and label weights (:func:`make_demos`).
+    model : Model
+        The model bundle (:func:`bsi_sklearn.model.make_model`).
+    n_samples, burn_in : int
+        Sweeps recorded, and sweeps discarded first.
+
+    Returns
+    -------
+    states : ndarray of int16
+        The recorded states, run-length encoded: rows ``[tau (n_g), w1 (n), parent (n)]``.
+    counts : ndarray of int64
+        How many consecutive samples each row stands for.
+    trace_lp : ndarray
+        The log posterior after every recorded sweep.
+    move_rate : float
+        Fraction of coordinate updates that changed the state.
+    n_updates : int
+        Number of coordinate updates (a sample is one sweep: every coordinate once).
     """
     rng = np.random.default_rng(seed)
-    tau, w1, parent = sample_hypothesis(prior_name, n_g, n, rng, p_global, p_eventual,
-                                        p_part, n_new)
+    tau, w1, parent = draw_hypothesis(model, rng)
+    n_g, n = model.n_g, model.n
     # The kernel's state and scratch buffers live here, for the whole call (see _unmanaged).
-    tau = np.ascontiguousarray(tau, dtype=np.int64)
-    w1 = np.ascontiguousarray(w1, dtype=np.int64)
-    parent = np.ascontiguousarray(parent, dtype=np.int64)
-    truth_t = np.ascontiguousarray(truth_t)
-    w_pos = np.ascontiguousarray(w_pos, dtype=np.float64)
-    w_neg = np.ascontiguousarray(w_neg, dtype=np.float64)
-    D = truth_t.shape[1]
+    state = ChainState(np.ascontiguousarray(tau, dtype=np.int64),
+                       np.ascontiguousarray(w1, dtype=np.int64),
+                       np.ascontiguousarray(parent, dtype=np.int64))
+    D = demos.truth_t.shape[1]
     k = 2 * n + 2  # the most candidate places of one structure move
-    g, g_const = _forest_size_terms(n, n_new)
-    # Log prior of a chain structure by its number of chains (Priors 1, 2), looked up per move.
-    lp_chains = np.array([log_prior_structure_chains(n, m, prior_code, p_part)
-                          for m in range(n + 2)], dtype=np.float64)
-    uniforms = np.empty(max(1024, 2 * (n_g + 2 * n)))
-    viol, cur = np.zeros(D, dtype=np.int32), np.empty(D, dtype=np.int32)
-    lw, cand_lp, cand_ew = np.empty(k), np.empty(k), np.empty(k)
-    cand_head, cand_pos = np.empty(k, dtype=np.int64), np.empty(k, dtype=np.int64)
-    child, in_s = np.empty(n, dtype=np.int64), np.zeros(n, dtype=np.int64)
-    size, old_parent = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
-    cost = np.zeros((n, D), dtype=np.int32)
-    return _chain_kernel(
-        tau, w1, parent, truth_t, w_pos, w_neg, n_g, n, prior_code, p_global, p_eventual,
-        p_part, n_new, log_eps, lik_code, burn_in + n_samples, burn_in, rng, uniforms, viol,
-        cur, lw, cand_lp, cand_head, cand_pos, cand_ew, child, in_s, cost, g, g_const,
-        lp_chains, size, old_parent)
+    bufs = ChainBuffers(
+        ubuf=np.empty(max(1024, 2 * (n_g + 2 * n))),
+        viol=np.zeros(D, dtype=np.int32), cur=np.empty(D, dtype=np.int32),
+        lw=np.empty(k), cand_lp=np.empty(k),
+        cand_head=np.empty(k, dtype=np.int64), cand_pos=np.empty(k, dtype=np.int64),
+        cand_ew=np.empty(k),
+        child=np.empty(n, dtype=np.int64), in_s=np.zeros(n, dtype=np.int64),
+        cost=np.zeros((n, D), dtype=np.int32),
+        size=np.empty(n, dtype=np.int64), old_parent=np.empty(n, dtype=np.int64),
+    )
+    return _chain_kernel(state, demos, model, bufs, rng, burn_in + n_samples, burn_in)
 
 
 @njit(cache=True, nogil=True)
-def score_states(states, truth_t, w_pos, w_neg, n_g, n, code, p_global, p_eventual, p_part,
-                 n_new, log_eps, lik_code):
+def score_states(states, demos, model):
     """Exact unnormalised log posterior of every state row."""
-    n_pos = w_pos.sum()
-    n_neg = w_neg.sum()
+    n_g, n = model.n_g, model.n
     out = np.empty(states.shape[0])
     for r in range(states.shape[0]):
         tau = states[r, :n_g].astype(np.int64)
         w1 = states[r, n_g:n_g + n].astype(np.int64)
         parent = states[r, n_g + n:].astype(np.int64)
-        viol, n_conj = _init_viol(tau, w1, parent, truth_t, n_g, n)
-        ps, ns = _sat_counts(viol, w_pos, w_neg)
-        out[r] = _log_prior_total(tau, w1, parent, code, p_global, p_eventual, p_part,
-                                  n_new) + log_likelihood(ps, ns, n_pos, n_neg, n_conj,
-                                                          log_eps, lik_code)
+        viol, n_conj = _init_viol(tau, w1, parent, demos.truth_t, model)
+        ps, ns = _sat_counts(viol, demos.w_pos, demos.w_neg)
+        out[r] = log_prior(tau, w1, parent, model) + log_likelihood(
+            ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps, model.likelihood)
     return out
-
-
-def split_rhat(traces):
-    """Split-R-hat (Gelman et al., BDA3) of a scalar across chains.
-
-    Parameters
-    ----------
-    traces : ndarray of shape (n_chains, n_draws)
-
-    Returns
-    -------
-    float
-        1.0 when every draw is identical (a chain that never moves off a sharp mode); ``inf``
-        when chains sit on different constant values.
-    """
-    traces = np.asarray(traces, dtype=float)
-    n_draws = traces.shape[1]
-    half = n_draws // 2
-    if half < 2:
-        return float("nan")
-    split = np.concatenate([traces[:, :half], traces[:, half:2 * half]], axis=0)
-    finite = np.isfinite(split)
-    if not finite.all():
-        return float("nan")
-    # The log posterior is tracked incrementally: differences at rounding level are no signal.
-    if np.ptp(split) <= 1e-9 * max(1.0, float(np.abs(split).max())):
-        return 1.0
-    means = split.mean(axis=1)
-    within = split.var(axis=1, ddof=1).mean()
-    between = half * means.var(ddof=1)
-    if within == 0:
-        return 1.0 if between == 0 else float("inf")
-    var_plus = (half - 1) / half * within + between / half
-    return float(np.sqrt(var_plus / within))

@@ -1,7 +1,5 @@
 """`Posterior`: a categorical distribution over unique canonical specifications."""
 
-import math
-
 import numpy as np
 import pandas as pd
 from numba import njit
@@ -268,27 +266,3 @@ class Posterior:
             orders=orders,
             conditions=r.condition_names(),
         )
-
-
-def total_variation(p, q):
-    """Total-variation distance between two posteriors (over specifications).
-
-    Parameters
-    ----------
-    p, q : Posterior or mapping Specification -> probability
-
-    Examples
-    --------
-    >>> from bsi_sklearn import Specification
-    >>> a, b = Specification(globals=[0]), Specification()
-    >>> total_variation({a: 0.5, b: 0.5}, {a: 1.0})
-    0.5
-    """
-    def as_dict(d):
-        if isinstance(d, Posterior):
-            return dict(zip(d.specifications, d.probabilities))
-        return dict(d)
-
-    p, q = as_dict(p), as_dict(q)
-    keys = set(p) | set(q)
-    return 0.5 * math.fsum(abs(p.get(k, 0.0) - q.get(k, 0.0)) for k in keys)

@@ -1,4 +1,8 @@
-"""The paper's three priors: program-following samplers and closed-form log-probabilities.
+"""Everything about the paper's three priors: samplers, closed forms, counts, the support.
+
+This is the one module that knows what each prior is. Its numba functions take the model bundle
+(:class:`bsi_sklearn.model.Model`) and are what the exact and MCMC kernels call; the tables in
+the bundle (log prior by number of chains, Prior 3's subtree-size terms) are built here.
 
 An order structure is a forest over the subtasks stored as a parent array (``-1`` = root):
 Prior 1 (``"linear_chain"``) is a single chain through every subtask, Prior 2
@@ -16,19 +20,27 @@ __all__ = [
     "prior_code",
     "sample_order_structure",
     "sample_hypothesis",
+    "draw_hypothesis",
+    "log_prior",
     "log_prior_structure",
     "log_prior_subset",
+    "log_inclusion",
+    "prior_tables",
     "count_structures",
-    "orders_of",
+    "count_hypotheses",
+    "enumerate_structures",
+    "n_orders_of",
 ]
 
 PRIORS = ("linear_chain", "sets_of_chains", "forest")
-_PRIOR_CODE = {"linear_chain": 0, "sets_of_chains": 1, "forest": 2}
+_LINEAR_CHAIN, _SETS_OF_CHAINS, _FOREST = 0, 1, 2  # codes: positions in PRIORS
 
 
 def prior_code(prior):
-    """Integer code of a prior name for the kernels."""
-    return _PRIOR_CODE[prior]
+    """Integer code of a prior name (its position in ``PRIORS``), as the model bundle holds it."""
+    if prior not in PRIORS:
+        raise ValueError(f"unknown prior {prior!r}; expected one of {PRIORS}")
+    return PRIORS.index(prior)
 
 
 # ----------------------------------------------------------------------------- samplers
@@ -92,6 +104,12 @@ def sample_hypothesis(prior, n_globals, n_subtasks, rng, p_global=0.8, p_eventua
     return tau, w1, parent
 
 
+def draw_hypothesis(model, rng):
+    """Draw ``(tau, w1, parent)`` from the prior a model bundle describes."""
+    return sample_hypothesis(PRIORS[model.prior], model.n_g, model.n, rng, model.p_global,
+                             model.p_eventual, model.p_part, model.n_new)
+
+
 # ----------------------------------------------------------------------------- closed forms
 @njit(cache=True, nogil=True)
 def _xlog(k, p):
@@ -131,38 +149,27 @@ def _log_crp(block_sizes_sum_lgamma, k, m, theta):
 
 
 @njit(cache=True, nogil=True)
-def log_prior_structure(parent, code, p_part, n_new):
-    """Closed-form log-probability of an order structure under a prior (``-inf`` outside it).
+def log_inclusion(p):
+    """``(log p, log(1 - p))``: the log prior of including / leaving out one clause."""
+    lin = math.log(p) if p > 0 else -np.inf
+    lout = math.log1p(-p) if p < 1 else -np.inf
+    return lin, lout
 
-    Parameters
-    ----------
-    parent : ndarray of int64
-        Parent of every subtask (-1 for a root). Must be a forest.
-    code : int
-        0 linear chain (Prior 1), 1 sets of chains (Prior 2), 2 forest (Prior 3).
-    p_part, n_new : float
-    """
+
+@njit(cache=True, nogil=True)
+def _log_prior_chains(n, m, code, p_part):
+    # Priors 1 and 2 depend on a chain structure only through its number of chains m.
+    if code == _LINEAR_CHAIN:
+        if m != 1:
+            return -np.inf
+        return -math.lgamma(n + 1.0)
+    return (math.lgamma(m + 1.0) - math.lgamma(n + 1.0)
+            + _xlog(m - 1, p_part) + _xlog(n - m, 1.0 - p_part))
+
+
+@njit(cache=True, nogil=True)
+def _log_prior_forest(parent, n_children, n_roots, n_new):
     n = parent.shape[0]
-    if n == 0:
-        return 0.0
-    n_children = np.zeros(n, dtype=np.int64)
-    n_roots = 0
-    for v in range(n):
-        if parent[v] < 0:
-            n_roots += 1
-        else:
-            n_children[parent[v]] += 1
-    if code <= 1:
-        for v in range(n):
-            if n_children[v] > 1:
-                return -np.inf
-        if code == 0:
-            if n_roots != 1:
-                return -np.inf
-            return -math.lgamma(n + 1.0)
-        m = n_roots
-        return (math.lgamma(m + 1.0) - math.lgamma(n + 1.0)
-                + _xlog(m - 1, p_part) + _xlog(n - m, 1.0 - p_part))
     size = _subtree_sizes(parent)
     # Top level: partition of all n subtasks into the root trees.
     acc = 0.0
@@ -182,6 +189,90 @@ def log_prior_structure(parent, code, p_part, n_new):
 
 
 @njit(cache=True, nogil=True)
+def log_prior_structure(parent, model):
+    """Closed-form log-probability of an order structure under the model's prior.
+
+    Parameters
+    ----------
+    parent : ndarray of int64
+        Parent of every subtask (-1 for a root). Must be a forest.
+    model : Model
+        The bundle of :func:`bsi_sklearn.model.make_model`; its prior, ``p_part`` and
+        ``n_new`` are read.
+
+    Returns
+    -------
+    float
+        ``-inf`` outside the prior's support.
+    """
+    n = parent.shape[0]
+    if n == 0:
+        return 0.0
+    n_children = np.zeros(n, dtype=np.int64)
+    n_roots = 0
+    for v in range(n):
+        if parent[v] < 0:
+            n_roots += 1
+        else:
+            n_children[parent[v]] += 1
+    if model.prior == _FOREST:
+        return _log_prior_forest(parent, n_children, n_roots, model.n_new)
+    for v in range(n):
+        if n_children[v] > 1:
+            return -np.inf
+    return _log_prior_chains(n, n_roots, model.prior, model.p_part)
+
+
+@njit(cache=True, nogil=True)
+def log_prior(tau, w1, parent, model):
+    """Log prior of a whole hypothesis: both subsets (SampleSubset) and the order structure."""
+    return (log_prior_subset(tau.sum(), tau.shape[0], model.p_global)
+            + log_prior_subset(w1.sum(), w1.shape[0], model.p_eventual)
+            + log_prior_structure(parent, model))
+
+
+def _forest_size_terms(n, n_new):
+    """Prior 3 as a sum over subtree sizes.
+
+    Every subtask v with subtree size s_v enters the forest prior through lgamma(s_v) (its
+    block in its parent's, or the top-level, CRP partition), -log(s_v) (its root is its
+    first element) and, when s_v > 1, the CRP normaliser lgamma(theta) - lgamma(theta + s_v
+    - 1) of its descendants' partition. The per-block log(theta) terms add up to
+    n log(theta) (every subtask is a root or one parent's child). So
+    ``log p = const + sum_v g[s_v]``; returns ``(g, const)``.
+    """
+    log_theta = math.log(n_new)
+    lg0 = math.lgamma(n_new)
+    g = np.zeros(n + 2)
+    for k in range(1, n + 1):
+        g[k] = math.lgamma(float(k)) - math.log(float(k))
+        if k > 1:
+            g[k] += lg0 - math.lgamma(n_new + k - 1)
+    return g, n * log_theta + lg0 - math.lgamma(n_new + n)
+
+
+def prior_tables(prior, n, p_part, n_new):
+    """What the MCMC moves need of a prior, tabulated once per fit.
+
+    Returns
+    -------
+    forest : bool
+        Whether structures are forests (Prior 3: prune-and-regraft moves) rather than sets of
+        chains (Priors 1, 2: re-insertion moves).
+    lp_chains : ndarray of shape (n + 2,)
+        Log prior of a chain structure with ``m`` chains (Priors 1, 2; ``-inf`` where the
+        prior has no such structure, e.g. a second chain under Prior 1).
+    forest_g, forest_const : ndarray of shape (n + 2,), float
+        Prior 3 as ``const + sum_v g[subtree size of v]``.
+    """
+    code = prior_code(prior)
+    lp_chains = np.array([_log_prior_chains(n, m, code, p_part) if 1 <= m <= n else -np.inf
+                          for m in range(n + 2)], dtype=np.float64)
+    g, g_const = _forest_size_terms(n, n_new)
+    return code == _FOREST, lp_chains, g, float(g_const)
+
+
+@njit(cache=True, nogil=True)
 def n_orders_of(parent):
     """``|W2|``: the number of ancestor -> descendant pairs."""
     total = 0
@@ -191,17 +282,6 @@ def n_orders_of(parent):
             total += 1
             a = parent[a]
     return total
-
-
-def orders_of(parent):
-    """Ancestor -> descendant pairs ``(a, b)`` (indices into the subtasks)."""
-    pairs = []
-    for v in range(len(parent)):
-        a = parent[v]
-        while a >= 0:
-            pairs.append((int(a), int(v)))
-            a = parent[a]
-    return pairs
 
 
 def count_structures(prior, n):
@@ -225,3 +305,83 @@ def count_structures(prior, n):
     if prior == "forest":
         return (n + 1) ** (n - 1) if n > 0 else 1
     raise ValueError(f"unknown prior {prior!r}; expected one of {PRIORS}")
+
+
+def count_hypotheses(prior, n_globals, n_subtasks):
+    """Number of hypotheses in the prior's support (structures x global x eventual subsets).
+
+    Examples
+    --------
+    >>> count_hypotheses("sets_of_chains", 5, 5)
+    513024
+    """
+    return count_structures(prior, n_subtasks) * 2**n_globals * 2**n_subtasks
+
+
+@njit(cache=True)
+def _enumerate_structures(n, code):
+    # Every parent array with values in {-1} U {other nodes}, kept when it is a forest of the
+    # prior's shape. n**n candidates: only called for the small n where exact inference fits.
+    total = 1
+    for _ in range(n):
+        total *= n
+    out = np.empty((max(total, 1), n), dtype=np.int64)
+    k = 0
+    digits = np.zeros(n, dtype=np.int64)
+    parent = np.empty(n, dtype=np.int64)
+    n_children = np.empty(n, dtype=np.int64)
+    for _ in range(total):
+        # digit d of node v: 0 -> root, else the d-th other node.
+        for v in range(n):
+            d = digits[v]
+            if d == 0:
+                parent[v] = -1
+            else:
+                parent[v] = d - 1 if d - 1 < v else d
+        ok = True
+        for v in range(n):  # acyclic: walking up ends within n steps
+            a = parent[v]
+            steps = 0
+            while a >= 0 and steps <= n:
+                a = parent[a]
+                steps += 1
+            if a >= 0:
+                ok = False
+                break
+        if ok and code != _FOREST:
+            n_children[:] = 0
+            n_roots = 0
+            for v in range(n):
+                if parent[v] < 0:
+                    n_roots += 1
+                else:
+                    n_children[parent[v]] += 1
+                    if n_children[parent[v]] > 1:
+                        ok = False
+            if code == _LINEAR_CHAIN and n_roots != 1:
+                ok = False
+        if ok:
+            out[k] = parent
+            k += 1
+        # increment mixed-radix counter
+        for v in range(n):
+            digits[v] += 1
+            if digits[v] < n:
+                break
+            digits[v] = 0
+    return out[:k]
+
+
+def enumerate_structures(prior, n):
+    """All order structures (parent arrays) of a prior's support, shape ``(count, n)``.
+
+    Examples
+    --------
+    >>> enumerate_structures("sets_of_chains", 2)
+    array([[-1, -1],
+           [ 1, -1],
+           [-1,  0]])
+    """
+    if n == 0:
+        return np.zeros((1, 0), dtype=np.int64)
+    return _enumerate_structures(n, prior_code(prior))

@@ -14,7 +14,7 @@ from bsi_sklearn.likelihood import (
     log_likelihood,
     log_likelihood_reference,
 )
-from bsi_sklearn.posterior import total_variation
+from bsi_sklearn.diagnostics import total_variation
 
 
 @pytest.mark.parametrize("likelihood", ["cb", "ci"])

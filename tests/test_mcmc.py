@@ -8,7 +8,7 @@ from poi_problems import make_poi_problem
 
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.mcmc import split_rhat, unique_states
-from bsi_sklearn.posterior import total_variation
+from bsi_sklearn.diagnostics import total_variation
 
 
 @pytest.fixture(scope="module")
