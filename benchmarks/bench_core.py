@@ -8,11 +8,10 @@ from _common import Section, fmt_n, fmt_s, md_table, problem_roles, target, time
 from _data import make_demos, poi_demos
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn._validation import check_traces, resolve_roles
-from bsi_sklearn.likelihood import resolve_log_epsilon
+from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.mcmc import deduplicate_demos, run_chain
-from bsi_sklearn.priors import prior_code
+from bsi_sklearn.model import make_model
 
 
 def kernel_rate(X, y, roles, prior="sets_of_chains", n_samples=10_000, burn_in=100, seeds=5):
@@ -24,10 +23,10 @@ def kernel_rate(X, y, roles, prior="sets_of_chains", n_samples=10_000, burn_in=1
     r = resolve_roles(roles["global_candidates"], roles["subtasks"], roles["conditions"],
                       traces.n_props, traces.feature_names)
     y01 = np.ones(traces.n_demos, dtype=np.int64) if y is None else np.asarray(y)
-    truth_t, w_pos, w_neg = deduplicate_demos(clause_truth(traces, r), y01)
-    n_g, n = r.n_globals, r.n_subtasks
-    args = (truth_t, w_pos, w_neg, n_g, n, prior_code(prior), prior, 0.8, 0.8, 0.3, 5.0,
-            resolve_log_epsilon(None, n_g, n), 0, n_samples, burn_in)
+    demos = deduplicate_demos(clause_truth(traces, r), y01)
+    model = make_model(prior=prior, likelihood="cb", n_globals=r.n_globals,
+                       n_subtasks=r.n_subtasks)
+    args = (demos, model, n_samples, burn_in)
     run_chain(0, *args)  # compile / load from cache
     times, updates = [], 0
     for seed in range(seeds):
@@ -36,7 +35,7 @@ def kernel_rate(X, y, roles, prior="sets_of_chains", n_samples=10_000, burn_in=1
         times.append(time.thread_time() - t0)
         updates = out[4]
     sec = float(np.median(times))
-    return updates / sec, sec, updates, truth_t.shape[1]
+    return updates / sec, sec, updates, demos.truth_t.shape[1]
 
 
 def run(cfg):

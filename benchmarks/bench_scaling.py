@@ -17,12 +17,11 @@ from _common import (
 from _data import make_demos
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn._validation import check_traces, resolve_roles
-from bsi_sklearn.exact import count_hypotheses
-from bsi_sklearn.likelihood import resolve_log_epsilon
+from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.mcmc import deduplicate_demos, run_chain
-from bsi_sklearn.priors import prior_code
+from bsi_sklearn.model import make_model
+from bsi_sklearn.priors import count_hypotheses
 
 MCMC = dict(inference="mcmc", n_chains=1, n_samples=10_000, burn_in=100, random_state=0)
 EXACT_LIMIT = 10_000_000  # largest support the sweeps enumerate
@@ -44,10 +43,10 @@ def precompute_time(X, roles, repeats):
 
 def kernel_cost(truth, r, repeats):
     """Thread-CPU seconds of one 10,000-sample chain alone, and its coordinate updates."""
-    truth_t, w_pos, w_neg = deduplicate_demos(truth, np.ones(truth.shape[0]))
-    n_g, n = r.n_globals, r.n_subtasks
-    args = (truth_t, w_pos, w_neg, n_g, n, prior_code("sets_of_chains"), "sets_of_chains",
-            0.8, 0.8, 0.3, 5.0, resolve_log_epsilon(None, n_g, n), 0, 10_000, 100)
+    demos = deduplicate_demos(truth, np.ones(truth.shape[0]))
+    model = make_model(prior="sets_of_chains", likelihood="cb", n_globals=r.n_globals,
+                       n_subtasks=r.n_subtasks)
+    args = (demos, model, 10_000, 100)
     run_chain(0, *args)
     times = []
     for seed in range(repeats):

@@ -10,19 +10,18 @@ from sklearn.utils import check_random_state
 from sklearn.utils.parallel import Parallel, delayed
 from sklearn.utils.validation import check_is_fitted
 
-from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn._validation import (
     check_consistent_traces,
     check_labels,
     check_traces,
     resolve_roles,
 )
+from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.diagnostics import split_rhat
 from bsi_sklearn.exact import exact_posterior
 from bsi_sklearn.likelihood import LIKELIHOODS
 from bsi_sklearn.mcmc import (
     deduplicate_demos,
-    make_demos,
     run_chain,
     score_states,
     unique_states,
@@ -311,7 +310,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
 
     def _fit_mcmc(self, truth, y01, roles, model, seeds):
         n_g, n = model.n_g, model.n
-        demos = make_demos(*deduplicate_demos(truth, y01))
+        demos = deduplicate_demos(truth, y01)
         seeds_iter = seeds
         if self.verbose:
             from tqdm.auto import tqdm

@@ -1,4 +1,4 @@
-"""Clause truth, precomputed once per fit: one pass over each trace gives every candidate clause's truth.
+"""Clause truth, precomputed once per fit: one pass over a trace gives every clause's truth.
 
 Clause layout for ``n_g`` global candidates and ``n`` subtasks (``n_clauses = n_g + n + n*n``):
 

@@ -10,7 +10,6 @@ hypothesis it violates; a demonstration satisfies the hypothesis when that count
 are never read: only the precomputed clause-truth matrix is.
 """
 
-import math
 from typing import NamedTuple
 
 import numpy as np
@@ -18,6 +17,7 @@ from numba import carray, njit
 from numba.core import types
 from numba.extending import intrinsic
 
+from bsi_sklearn.gibbs_moves import add_pair, chain_move, flip_move, forest_move, sat_counts
 from bsi_sklearn.likelihood import log_likelihood
 from bsi_sklearn.model import Model
 from bsi_sklearn.priors import (
@@ -90,24 +90,18 @@ def deduplicate_demos(truth, y01):
 
     Returns
     -------
-    truth_t : ndarray (n_clauses, n_unique) uint8
-        Transposed unique rows (clause-major for the kernel's inner loops).
-    w_pos, w_neg : ndarray (n_unique,) float64
-        Numbers of acceptable / unacceptable demonstrations behind every unique row.
+    Demos
+        ``truth_t`` (n_clauses, n_unique) uint8, the transposed unique rows (clause-major for
+        the kernel's inner loops); ``w_pos`` / ``w_neg`` (n_unique,) float64, the numbers of
+        acceptable / unacceptable demonstrations behind every unique row; their sums.
     """
     rows, inverse = np.unique(truth, axis=0, return_inverse=True)
     inverse = inverse.ravel()
     w_pos = np.bincount(inverse, weights=(y01 == 1).astype(float), minlength=len(rows))
     w_neg = np.bincount(inverse, weights=(y01 == 0).astype(float), minlength=len(rows))
-    return np.ascontiguousarray(rows.T), w_pos, w_neg
-
-
-def make_demos(truth_t, w_pos, w_neg):
-    """The :class:`Demos` bundle of :func:`deduplicate_demos`'s output."""
-    w_pos = np.ascontiguousarray(w_pos, dtype=np.float64)
-    w_neg = np.ascontiguousarray(w_neg, dtype=np.float64)
-    # Whole-number weights: their sum is exact in any order.
-    return Demos(np.ascontiguousarray(truth_t), w_pos, w_neg, float(w_pos.sum()),
+    # Whole-number weights: their sums are exact in any order.
+    return Demos(np.ascontiguousarray(rows.T), np.ascontiguousarray(w_pos, dtype=np.float64),
+                 np.ascontiguousarray(w_neg, dtype=np.float64), float(w_pos.sum()),
                  float(w_neg.sum()))
 
 
@@ -150,287 +144,6 @@ def _unmanaged_bundles(state, demos, model, bufs):
     return state, demos, model, bufs
 
 
-# The weights are whole numbers (demonstration counts), so their sums are exact in any order:
-# letting LLVM reassociate them (SIMD reductions) cannot change a result.
-_SUMS = {"reassoc"}
-
-
-@njit(cache=True, nogil=True, fastmath=_SUMS)
-def _sat_counts(viol, w_pos, w_neg):
-    ps = 0.0
-    ns = 0.0
-    for d in range(viol.shape[0]):
-        ok = viol[d] == 0
-        ps += w_pos[d] if ok else 0.0
-        ns += w_neg[d] if ok else 0.0
-    return ps, ns
-
-
-@njit(cache=True, nogil=True, fastmath=_SUMS)
-def _flip_sums(viol, truth_t, c, inc, w_pos, w_neg):
-    # Weighted counts of demonstrations satisfying the hypothesis without / with clause c.
-    ps_out = 0.0
-    ns_out = 0.0
-    ps_in = 0.0
-    ns_in = 0.0
-    for d in range(viol.shape[0]):
-        t = truth_t[c, d]
-        ok = viol[d] - (inc if t == 0 else 0) == 0
-        both = ok and t != 0
-        ps_out += w_pos[d] if ok else 0.0
-        ns_out += w_neg[d] if ok else 0.0
-        ps_in += w_pos[d] if both else 0.0
-        ns_in += w_neg[d] if both else 0.0
-    return ps_out, ns_out, ps_in, ns_in
-
-
-@njit(cache=True, nogil=True)
-def _draw(lw, k, u, ew):
-    # Sample index i < k with probability proportional to exp(lw[i]), from a uniform u in
-    # [0, 1); ew is scratch space (each weight is exponentiated once).
-    mx = -np.inf
-    for i in range(k):
-        if lw[i] > mx:
-            mx = lw[i]
-    total = 0.0
-    for i in range(k):
-        ew[i] = math.exp(lw[i] - mx)
-        total += ew[i]
-    u = u * total
-    acc = 0.0
-    for i in range(k):
-        acc += ew[i]
-        if u < acc:
-            return i
-    # Fall back to the last candidate with non-zero weight (rounding at the top end).
-    for i in range(k - 1, -1, -1):
-        if lw[i] > -np.inf:
-            return i
-    return k - 1
-
-
-@njit(cache=True, nogil=True)
-def _add_pair(viol, truth_t, c, sign):
-    for d in range(viol.shape[0]):
-        viol[d] += sign if truth_t[c, d] == 0 else 0
-
-
-@njit(cache=True, nogil=True)
-def _flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u):
-    # Gibbs update of one inclusion bit: returns the new bit, the new log-likelihood and
-    # whether the uniform u was used (only when both outcomes are possible).
-    truth_t = demos.truth_t
-    ps_out, ns_out, ps_in, ns_in = _flip_sums(viol, truth_t, c, inc, demos.w_pos, demos.w_neg)
-    n_out = n_conj - inc
-    ll_out = log_likelihood(ps_out, ns_out, demos.n_pos, demos.n_neg, n_out, model.log_eps,
-                            model.likelihood)
-    ll_in = log_likelihood(ps_in, ns_in, demos.n_pos, demos.n_neg, n_out + 1, model.log_eps,
-                           model.likelihood)
-    lw_out = lp_out + ll_out
-    lw_in = lp_in + ll_in
-    # P(in) = 1 / (1 + exp(lw_out - lw_in)), computed without overflow.
-    used = 0
-    if lw_in == -np.inf:
-        new = 0
-    elif lw_out == -np.inf:
-        new = 1
-    else:
-        diff = lw_out - lw_in
-        p_in = 1.0 / (1.0 + math.exp(diff)) if diff < 700.0 else 0.0
-        new = 1 if u < p_in else 0
-        used = 1
-    if new != inc:
-        _add_pair(viol, truth_t, c, 1 if new else -1)
-    return new, (ll_in if new else ll_out), used
-
-
-@njit(cache=True, nogil=True)
-def _chain_move(v, parent, viol, n_conj, demos, model, bufs, unif):
-    # Priors 1 / 2: take v out of its chain and redraw its place among every position of every
-    # remaining chain and a new chain (a candidate only where the prior has such structures).
-    # Returns (n_conj, log prior of the structure, log-likelihood) of the new state.
-    truth_t, w_pos, w_neg = demos.truth_t, demos.w_pos, demos.w_neg
-    n_pos, n_neg = demos.n_pos, demos.n_neg
-    n = model.n
-    base = model.n_g + n
-    log_eps, lik_code, lp_chains = model.log_eps, model.likelihood, model.lp_chains
-    cur, lw, cand_lp, cand_ew = bufs.cur, bufs.lw, bufs.cand_lp, bufs.cand_ew
-    cand_head, cand_pos, child = bufs.cand_head, bufs.cand_pos, bufs.child
-    D = viol.shape[0]
-    child[:] = -1
-    for u in range(n):
-        if parent[u] >= 0:
-            child[parent[u]] = u
-    # Remove v's pairs: (ancestor, v) and (v, descendant).
-    a = parent[v]
-    while a >= 0:
-        _add_pair(viol, truth_t, base + a * n + v, -1)
-        n_conj -= 1
-        a = parent[a]
-    d_ = child[v]
-    while d_ >= 0:
-        _add_pair(viol, truth_t, base + v * n + d_, -1)
-        n_conj -= 1
-        d_ = child[d_]
-    if child[v] >= 0:
-        parent[child[v]] = parent[v]
-    if parent[v] >= 0:
-        child[parent[v]] = child[v]
-    parent[v] = -1
-    child[v] = -1
-    # Candidates: every position of every remaining chain, plus a new chain.
-    k = 0
-    m_rem = 0
-    for h in range(n):
-        if h == v or parent[h] >= 0:
-            continue
-        m_rem += 1
-    for h in range(n):
-        if h == v or parent[h] >= 0:
-            continue
-        L = 0
-        u = h
-        for d in range(D):
-            cur[d] = viol[d]
-        while u >= 0:
-            c = base + v * n + u
-            for d in range(D):
-                cur[d] += 1 if truth_t[c, d] == 0 else 0
-            L += 1
-            u = child[u]
-        m_new = m_rem
-        lp = lp_chains[m_new]
-        u = h
-        for p in range(L + 1):
-            ps, ns = _sat_counts(cur, w_pos, w_neg)
-            cand_lp[k] = lp
-            lw[k] = lp + log_likelihood(ps, ns, n_pos, n_neg, n_conj + L, log_eps, lik_code)
-            cand_head[k] = h
-            cand_pos[k] = p
-            k += 1
-            if u >= 0:
-                ca = base + u * n + v
-                cb = base + v * n + u
-                for d in range(D):
-                    cur[d] += (truth_t[cb, d] != 0) - (truth_t[ca, d] != 0)
-                u = child[u]
-    if lp_chains[m_rem + 1] > -np.inf or k == 0:
-        ps, ns = _sat_counts(viol, w_pos, w_neg)
-        cand_lp[k] = lp_chains[m_rem + 1]
-        lw[k] = cand_lp[k] + log_likelihood(ps, ns, n_pos, n_neg, n_conj, log_eps, lik_code)
-        cand_head[k] = -1
-        cand_pos[k] = 0
-        k += 1
-    j = _draw(lw, k, unif, cand_ew)
-    h = cand_head[j]
-    if h < 0:
-        return n_conj, cand_lp[j], lw[j] - cand_lp[j]
-    p = cand_pos[j]
-    u = h
-    prev = -1
-    i = 0
-    while u >= 0:
-        if i < p:
-            _add_pair(viol, truth_t, base + u * n + v, 1)
-        else:
-            _add_pair(viol, truth_t, base + v * n + u, 1)
-        n_conj += 1
-        if i == p - 1:
-            prev = u
-        i += 1
-        u = child[u]
-    # Splice v in after prev (or at the head).
-    nxt = h if prev < 0 else child[prev]
-    parent[v] = prev
-    if nxt >= 0:
-        parent[nxt] = v
-    return n_conj, cand_lp[j], lw[j] - cand_lp[j]
-
-
-@njit(cache=True, nogil=True)
-def _forest_move(v, parent, viol, n_conj, demos, model, bufs, unif):
-    # Prior 3: prune the subtree rooted at v and regraft it anywhere outside it.
-    truth_t, w_pos, w_neg = demos.truth_t, demos.w_pos, demos.w_neg
-    n_pos, n_neg = demos.n_pos, demos.n_neg
-    n = model.n
-    base = model.n_g + n
-    log_eps, lik_code = model.log_eps, model.likelihood
-    g, g_const = model.forest_g, model.forest_const
-    cur, lw, cand_lp, cand_ew = bufs.cur, bufs.lw, bufs.cand_lp, bufs.cand_ew
-    cand_head, in_s, cost, size = bufs.cand_head, bufs.in_s, bufs.cost, bufs.size
-    D = viol.shape[0]
-    size_s = 0
-    for u in range(n):
-        a = u
-        while a >= 0 and a != v:
-            a = parent[a]
-        in_s[u] = 1 if a == v else 0
-        size_s += in_s[u]
-    # Remove (ancestor of v, s) pairs.
-    a = parent[v]
-    while a >= 0:
-        for s in range(n):
-            if in_s[s]:
-                _add_pair(viol, truth_t, base + a * n + s, -1)
-                n_conj -= 1
-        a = parent[a]
-    parent[v] = -1
-    # cost[a, d]: violations added by making a an ancestor of the whole subtree.
-    for a in range(n):
-        if in_s[a]:
-            continue
-        for d in range(D):
-            cost[a, d] = 0
-        for s in range(n):
-            if in_s[s]:
-                c = base + a * n + s
-                for d in range(D):
-                    cost[a, d] += 1 if truth_t[c, d] == 0 else 0
-    # Subtree sizes with S cut off (S's own sizes do not change when it is regrafted), and
-    # the log prior of that forest: regrafting S under u adds size_s to u and its ancestors.
-    for u in range(n):
-        size[u] = 1
-    for u in range(n):
-        a = parent[u]
-        while a >= 0:
-            size[a] += 1
-            a = parent[a]
-    lp_cut = g_const
-    for u in range(n):
-        lp_cut += g[size[u]]
-    k = 0
-    for u in range(-1, n):
-        if u >= 0 and in_s[u]:
-            continue
-        for d in range(D):
-            cur[d] = viol[d]
-        depth = 0
-        lp = lp_cut
-        a = u
-        while a >= 0:
-            for d in range(D):
-                cur[d] += cost[a, d]
-            lp += g[size[a] + size_s] - g[size[a]]
-            depth += 1
-            a = parent[a]
-        ps, ns = _sat_counts(cur, w_pos, w_neg)
-        cand_lp[k] = lp
-        lw[k] = lp + log_likelihood(ps, ns, n_pos, n_neg, n_conj + depth * size_s,
-                                    log_eps, lik_code)
-        cand_head[k] = u
-        k += 1
-    j = _draw(lw, k, unif, cand_ew)
-    u = cand_head[j]
-    parent[v] = u
-    a = u
-    while a >= 0:
-        for d in range(D):
-            viol[d] += cost[a, d]
-        n_conj += size_s
-        a = parent[a]
-    return n_conj, cand_lp[j], lw[j] - cand_lp[j]
-
-
 @njit(cache=True, nogil=True)
 def _init_viol(tau, w1, parent, truth_t, model):
     # int32 counts (not int64): twice as many lanes in the kernels' vectorised loops.
@@ -446,16 +159,16 @@ def _fill_viol(viol, tau, w1, parent, truth_t, model):
     n_conj = 0
     for j in range(n_g):
         if tau[j]:
-            _add_pair(viol, truth_t, j, 1)
+            add_pair(viol, truth_t, j, 1)
             n_conj += 1
     for w in range(n):
         if w1[w]:
-            _add_pair(viol, truth_t, n_g + w, 1)
+            add_pair(viol, truth_t, n_g + w, 1)
             n_conj += 1
     for v in range(n):
         a = parent[v]
         while a >= 0:
-            _add_pair(viol, truth_t, n_g + n + a * n + v, 1)
+            add_pair(viol, truth_t, n_g + n + a * n + v, 1)
             n_conj += 1
             a = parent[a]
     return n_conj
@@ -484,7 +197,7 @@ def _chain_kernel(state, demos, model, bufs, rng, n_sweeps, burn_in):
     lp_sub = (log_prior_subset(tau.sum(), n_g, model.p_global)
               + log_prior_subset(w1.sum(), n, model.p_eventual))
     lp_struct = log_prior_structure(parent, model)
-    ps, ns = _sat_counts(viol, demos.w_pos, demos.w_neg)
+    ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
     ll = log_likelihood(ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps,
                         model.likelihood)
     moved = 0
@@ -500,7 +213,7 @@ def _chain_kernel(state, demos, model, bufs, rng, n_sweeps, burn_in):
             ubuf[rest:] = rng.random(n_u - rest)
             upos = 0
         for j in range(n_g):
-            new, ll, used = _flip_move(j, tau[j], lg_in, lg_out, viol, n_conj, demos, model,
+            new, ll, used = flip_move(j, tau[j], lg_in, lg_out, viol, n_conj, demos, model,
                                        ubuf[upos])
             upos += used
             if new != tau[j]:
@@ -509,7 +222,7 @@ def _chain_kernel(state, demos, model, bufs, rng, n_sweeps, burn_in):
                 tau[j] = new
                 moved += 1
         for w in range(n):
-            new, ll, used = _flip_move(n_g + w, w1[w], le_in, le_out, viol, n_conj, demos,
+            new, ll, used = flip_move(n_g + w, w1[w], le_in, le_out, viol, n_conj, demos,
                                        model, ubuf[upos])
             upos += used
             if new != w1[w]:
@@ -522,10 +235,10 @@ def _chain_kernel(state, demos, model, bufs, rng, n_sweeps, burn_in):
             for v in range(n):
                 old_parent[:] = parent
                 if model.forest:
-                    n_conj, lp_struct, ll = _forest_move(v, parent, viol, n_conj, demos, model,
+                    n_conj, lp_struct, ll = forest_move(v, parent, viol, n_conj, demos, model,
                                                          bufs, ubuf[upos])
                 else:
-                    n_conj, lp_struct, ll = _chain_move(v, parent, viol, n_conj, demos, model,
+                    n_conj, lp_struct, ll = chain_move(v, parent, viol, n_conj, demos, model,
                                                         bufs, ubuf[upos])
                 upos += 1  # a structure move always draws
                 for u in range(n):
@@ -558,7 +271,7 @@ def run_chain(seed, demos, model, n_samples, burn_in):
     seed : int
         Seed of the chain's ``numpy.random.Generator`` (prior draw and every move).
     demos : Demos
-        Deduplicated clause truth and label weights (:func:`make_demos`).
+        Deduplicated clause truth and label weights (:func:`deduplicate_demos`).
     model : Model
         The model bundle (:func:`bsi_sklearn.model.make_model`).
     n_samples, burn_in : int
@@ -609,7 +322,7 @@ def score_states(states, demos, model):
         w1 = states[r, n_g:n_g + n].astype(np.int64)
         parent = states[r, n_g + n:].astype(np.int64)
         viol, n_conj = _init_viol(tau, w1, parent, demos.truth_t, model)
-        ps, ns = _sat_counts(viol, demos.w_pos, demos.w_neg)
+        ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
         out[r] = log_prior(tau, w1, parent, model) + log_likelihood(
             ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps, model.likelihood)
     return out

@@ -5,8 +5,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn._validation import check_traces, resolve_roles
+from bsi_sklearn.clauses import clause_truth
 
 
 def brute_force(trace, g_idx, s_idx, c_idx):

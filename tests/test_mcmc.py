@@ -7,8 +7,8 @@ import pytest
 from poi_problems import make_poi_problem
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.mcmc import split_rhat, unique_states
-from bsi_sklearn.diagnostics import total_variation
+from bsi_sklearn.diagnostics import split_rhat, total_variation
+from bsi_sklearn.mcmc import unique_states
 
 
 @pytest.fixture(scope="module")

@@ -12,9 +12,9 @@ import hashlib
 
 import numpy as np
 import pytest
+from poi_problems import make_poi_problem
 
 from bsi_sklearn import BSIClassifier
-from poi_problems import make_poi_problem
 
 PRIORS = ("linear_chain", "sets_of_chains", "forest")
 LIKELIHOODS = ("cb", "ci")

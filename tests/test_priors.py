@@ -7,24 +7,30 @@ import numpy as np
 import pytest
 from _reference import program_distribution
 
-from bsi_sklearn.exact import enumerate_structures
+from bsi_sklearn.model import make_model
 from bsi_sklearn.priors import (
     count_structures,
+    enumerate_structures,
     log_prior_structure,
-    prior_code,
     sample_order_structure,
 )
+
+
+def _model(prior, p_part, n_new):
+    # log_prior_structure reads the prior and its parameters; sizes come from the parent array.
+    return make_model(prior=prior, likelihood="cb", n_globals=0, n_subtasks=0, p_part=p_part,
+                      n_new=n_new)
 
 
 @pytest.mark.parametrize("prior", ["linear_chain", "sets_of_chains", "forest"])
 @pytest.mark.parametrize("n", [1, 2, 3, 4])
 def test_closed_form_matches_program_enumeration(prior, n):
     dist = program_distribution(prior, n, p_part=0.35, n_new=2.5)
-    structures = enumerate_structures(prior_code(prior), n)
+    structures = enumerate_structures(prior, n)
     assert len(structures) == count_structures(prior, n) == len(dist)
     total = 0.0
     for parent in structures:
-        lp = log_prior_structure(parent, prior_code(prior), 0.35, 2.5)
+        lp = log_prior_structure(parent, _model(prior, 0.35, 2.5))
         assert math.exp(lp) == pytest.approx(dist[tuple(parent)], rel=1e-9)
         total += math.exp(lp)
     assert total == pytest.approx(1.0, abs=1e-12)
@@ -32,8 +38,8 @@ def test_closed_form_matches_program_enumeration(prior, n):
 
 @pytest.mark.parametrize("prior", ["sets_of_chains", "forest"])
 def test_closed_form_sums_to_one_n5(prior):
-    structures = enumerate_structures(prior_code(prior), 5)
-    lp = [log_prior_structure(s, prior_code(prior), 0.3, 5.0) for s in structures]
+    structures = enumerate_structures(prior, 5)
+    lp = [log_prior_structure(s, _model(prior, 0.3, 5.0)) for s in structures]
     assert math.fsum(np.exp(lp)) == pytest.approx(1.0, abs=1e-12)
 
 
@@ -42,8 +48,8 @@ def test_sampler_frequencies_match_closed_form(prior):
     rng = np.random.default_rng(0)
     n, draws = 4, 40_000
     counts = Counter(tuple(sample_order_structure(prior, n, rng, 0.3, 5.0)) for _ in range(draws))
-    structures = enumerate_structures(prior_code(prior), n)
-    probs = {tuple(s): math.exp(log_prior_structure(s, prior_code(prior), 0.3, 5.0))
+    structures = enumerate_structures(prior, n)
+    probs = {tuple(s): math.exp(log_prior_structure(s, _model(prior, 0.3, 5.0)))
              for s in structures}
     assert set(counts) <= set(probs)
     # chi-square goodness of fit
@@ -55,6 +61,6 @@ def test_sampler_frequencies_match_closed_form(prior):
 def test_structures_outside_support_have_zero_probability():
     two_roots = np.array([-1, -1, 0])
     branching = np.array([-1, 0, 0])
-    assert log_prior_structure(two_roots, 0, 0.3, 5.0) == -np.inf
-    assert log_prior_structure(branching, 1, 0.3, 5.0) == -np.inf
-    assert np.isfinite(log_prior_structure(branching, 2, 0.3, 5.0))
+    assert log_prior_structure(two_roots, _model("linear_chain", 0.3, 5.0)) == -np.inf
+    assert log_prior_structure(branching, _model("sets_of_chains", 0.3, 5.0)) == -np.inf
+    assert np.isfinite(log_prior_structure(branching, _model("forest", 0.3, 5.0)))

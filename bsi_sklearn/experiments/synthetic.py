@@ -10,7 +10,6 @@ import numpy as np
 from sklearn.utils import Bunch, check_random_state
 
 from bsi_sklearn.datasets import make_poi_threat_demos, poi_threat_specification
-from bsi_sklearn.exact import enumerate_structures
 from bsi_sklearn.experiments._claims import (
     Claim,
     claims_frame,
@@ -43,7 +42,8 @@ from bsi_sklearn.experiments._report import (
     supervised_table,
     write_outputs,
 )
-from bsi_sklearn.priors import log_prior_structure, n_orders_of, prior_code
+from bsi_sklearn.model import make_model
+from bsi_sklearn.priors import enumerate_structures, log_prior_structure, n_orders_of
 
 __all__ = [
     "SIZES",
@@ -127,9 +127,10 @@ def prior_expected_orders(prior, n_subtasks, *, p_part=0.3, n_new=5.0):
     ...     "forest", 4, n_new=0.5), 3)
     (0.855, 3.36)
     """
-    code = prior_code(prior)
-    structures = enumerate_structures(code, n_subtasks)
-    log_p = np.array([log_prior_structure(s, code, float(p_part), float(n_new))
+    model = make_model(prior=prior, likelihood="cb", n_globals=0, n_subtasks=n_subtasks,
+                       p_part=p_part, n_new=n_new)
+    structures = enumerate_structures(prior, n_subtasks)
+    log_p = np.array([log_prior_structure(s, model)
                       for s in structures])
     weights = np.exp(log_p - log_p.max())
     counts = np.array([n_orders_of(s) for s in structures])

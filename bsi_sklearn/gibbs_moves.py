@@ -1,0 +1,310 @@
+"""The Gibbs moves of one MCMC chain, each an exact update of its block (no Hastings ratio).
+
+- :func:`flip_move`: one inclusion bit of tau or W1;
+- :func:`chain_move` (Priors 1, 2): take a subtask out of its chain and re-insert it at any
+  position of any chain, or as a new chain where the prior allows one;
+- :func:`forest_move` (Prior 3): prune the subtree under a subtask and regraft it anywhere
+  outside it, or as a new root.
+
+Every candidate is weighted by prior x likelihood. The moves read the model bundle
+(:class:`bsi_sklearn.model.Model`), the deduplicated demonstrations (``mcmc.Demos``) and the
+chain's scratch buffers (``mcmc.ChainBuffers``), and update the per-demonstration count of
+violated clauses in place.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from bsi_sklearn.likelihood import log_likelihood
+
+__all__ = ["add_pair", "draw", "sat_counts", "flip_move", "chain_move", "forest_move"]
+
+
+# The weights are whole numbers (demonstration counts), so their sums are exact in any order:
+# letting LLVM reassociate them (SIMD reductions) cannot change a result.
+_SUMS = {"reassoc"}
+
+
+@njit(cache=True, nogil=True, fastmath=_SUMS)
+def sat_counts(viol, w_pos, w_neg):
+    """Weighted numbers of acceptable / unacceptable rows that violate no clause."""
+    ps = 0.0
+    ns = 0.0
+    for d in range(viol.shape[0]):
+        ok = viol[d] == 0
+        ps += w_pos[d] if ok else 0.0
+        ns += w_neg[d] if ok else 0.0
+    return ps, ns
+
+
+@njit(cache=True, nogil=True, fastmath=_SUMS)
+def flip_sums(viol, truth_t, c, inc, w_pos, w_neg):
+    """Weighted satisfied counts without / with clause ``c`` (its bit is now ``inc``)."""
+    # Weighted counts of demonstrations satisfying the hypothesis without / with clause c.
+    ps_out = 0.0
+    ns_out = 0.0
+    ps_in = 0.0
+    ns_in = 0.0
+    for d in range(viol.shape[0]):
+        t = truth_t[c, d]
+        ok = viol[d] - (inc if t == 0 else 0) == 0
+        both = ok and t != 0
+        ps_out += w_pos[d] if ok else 0.0
+        ns_out += w_neg[d] if ok else 0.0
+        ps_in += w_pos[d] if both else 0.0
+        ns_in += w_neg[d] if both else 0.0
+    return ps_out, ns_out, ps_in, ns_in
+
+
+@njit(cache=True, nogil=True)
+def draw(lw, k, u, ew):
+    """Index ``i < k`` drawn with probability proportional to ``exp(lw[i])``."""
+    # Sample index i < k with probability proportional to exp(lw[i]), from a uniform u in
+    # [0, 1); ew is scratch space (each weight is exponentiated once).
+    mx = -np.inf
+    for i in range(k):
+        if lw[i] > mx:
+            mx = lw[i]
+    total = 0.0
+    for i in range(k):
+        ew[i] = math.exp(lw[i] - mx)
+        total += ew[i]
+    u = u * total
+    acc = 0.0
+    for i in range(k):
+        acc += ew[i]
+        if u < acc:
+            return i
+    # Fall back to the last candidate with non-zero weight (rounding at the top end).
+    for i in range(k - 1, -1, -1):
+        if lw[i] > -np.inf:
+            return i
+    return k - 1
+
+
+@njit(cache=True, nogil=True)
+def add_pair(viol, truth_t, c, sign):
+    """Add ``sign`` to the violation count of every row where clause ``c`` is false."""
+    for d in range(viol.shape[0]):
+        viol[d] += sign if truth_t[c, d] == 0 else 0
+
+
+@njit(cache=True, nogil=True)
+def flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u):
+    """Gibbs update of inclusion bit ``c``: ``(new bit, log-likelihood, uniform used)``."""
+    # Gibbs update of one inclusion bit: returns the new bit, the new log-likelihood and
+    # whether the uniform u was used (only when both outcomes are possible).
+    truth_t = demos.truth_t
+    ps_out, ns_out, ps_in, ns_in = flip_sums(viol, truth_t, c, inc, demos.w_pos, demos.w_neg)
+    n_out = n_conj - inc
+    ll_out = log_likelihood(ps_out, ns_out, demos.n_pos, demos.n_neg, n_out, model.log_eps,
+                            model.likelihood)
+    ll_in = log_likelihood(ps_in, ns_in, demos.n_pos, demos.n_neg, n_out + 1, model.log_eps,
+                           model.likelihood)
+    lw_out = lp_out + ll_out
+    lw_in = lp_in + ll_in
+    # P(in) = 1 / (1 + exp(lw_out - lw_in)), computed without overflow.
+    used = 0
+    if lw_in == -np.inf:
+        new = 0
+    elif lw_out == -np.inf:
+        new = 1
+    else:
+        diff = lw_out - lw_in
+        p_in = 1.0 / (1.0 + math.exp(diff)) if diff < 700.0 else 0.0
+        new = 1 if u < p_in else 0
+        used = 1
+    if new != inc:
+        add_pair(viol, truth_t, c, 1 if new else -1)
+    return new, (ll_in if new else ll_out), used
+
+
+@njit(cache=True, nogil=True)
+def chain_move(v, parent, viol, n_conj, demos, model, bufs, unif):
+    """Gibbs re-insertion of subtask ``v`` (Priors 1, 2): ``(N, log prior, log-lik)``."""
+    # Priors 1 / 2: take v out of its chain and redraw its place among every position of every
+    # remaining chain and a new chain (a candidate only where the prior has such structures).
+    # Returns (n_conj, log prior of the structure, log-likelihood) of the new state.
+    truth_t, w_pos, w_neg = demos.truth_t, demos.w_pos, demos.w_neg
+    n_pos, n_neg = demos.n_pos, demos.n_neg
+    n = model.n
+    base = model.n_g + n
+    log_eps, lik_code, lp_chains = model.log_eps, model.likelihood, model.lp_chains
+    cur, lw, cand_lp, cand_ew = bufs.cur, bufs.lw, bufs.cand_lp, bufs.cand_ew
+    cand_head, cand_pos, child = bufs.cand_head, bufs.cand_pos, bufs.child
+    D = viol.shape[0]
+    child[:] = -1
+    for u in range(n):
+        if parent[u] >= 0:
+            child[parent[u]] = u
+    # Remove v's pairs: (ancestor, v) and (v, descendant).
+    a = parent[v]
+    while a >= 0:
+        add_pair(viol, truth_t, base + a * n + v, -1)
+        n_conj -= 1
+        a = parent[a]
+    d_ = child[v]
+    while d_ >= 0:
+        add_pair(viol, truth_t, base + v * n + d_, -1)
+        n_conj -= 1
+        d_ = child[d_]
+    if child[v] >= 0:
+        parent[child[v]] = parent[v]
+    if parent[v] >= 0:
+        child[parent[v]] = child[v]
+    parent[v] = -1
+    child[v] = -1
+    # Candidates: every position of every remaining chain, plus a new chain.
+    k = 0
+    m_rem = 0
+    for h in range(n):
+        if h == v or parent[h] >= 0:
+            continue
+        m_rem += 1
+    for h in range(n):
+        if h == v or parent[h] >= 0:
+            continue
+        L = 0
+        u = h
+        for d in range(D):
+            cur[d] = viol[d]
+        while u >= 0:
+            c = base + v * n + u
+            for d in range(D):
+                cur[d] += 1 if truth_t[c, d] == 0 else 0
+            L += 1
+            u = child[u]
+        m_new = m_rem
+        lp = lp_chains[m_new]
+        u = h
+        for p in range(L + 1):
+            ps, ns = sat_counts(cur, w_pos, w_neg)
+            cand_lp[k] = lp
+            lw[k] = lp + log_likelihood(ps, ns, n_pos, n_neg, n_conj + L, log_eps, lik_code)
+            cand_head[k] = h
+            cand_pos[k] = p
+            k += 1
+            if u >= 0:
+                ca = base + u * n + v
+                cb = base + v * n + u
+                for d in range(D):
+                    cur[d] += (truth_t[cb, d] != 0) - (truth_t[ca, d] != 0)
+                u = child[u]
+    if lp_chains[m_rem + 1] > -np.inf or k == 0:
+        ps, ns = sat_counts(viol, w_pos, w_neg)
+        cand_lp[k] = lp_chains[m_rem + 1]
+        lw[k] = cand_lp[k] + log_likelihood(ps, ns, n_pos, n_neg, n_conj, log_eps, lik_code)
+        cand_head[k] = -1
+        cand_pos[k] = 0
+        k += 1
+    j = draw(lw, k, unif, cand_ew)
+    h = cand_head[j]
+    if h < 0:
+        return n_conj, cand_lp[j], lw[j] - cand_lp[j]
+    p = cand_pos[j]
+    u = h
+    prev = -1
+    i = 0
+    while u >= 0:
+        if i < p:
+            add_pair(viol, truth_t, base + u * n + v, 1)
+        else:
+            add_pair(viol, truth_t, base + v * n + u, 1)
+        n_conj += 1
+        if i == p - 1:
+            prev = u
+        i += 1
+        u = child[u]
+    # Splice v in after prev (or at the head).
+    nxt = h if prev < 0 else child[prev]
+    parent[v] = prev
+    if nxt >= 0:
+        parent[nxt] = v
+    return n_conj, cand_lp[j], lw[j] - cand_lp[j]
+
+
+@njit(cache=True, nogil=True)
+def forest_move(v, parent, viol, n_conj, demos, model, bufs, unif):
+    """Gibbs prune-and-regraft of subtask ``v`` (Prior 3): ``(N, log prior, log-lik)``."""
+    # Prior 3: prune the subtree rooted at v and regraft it anywhere outside it.
+    truth_t, w_pos, w_neg = demos.truth_t, demos.w_pos, demos.w_neg
+    n_pos, n_neg = demos.n_pos, demos.n_neg
+    n = model.n
+    base = model.n_g + n
+    log_eps, lik_code = model.log_eps, model.likelihood
+    g, g_const = model.forest_g, model.forest_const
+    cur, lw, cand_lp, cand_ew = bufs.cur, bufs.lw, bufs.cand_lp, bufs.cand_ew
+    cand_head, in_s, cost, size = bufs.cand_head, bufs.in_s, bufs.cost, bufs.size
+    D = viol.shape[0]
+    size_s = 0
+    for u in range(n):
+        a = u
+        while a >= 0 and a != v:
+            a = parent[a]
+        in_s[u] = 1 if a == v else 0
+        size_s += in_s[u]
+    # Remove (ancestor of v, s) pairs.
+    a = parent[v]
+    while a >= 0:
+        for s in range(n):
+            if in_s[s]:
+                add_pair(viol, truth_t, base + a * n + s, -1)
+                n_conj -= 1
+        a = parent[a]
+    parent[v] = -1
+    # cost[a, d]: violations added by making a an ancestor of the whole subtree.
+    for a in range(n):
+        if in_s[a]:
+            continue
+        for d in range(D):
+            cost[a, d] = 0
+        for s in range(n):
+            if in_s[s]:
+                c = base + a * n + s
+                for d in range(D):
+                    cost[a, d] += 1 if truth_t[c, d] == 0 else 0
+    # Subtree sizes with S cut off (S's own sizes do not change when it is regrafted), and
+    # the log prior of that forest: regrafting S under u adds size_s to u and its ancestors.
+    for u in range(n):
+        size[u] = 1
+    for u in range(n):
+        a = parent[u]
+        while a >= 0:
+            size[a] += 1
+            a = parent[a]
+    lp_cut = g_const
+    for u in range(n):
+        lp_cut += g[size[u]]
+    k = 0
+    for u in range(-1, n):
+        if u >= 0 and in_s[u]:
+            continue
+        for d in range(D):
+            cur[d] = viol[d]
+        depth = 0
+        lp = lp_cut
+        a = u
+        while a >= 0:
+            for d in range(D):
+                cur[d] += cost[a, d]
+            lp += g[size[a] + size_s] - g[size[a]]
+            depth += 1
+            a = parent[a]
+        ps, ns = sat_counts(cur, w_pos, w_neg)
+        cand_lp[k] = lp
+        lw[k] = lp + log_likelihood(ps, ns, n_pos, n_neg, n_conj + depth * size_s,
+                                    log_eps, lik_code)
+        cand_head[k] = u
+        k += 1
+    j = draw(lw, k, unif, cand_ew)
+    u = cand_head[j]
+    parent[v] = u
+    a = u
+    while a >= 0:
+        for d in range(D):
+            viol[d] += cost[a, d]
+        n_conj += size_s
+        a = parent[a]
+    return n_conj, cand_lp[j], lw[j] - cand_lp[j]
