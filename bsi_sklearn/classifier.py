@@ -11,12 +11,6 @@ from sklearn.utils.parallel import Parallel, delayed
 from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn.clauses import clause_truth
-from bsi_sklearn._validation import (
-    check_consistent_traces,
-    check_labels,
-    check_traces,
-    resolve_roles,
-)
 from bsi_sklearn.exact import count_hypotheses, exact_posterior
 from bsi_sklearn.likelihood import LIKELIHOODS, likelihood_code, resolve_log_epsilon
 from bsi_sklearn.mcmc import (
@@ -28,6 +22,8 @@ from bsi_sklearn.mcmc import (
 )
 from bsi_sklearn.posterior import Posterior
 from bsi_sklearn.priors import PRIORS, prior_code
+from bsi_sklearn.roles import resolve_roles
+from bsi_sklearn.traces import check_consistent_traces, check_labels, check_traces
 
 __all__ = ["BSIClassifier"]
 

@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from bsi_sklearn._validation import check_traces
 from bsi_sklearn.ltl import Formula, parse_ltl
+from bsi_sklearn.traces import check_traces
 
 __all__ = [
     "TraceFile",

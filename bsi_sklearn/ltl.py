@@ -8,8 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bsi_sklearn._validation import check_traces
 from bsi_sklearn.specification import Specification
+from bsi_sklearn.traces import check_traces
 
 __all__ = [
     "Formula",
