@@ -6,12 +6,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bsi_sklearn._validation import (
+from bsi_sklearn.traces import (
     Traces,
-    _is_frame,
-    _Words,
+    Wording,
     check_consistent_traces,
     check_traces,
+    is_frame,
 )
 
 __all__ = [
@@ -75,7 +75,7 @@ class Sequences:
         return Sequences(data, offsets, self.feature_names)
 
 
-_SEQUENCE_WORDS = _Words(item="sequence", unit="feature")
+_SEQUENCE_WORDS = Wording(item="sequence", unit="feature")
 
 
 def check_sequences(X, *, estimator_name="estimator"):
@@ -84,9 +84,9 @@ def check_sequences(X, *, estimator_name="estimator"):
     Parameters
     ----------
     X : list of array-like or DataFrame, 3-D array or 2-D array
-        The formats of :func:`bsi_sklearn._validation.check_traces` (DESIGN section 1), with
-        numeric values allowed: a list (or tuple) of ``(T_i, n_features)`` arrays, a list of
-        DataFrames (rows are time steps; column names must agree), a 3-D array
+        The formats of :func:`bsi_sklearn.traces.check_traces`, with numeric values
+        allowed: a list (or tuple) of ``(T_i, n_features)`` arrays, a list of DataFrames
+        (rows are time steps; column names must agree), a 3-D array
         ``(n_sequences, T, n_features)``, or a 2-D array ``(n_sequences, n_features)`` (or a
         single DataFrame) whose rows are sequences of length one.
     estimator_name : str, default="estimator"
@@ -154,12 +154,12 @@ def check_phases(phases, lengths, n_phases):
     """
     if isinstance(phases, np.ndarray) and phases.dtype != object and phases.ndim == 2:
         phases = list(phases)
-    if not isinstance(phases, (list, tuple, np.ndarray)) and not _is_frame(phases):
+    if not isinstance(phases, (list, tuple, np.ndarray)) and not is_frame(phases):
         raise ValueError(
             "phases must be a list of 1-D integer arrays, one per sequence; "
             f"got {type(phases).__name__}"
         )
-    if _is_frame(phases):
+    if is_frame(phases):
         raise ValueError("phases must be a list of 1-D integer arrays, not a DataFrame")
     if len(phases) != len(lengths):
         raise ValueError(

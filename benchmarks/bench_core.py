@@ -8,10 +8,11 @@ from _common import Section, fmt_n, fmt_s, md_table, problem_roles, target, time
 from _data import make_demos, poi_demos
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn._validation import check_traces, resolve_roles
 from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.mcmc import deduplicate_demos, run_chain
 from bsi_sklearn.model import make_model
+from bsi_sklearn.roles import resolve_roles
+from bsi_sklearn.traces import check_traces
 
 
 def kernel_rate(X, y, roles, prior="sets_of_chains", n_samples=10_000, burn_in=100, seeds=5):

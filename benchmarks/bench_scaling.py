@@ -17,11 +17,12 @@ from _common import (
 from _data import make_demos
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn._validation import check_traces, resolve_roles
 from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.mcmc import deduplicate_demos, run_chain
 from bsi_sklearn.model import make_model
 from bsi_sklearn.priors import count_hypotheses
+from bsi_sklearn.roles import resolve_roles
+from bsi_sklearn.traces import check_traces
 
 MCMC = dict(inference="mcmc", n_chains=1, n_samples=10_000, burn_in=100, random_state=0)
 EXACT_LIMIT = 10_000_000  # largest support the sweeps enumerate

@@ -10,12 +10,6 @@ from sklearn.utils import check_random_state
 from sklearn.utils.parallel import Parallel, delayed
 from sklearn.utils.validation import check_is_fitted
 
-from bsi_sklearn._validation import (
-    check_consistent_traces,
-    check_labels,
-    check_traces,
-    resolve_roles,
-)
 from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.diagnostics import split_rhat
 from bsi_sklearn.exact import exact_posterior
@@ -29,6 +23,8 @@ from bsi_sklearn.mcmc import (
 from bsi_sklearn.model import make_model
 from bsi_sklearn.posterior import Posterior
 from bsi_sklearn.priors import PRIORS, count_hypotheses
+from bsi_sklearn.roles import resolve_roles
+from bsi_sklearn.traces import check_consistent_traces, check_labels, check_traces
 
 __all__ = ["BSIClassifier"]
 

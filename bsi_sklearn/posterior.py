@@ -4,9 +4,9 @@ import numpy as np
 import pandas as pd
 from numba import njit
 
-from bsi_sklearn._validation import Traces, check_traces
 from bsi_sklearn.clauses import clause_truth, pack_rows
 from bsi_sklearn.specification import Specification
+from bsi_sklearn.traces import Traces, check_traces
 
 __all__ = ["Posterior"]
 

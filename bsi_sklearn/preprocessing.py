@@ -9,12 +9,8 @@ import pandas as pd
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from bsi_sklearn._validation import (
-    _is_frame,
-    _resolve_list,
-    check_consistent_traces,
-    check_traces,
-)
+from bsi_sklearn.roles import resolve_propositions
+from bsi_sklearn.traces import check_consistent_traces, check_traces, is_frame
 
 __all__ = ["NegationAugmenter", "add_negations"]
 
@@ -96,7 +92,7 @@ class NegationAugmenter(TransformerMixin, BaseEstimator, auto_wrap_output_keys=N
         Parameters
         ----------
         X : demonstrations
-            Any format of DESIGN section 1.
+            Any format accepted by :func:`bsi_sklearn.traces.check_traces`.
         y : ignored
 
         Returns
@@ -115,7 +111,7 @@ class NegationAugmenter(TransformerMixin, BaseEstimator, auto_wrap_output_keys=N
         elif hasattr(self, "feature_names_in_"):
             del self.feature_names_in_
         known = list(names) if names is not None else list(range(traces.n_props))
-        self.negated_ = _resolve_list(self.propositions, known, "propositions")
+        self.negated_ = resolve_propositions(self.propositions, known, "propositions")
         out = self.get_feature_names_out()
         seen = set()
         for name in out:
@@ -158,7 +154,8 @@ class NegationAugmenter(TransformerMixin, BaseEstimator, auto_wrap_output_keys=N
         Parameters
         ----------
         X : demonstrations
-            Any format of DESIGN section 1, with the propositions seen in fit.
+            Any format accepted by :func:`bsi_sklearn.traces.check_traces`, with the
+            propositions seen in fit.
 
         Returns
         -------
@@ -173,11 +170,11 @@ class NegationAugmenter(TransformerMixin, BaseEstimator, auto_wrap_output_keys=N
         out = np.concatenate([data, ~data[:, self.negated_]], axis=1)
         named = traces.feature_names is not None
         columns = self.get_feature_names_out(traces.feature_names) if named else None
-        if _is_frame(X):
+        if is_frame(X):
             return pd.DataFrame(out, columns=columns, index=X.index)
         if isinstance(X, (list, tuple)):
             items = list(X)
-            if not _is_frame(items[0]) and np.ndim(items[0]) == 1:
+            if not is_frame(items[0]) and np.ndim(items[0]) == 1:
                 return out  # nested lists of scalars: the 2-D format
         else:
             arr = np.asarray(X)
@@ -189,7 +186,7 @@ class NegationAugmenter(TransformerMixin, BaseEstimator, auto_wrap_output_keys=N
         pieces = np.split(out, traces.offsets[1:-1])
         if named:
             cols = pd.Index(list(columns))
-            return [pd.DataFrame(p, columns=cols, index=x.index if _is_frame(x) else None)
+            return [pd.DataFrame(p, columns=cols, index=x.index if is_frame(x) else None)
                     for p, x in zip(pieces, items)]
         return pieces
 
@@ -202,7 +199,7 @@ def add_negations(X, propositions=None, *, prefix="!"):
     Parameters
     ----------
     X : demonstrations
-        Any format of DESIGN section 1.
+        Any format accepted by :func:`bsi_sklearn.traces.check_traces`.
     propositions : list of str or int, default=None
         Propositions to negate; all by default.
     prefix : str, default="!"

@@ -16,8 +16,8 @@ from sklearn.metrics import confusion_matrix, f1_score
 from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn import _report_figures as figures
-from bsi_sklearn._validation import check_consistent_traces, check_traces
 from bsi_sklearn.specification import Specification
+from bsi_sklearn.traces import check_consistent_traces, check_traces
 
 __all__ = [
     "SpecificationReport",

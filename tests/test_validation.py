@@ -3,7 +3,8 @@ import pandas as pd
 import pytest
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn._validation import check_labels, check_traces, resolve_roles
+from bsi_sklearn.roles import resolve_roles
+from bsi_sklearn.traces import check_labels, check_traces
 
 
 def test_formats_agree():

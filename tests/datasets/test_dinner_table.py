@@ -2,7 +2,6 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from bsi_sklearn._validation import check_traces, resolve_roles
 from bsi_sklearn.datasets import (
     dinner_table_labels,
     dinner_table_specification,
@@ -11,6 +10,8 @@ from bsi_sklearn.datasets import (
     make_pose,
 )
 from bsi_sklearn.datasets.dinner_table import MEALS, PIECES, STACK
+from bsi_sklearn.roles import resolve_roles
+from bsi_sklearn.traces import check_traces
 
 TABLE = 0.75
 

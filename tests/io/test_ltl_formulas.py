@@ -20,6 +20,7 @@ from bsi_sklearn.ltl import (
     Or,
     Release,
     Until,
+    evaluation,
     parse_ltl,
 )
 from bsi_sklearn.preprocessing import add_negations
@@ -157,7 +158,7 @@ def test_chunked_evaluation_matches(monkeypatch):
     traces = [rng.random((int(rng.integers(1, 30)), 3)) < 0.5 for _ in range(60)]
     phi = parse_ltl("G(a -> F(b U c)) | X(X(!a R c))")
     whole = phi.evaluate(traces, feature_names=ATOMS)
-    monkeypatch.setattr(ltl, "_MAX_CELLS", 40)
+    monkeypatch.setattr(evaluation, "_MAX_CELLS", 40)
     np.testing.assert_array_equal(phi.evaluate(traces, feature_names=ATOMS), whole)
     single = [phi.satisfied_by(t, feature_names=ATOMS) for t in traces]
     np.testing.assert_array_equal(whole, single)

@@ -1,16 +1,22 @@
-"""Validation and conversion of demonstrations (traces), labels and proposition roles."""
+"""Demonstrations (traces) and labels: the ``Traces`` data model and the checks that build it."""
 
 from __future__ import annotations
 
 import numbers
 import warnings
-from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Traces", "check_traces", "check_labels", "Roles", "resolve_roles",
-           "NonNumericTraceError"]
+__all__ = [
+    "Traces",
+    "Wording",
+    "NonNumericTraceError",
+    "is_frame",
+    "check_traces",
+    "check_consistent_traces",
+    "check_labels",
+]
 
 
 class NonNumericTraceError(TypeError, ValueError):
@@ -29,6 +35,19 @@ class Traces:
         Demonstration ``i`` is ``data[offsets[i]:offsets[i + 1]]``.
     feature_names : ndarray of str or None
         Proposition names when the input carried string column names.
+
+    See Also
+    --------
+    check_traces : Builds a ``Traces`` from any accepted input format.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> traces = check_traces([np.array([[1, 0], [1, 1]]), np.array([[0, 1]])])
+    >>> traces.n_demos, traces.n_props, traces.lengths.tolist()
+    (2, 2, [2, 1])
+    >>> traces.trace(1)
+    array([[False,  True]])
     """
 
     data: np.ndarray
@@ -55,19 +74,54 @@ class Traces:
         return self.data[self.offsets[i] : self.offsets[i + 1]].astype(bool)
 
 
-def _is_frame(obj):
+def is_frame(obj):
+    """Whether ``obj`` is a pandas DataFrame (duck-typed, so pandas need not be imported).
+
+    Parameters
+    ----------
+    obj : object
+        Anything.
+
+    Returns
+    -------
+    answer : bool
+        True when ``obj`` has ``columns``, ``to_numpy`` and ``iloc``.
+
+    Examples
+    --------
+    >>> import numpy as np, pandas as pd
+    >>> is_frame(pd.DataFrame({"a": [1]})), is_frame(np.ones((1, 1)))
+    (True, False)
+    """
     return hasattr(obj, "columns") and hasattr(obj, "to_numpy") and hasattr(obj, "iloc")
 
 
 @dataclass(frozen=True)
-class _Words:
-    """What the items and their columns are called in messages."""
+class Wording:
+    """What the items and their columns are called in validation messages.
+
+    Attributes
+    ----------
+    item : str, default="demonstration"
+        One element of the collection (``"sequence"`` for the numeric sequences of
+        ``baselines``).
+    unit : str, default="proposition"
+        One column of an item (``"feature"`` for numeric sequences).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> check_traces([np.zeros((0, 2))], words=Wording(item="sequence", unit="feature"))
+    Traceback (most recent call last):
+    ...
+    ValueError: sequence 0 has zero length; every sequence needs at least one step
+    """
 
     item: str = "demonstration"
     unit: str = "proposition"
 
 
-_TRACE_WORDS = _Words()
+_TRACE_WORDING = Wording()
 
 
 def _frame_names(frame, where):
@@ -128,13 +182,13 @@ def _to_float(arr, where, binarize=None):
 
 
 def check_traces(X, *, binarize=None, estimator_name="estimator", numeric=False,
-                 words=_TRACE_WORDS):
+                 words=_TRACE_WORDING):
     """Validate demonstrations and stack them for the kernels.
 
     Parameters
     ----------
     X : list of array-like or DataFrame, 3-D array or 2-D array
-        See DESIGN section 1: a list (or tuple) of ``(T_i, n_props)`` traces, a list of
+        A list (or tuple) of ``(T_i, n_props)`` traces, a list of
         DataFrames, a 3-D array ``(n_demos, T, n_props)`` or a 2-D array ``(n_demos, n_props)``
         whose rows are traces of length one (a single DataFrame is read the same way).
     binarize : float or None, default=None
@@ -144,7 +198,7 @@ def check_traces(X, *, binarize=None, estimator_name="estimator", numeric=False,
     numeric : bool, default=False
         Keep finite real values as float64 instead of requiring booleans (the sequence models
         of ``baselines`` share this validation).
-    words : _Words
+    words : Wording, default=Wording()
         Names of the items and columns in messages.
 
     Returns
@@ -160,19 +214,19 @@ def check_traces(X, *, binarize=None, estimator_name="estimator", numeric=False,
     items = words.item + "s"
     if X is None:
         raise ValueError(f"{estimator_name} expects {items}, got None")
-    if hasattr(X, "tocsr") or hasattr(X, "to_dense") and not _is_frame(X):
+    if hasattr(X, "tocsr") or hasattr(X, "to_dense") and not is_frame(X):
         raise TypeError(
             f"{estimator_name} does not support sparse input; pass dense arrays "
             "(e.g. X.toarray())"
         )
     names = None
-    if _is_frame(X):
+    if is_frame(X):
         names = _frame_names(X, "the DataFrame")
         X = X.to_numpy()
     if isinstance(X, (list, tuple)):
         if len(X) == 0:
             raise ValueError(f"{estimator_name} needs at least one {words.item}, got 0")
-        if not _is_frame(X[0]) and np.ndim(X[0]) == 1:
+        if not is_frame(X[0]) and np.ndim(X[0]) == 1:
             # Nested lists of scalars: the 2-D format (each row a trace of length one).
             try:
                 arr = np.asarray(X)
@@ -226,7 +280,7 @@ def _stack_list(items, convert, binarize, words):
     unit = words.unit
     for i, item in enumerate(items):
         where = f"{words.item} {i}"
-        if _is_frame(item):
+        if is_frame(item):
             item_names = _frame_names(item, where)
             if i == 0:
                 names = item_names
@@ -271,8 +325,32 @@ def _stack_list(items, convert, binarize, words):
 
 
 def check_consistent_traces(traces, n_features_in, feature_names_in, estimator_name,
-                            words=_TRACE_WORDS):
-    """Check that traces given after fit have the propositions seen in fit."""
+                            words=_TRACE_WORDING):
+    """Check that traces given after fit have the propositions seen in fit.
+
+    Parameters
+    ----------
+    traces : Traces
+        The traces given after fit (from :func:`check_traces`).
+    n_features_in : int
+        Number of propositions seen in fit.
+    feature_names_in : ndarray of str or None
+        Proposition names seen in fit.
+    estimator_name : str
+        Used in messages.
+    words : Wording, default=Wording()
+        Names of the items and columns in messages.
+
+    Raises
+    ------
+    ValueError
+        When the number of propositions or their names differ from those seen in fit.
+
+    Warns
+    -----
+    UserWarning
+        When only one of fit and the new traces had proposition names.
+    """
     if traces.n_props != n_features_in:
         raise ValueError(
             f"X has {traces.n_props} features, but {estimator_name} is expecting "
@@ -304,6 +382,29 @@ def check_labels(y, n_demos, pos_label=None):
     """Validate labels; return ``(y01, classes)`` with ``y01`` in {0, 1}.
 
     ``y=None`` means every demonstration is acceptable (positive-only learning).
+
+    Parameters
+    ----------
+    y : array-like of shape (n_demos,) or None
+        Labels: 0/1 or booleans, or any two values with ``pos_label`` naming the acceptable
+        one.
+    n_demos : int
+        Number of demonstrations.
+    pos_label : object, default=None
+        The acceptable label.
+
+    Returns
+    -------
+    y01 : ndarray of shape (n_demos,), dtype int8
+        1 for acceptable demonstrations, 0 for unacceptable ones.
+    classes : ndarray of shape (2,)
+        The unacceptable then the acceptable label.
+
+    Examples
+    --------
+    >>> y01, classes = check_labels(["no", "yes", "yes"], 3, pos_label="yes")
+    >>> y01.tolist(), classes.tolist()
+    ([0, 1, 1], ['no', 'yes'])
     """
     if y is None:
         return np.ones(n_demos, dtype=np.int8), np.array([0, 1])
@@ -375,109 +476,3 @@ def _data_conversion_warning():
     from sklearn.exceptions import DataConversionWarning
 
     return DataConversionWarning
-
-
-@dataclass(frozen=True)
-class Roles:
-    """Proposition roles resolved to column indices.
-
-    Attributes
-    ----------
-    global_idx : ndarray of int64
-        Column of every global candidate (the set T).
-    subtask_idx : ndarray of int64
-        Column of every subtask proposition omega_w (the set Omega).
-    condition_idx : ndarray of int64
-        Column of each subtask's condition pi_w, or -1 when pi_w = true.
-    names : list
-        Identifier of every column, as used in specifications.
-    """
-
-    global_idx: np.ndarray
-    subtask_idx: np.ndarray
-    condition_idx: np.ndarray
-    names: list
-
-    @property
-    def n_globals(self):
-        """``|T|``."""
-        return len(self.global_idx)
-
-    @property
-    def n_subtasks(self):
-        """``|Omega|``."""
-        return len(self.subtask_idx)
-
-    def global_names(self):
-        """Identifiers of the global candidates."""
-        return [self.names[i] for i in self.global_idx]
-
-    def subtask_names(self):
-        """Identifiers of the subtasks."""
-        return [self.names[i] for i in self.subtask_idx]
-
-    def condition_names(self):
-        """Subtask identifier -> condition identifier (only subtasks with a condition)."""
-        return {
-            self.names[s]: self.names[c]
-            for s, c in zip(self.subtask_idx, self.condition_idx)
-            if c >= 0
-        }
-
-
-def _resolve_one(ident, names, param):
-    n = len(names)
-    if isinstance(ident, (bool, np.bool_)):
-        raise ValueError(f"{param}: {ident!r} is not a proposition name or index")
-    if isinstance(ident, (numbers.Integral, np.integer)):
-        if not 0 <= int(ident) < n:
-            raise ValueError(
-                f"{param}: proposition index {int(ident)} is out of range for {n} propositions"
-            )
-        return int(ident)
-    try:
-        return names.index(ident)
-    except ValueError:
-        raise ValueError(
-            f"{param}: unknown proposition {ident!r}; known propositions are "
-            f"{names[:20]}{' ...' if n > 20 else ''}"
-        ) from None
-
-
-def _resolve_list(value, names, param):
-    if value is None:
-        return np.arange(len(names), dtype=np.int64)
-    if isinstance(value, (str, bytes)) or not hasattr(value, "__iter__"):
-        raise ValueError(
-            f"{param} must be None or a list of proposition names or indices, got {value!r}"
-        )
-    idx = [_resolve_one(v, names, param) for v in value]
-    seen = set()
-    for v, i in zip(value, idx):
-        if i in seen:
-            raise ValueError(f"{param}: proposition {v!r} is listed more than once")
-        seen.add(i)
-    return np.asarray(idx, dtype=np.int64)
-
-
-def resolve_roles(global_candidates, subtasks, conditions, n_props, feature_names=None):
-    """Resolve role parameters (names or indices) to column indices, with clear errors."""
-    names = list(feature_names) if feature_names is not None else list(range(n_props))
-    g = _resolve_list(global_candidates, names, "global_candidates")
-    s = _resolve_list(subtasks, names, "subtasks")
-    cond = np.full(len(s), -1, dtype=np.int64)
-    if conditions is not None:
-        if not isinstance(conditions, Mapping):
-            raise ValueError(
-                f"conditions must be None or a mapping subtask -> condition proposition, got "
-                f"{type(conditions).__name__}"
-            )
-        position = {int(c): k for k, c in enumerate(s)}
-        for w, c in conditions.items():
-            wi = _resolve_one(w, names, "conditions")
-            if wi not in position:
-                raise ValueError(f"conditions: {w!r} is not one of the subtasks")
-            if c is None:
-                continue
-            cond[position[wi]] = _resolve_one(c, names, f"conditions[{w!r}]")
-    return Roles(g, s, cond, names)
