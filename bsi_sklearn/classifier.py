@@ -236,9 +236,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         Parameters
         ----------
         X : list of array-like or DataFrame, or ndarray
-            Demonstrations (see DESIGN section 1): a list of ``(T_i, n_props)`` boolean traces
-            or DataFrames, a 3-D array ``(n_demos, T, n_props)``, or a 2-D array whose rows are
-            traces of length one.
+            Demonstrations (see :func:`bsi_sklearn.traces.check_traces`): a list of
+            ``(T_i, n_props)`` boolean traces or DataFrames, a 3-D array
+            ``(n_demos, T, n_props)``, or a 2-D array whose rows are traces of length one.
         y : array-like of shape (n_demos,), default=None
             1 (acceptable) or 0 (unacceptable). ``None`` or all ones: learn from positives only.
 

@@ -15,7 +15,7 @@ from numba import njit
 
 from bsi_sklearn.clauses import pack_rows
 from bsi_sklearn.likelihood import log_likelihood
-from bsi_sklearn.priors import PRIORS, enumerate_structures, log_prior_structure, log_prior_subset
+from bsi_sklearn.priors import log_prior_structure, log_prior_subset, support_structures
 
 __all__ = ["exact_posterior", "ExactResult"]
 
@@ -210,7 +210,7 @@ def exact_posterior(truth, y01, model, tol=1e-9):
         neg=pack_rows((y01 == 0).astype(np.uint8)[None, :])[0],
         n_pos=float((y01 == 1).sum()), n_neg=float((y01 == 0).sum()),
     )
-    structures = enumerate_structures(PRIORS[model.prior], n)
+    structures = support_structures(model)
     parts_s = _structure_tables(structures, clause_bits, full, model)
     parts_t = _subset_tables(clause_bits, 0, n_g, model.p_global, full)
     parts_e = _subset_tables(clause_bits, n_g, n, model.p_eventual, full)

@@ -29,6 +29,7 @@ __all__ = [
     "count_structures",
     "count_hypotheses",
     "enumerate_structures",
+    "support_structures",
     "n_orders_of",
 ]
 
@@ -385,3 +386,8 @@ def enumerate_structures(prior, n):
     if n == 0:
         return np.zeros((1, 0), dtype=np.int64)
     return _enumerate_structures(n, prior_code(prior))
+
+
+def support_structures(model):
+    """Every order structure of the model's prior, over its ``model.n`` subtasks."""
+    return enumerate_structures(PRIORS[model.prior], model.n)

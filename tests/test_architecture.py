@@ -1,0 +1,129 @@
+"""The layout rules of docs/architecture.md, checked on the source (issue 11).
+
+Read from the files with ``ast``: nothing is imported, so a broken module fails its own tests,
+not these.
+"""
+
+import ast
+import pathlib
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "bsi_sklearn"
+PRIOR_NAMES = {"linear_chain", "sets_of_chains", "forest"}
+
+
+def _modules(*folders):
+    for folder in folders:
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            if "__pycache__" not in path.parts:
+                yield path
+
+
+def _tree(path):
+    return ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+
+
+def _imports(tree):
+    """``(module, name)`` for every import; ``name`` is None for ``import module``."""
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                yield alias.name, None
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            for alias in node.names:
+                yield node.module, alias.name
+
+
+def _rel(path):
+    return path.relative_to(ROOT).as_posix()
+
+
+def test_other_packages_import_only_public_names_of_bsi_sklearn():
+    bad = []
+    for path in _modules("lfe", "baselines", "benchmarks"):
+        for module, name in _imports(_tree(path)):
+            if module.split(".")[0] != "bsi_sklearn":
+                continue
+            private_module = any(part.startswith("_") for part in module.split(".")[1:])
+            private_name = name is not None and name.startswith("_")
+            if private_module or private_name:
+                bad.append(f"{_rel(path)}: {module} {name or ''}".strip())
+    assert bad == []
+
+
+def test_bsi_sklearn_imports_neither_torch_nor_its_neighbours():
+    bad = []
+    for path in _modules("bsi_sklearn"):
+        for module, _ in _imports(_tree(path)):
+            if module.split(".")[0] in {"torch", "lfe", "baselines", "benchmarks"}:
+                bad.append(f"{_rel(path)}: {module}")
+        if "benchmarks/" in path.read_text(encoding="utf-8").replace("\\", "/") and \
+                "spec_from_file_location" in path.read_text(encoding="utf-8"):
+            bad.append(f"{_rel(path)}: loads a file from benchmarks/")
+    assert bad == []
+
+
+def test_no_function_takes_more_than_12_positional_parameters():
+    bad = []
+    for path in _modules("bsi_sklearn"):
+        for node in ast.walk(_tree(path)):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                n = len(node.args.posonlyargs) + len(node.args.args)
+                if n > 12:
+                    bad.append(f"{_rel(path)}:{node.lineno} {node.name} ({n})")
+    assert bad == []
+
+
+def test_modules_stay_small():
+    sizes = {_rel(p): len(p.read_text(encoding="utf-8").splitlines())
+             for p in _modules("bsi_sklearn")}
+    assert {k: v for k, v in sizes.items() if v > 500} == {}
+
+
+def _is_prior_code(node):
+    return (isinstance(node, ast.Attribute) and node.attr == "prior"
+            and isinstance(node.value, ast.Name) and node.value.id == "model")
+
+
+def test_only_the_priors_module_knows_the_priors():
+    # Branching on a prior's name or code anywhere else spreads the model over several files.
+    # Experiments and reports select results by prior name; that is not the model.
+    bad = []
+    for path in _modules("bsi_sklearn"):
+        if path.name in {"priors.py", "model.py"}:
+            continue
+        inference_layer = not {"experiments", "datasets", "report"} & set(path.parts)
+        for node in ast.walk(_tree(path)):
+            if isinstance(node, ast.Name) and node.id == "prior_code":
+                bad.append(f"{_rel(path)}:{node.lineno} uses prior_code")
+            if not isinstance(node, ast.Compare):
+                continue
+            for side in [node.left, *node.comparators]:
+                if any(_is_prior_code(n) for n in ast.walk(side)):
+                    bad.append(f"{_rel(path)}:{node.lineno} branches on model.prior")
+                if inference_layer and isinstance(side, ast.Constant) and \
+                        side.value in PRIOR_NAMES:
+                    bad.append(f"{_rel(path)}:{node.lineno} compares with {side.value!r}")
+    assert bad == []
+
+
+@pytest.mark.parametrize("folder", ["bsi_sklearn", "lfe", "baselines"])
+def test_docstrings_cite_files_that_exist(folder):
+    bad = [f"{_rel(p)}" for p in _modules(folder)
+           if "DESIGN section" in p.read_text(encoding="utf-8")]
+    assert bad == []
+
+
+def test_architecture_document_names_every_module():
+    doc = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
+    missing = [_rel(p) for p in _modules("bsi_sklearn")
+               if p.name != "__init__.py" and _rel(p).removeprefix("bsi_sklearn/") not in doc]
+    assert missing == []
+
+
+def test_every_module_says_what_it_holds():
+    missing = [_rel(p) for p in _modules("bsi_sklearn", "lfe", "baselines")
+               if p.read_text(encoding="utf-8").strip() and ast.get_docstring(_tree(p)) is None]
+    assert missing == []
