@@ -228,7 +228,7 @@ class Posterior:
 
         Parameters
         ----------
-        X : demonstrations (any format accepted by ``BSIClassifier.fit``) or a validated ``Traces``.
+        X : demonstrations (any format ``BSIClassifier.fit`` accepts), or ``Traces``.
 
         Returns
         -------

@@ -17,7 +17,7 @@ from bsi_sklearn import BSIClassifier, Specification
 EXPECTED_FAILED_CHECKS = {
     **{
         name: (
-            "labels other than 0/1 or booleans need pos_label (docs/architecture.md, labels); this check "
+            "labels other than 0/1 or booleans need pos_label (see the README); this check "
             "fits with labels such as {1, 2} or strings and no pos_label"
         )
         for name in [

@@ -11,7 +11,7 @@ from bsi_sklearn.traces import check_traces
 
 
 def brute_force(trace, g_idx, s_idx, c_idx):
-    """Direct reading of the finite-trace semantics (docs/architecture.md), one clause at a time."""
+    """Direct reading of the finite-trace semantics, one clause at a time."""
     T = trace.shape[0]
     out = []
     for g in g_idx:

@@ -1,4 +1,4 @@
-"""LTL formulas: parsing, finite-trace semantics (docs/architecture.md), flloat agreement, the template."""
+"""LTL formulas: parsing, finite-trace semantics, flloat agreement, the template."""
 
 import numpy as np
 import pandas as pd
@@ -181,7 +181,7 @@ traces = st.lists(arrays(np.bool_, st.tuples(st.integers(1, 6), st.just(3))),
 
 
 def to_flloat(phi):
-    """flloat text with the same meaning: X(p) on the last step reads p there (docs/architecture.md)."""
+    """flloat text with the same meaning: X(p) on the last step reads p there."""
     if isinstance(phi, Atom):
         return phi.name
     if isinstance(phi, Constant):
