@@ -10,6 +10,9 @@ Every candidate is weighted by prior x likelihood. The moves read the model bund
 (:class:`bsi_sklearn.model.Model`), the deduplicated demonstrations (``mcmc.Demos``) and the
 chain's scratch buffers (``mcmc.ChainBuffers``), and update the per-demonstration count of
 violated clauses in place.
+
+The three moves are inlined into the chain kernel at numba's level: as calls, passing the
+bundles' arrays cost 10-15% of a Prior 3 chain.
 """
 
 import math
@@ -91,7 +94,7 @@ def add_pair(viol, truth_t, c, sign):
         viol[d] += sign if truth_t[c, d] == 0 else 0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u):
     """Gibbs update of inclusion bit ``c``: ``(new bit, log-likelihood, uniform used)``."""
     # Gibbs update of one inclusion bit: returns the new bit, the new log-likelihood and
@@ -121,7 +124,7 @@ def flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u):
     return new, (ll_in if new else ll_out), used
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def chain_move(v, parent, viol, n_conj, demos, model, bufs, unif):
     """Gibbs re-insertion of subtask ``v`` (Priors 1, 2): ``(N, log prior, log-lik)``."""
     # Priors 1 / 2: take v out of its chain and redraw its place among every position of every
@@ -225,7 +228,7 @@ def chain_move(v, parent, viol, n_conj, demos, model, bufs, unif):
     return n_conj, cand_lp[j], lw[j] - cand_lp[j]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def forest_move(v, parent, viol, n_conj, demos, model, bufs, unif):
     """Gibbs prune-and-regraft of subtask ``v`` (Prior 3): ``(N, log prior, log-lik)``."""
     # Prior 3: prune the subtree rooted at v and regraft it anywhere outside it.
