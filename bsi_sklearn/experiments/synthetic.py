@@ -35,7 +35,7 @@ from bsi_sklearn.experiments._plots import (
     save_figure,
     supervised_figure,
 )
-from bsi_sklearn.experiments._report import (
+from bsi_sklearn.experiments.tables import (
     SUPERVISED_INTRO,
     markdown_table,
     priors_table,
