@@ -118,7 +118,7 @@ class Specification:
         object.__setattr__(self, "globals", g)
         object.__setattr__(self, "eventuals", e)
         object.__setattr__(self, "orders", o)
-        object.__setattr__(self, "_conditions", tuple(sorted(conds.items(), key=_item_key)))
+        object.__setattr__(self, "_conditions", tuple(sorted(conds.items(), key=_pair_key)))
         object.__setattr__(
             self, "_hash", hash((g, e, o, self._conditions))
         )
@@ -263,11 +263,8 @@ def _as_iterable(value, name):
 
 
 def _pair_key(pair):
+    # Orders (a, b) and condition items (subtask, proposition) alike.
     return (_sort_key(pair[0]), _sort_key(pair[1]))
-
-
-def _item_key(item):
-    return (_sort_key(item[0]), _sort_key(item[1]))
 
 
 def _fmt(ident, latex):

@@ -24,7 +24,7 @@ from sklearn.utils.parallel import Parallel, delayed
 import baselines
 from baselines import PAPER_BASELINES
 from bsi_sklearn.classifier import BSIClassifier
-from bsi_sklearn.experiments._report import markdown_table
+from bsi_sklearn.experiments.tables import markdown_table
 from lfe.annotate import MISSION_OBJECTIVES
 from lfe.dataset import LFEDataset, load_lfe_dataset, make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor

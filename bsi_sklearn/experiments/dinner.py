@@ -30,7 +30,7 @@ from bsi_sklearn.experiments._plots import (
     save_figure,
     supervised_figure,
 )
-from bsi_sklearn.experiments._report import (
+from bsi_sklearn.experiments.tables import (
     SUPERVISED_INTRO,
     priors_table,
     supervised_table,

@@ -8,10 +8,11 @@ from html.parser import HTMLParser
 import numpy as np
 import pandas as pd
 import pytest
+from sklearn.metrics import f1_score
 
 from bsi_sklearn import BSIClassifier, Specification
-from bsi_sklearn._report_figures import layered_layout
 from bsi_sklearn.report import SpecificationReport, explain, violated_clauses
+from bsi_sklearn.report.figures import layered_layout
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 NAMES = ["safe", "a", "b", "a_ok"]
@@ -269,6 +270,26 @@ def test_rejected_by_vote_only(tmp_path):
     assert rep.violations == {"0": []}
     md = rep.to_markdown(tmp_path).read_text()
     assert "none: it satisfies the MAP specification but less than half" in md
+
+
+def test_verdicts_come_from_the_classifier():
+    # explain restates no decision rule: its verdicts and probabilities are the classifier's.
+    class Strict(BSIClassifier):
+        def predict_proba(self, X):
+            return np.tile([0.3, 0.7], (len(X), 1))
+
+        def predict(self, X):
+            return np.full(len(X), self.classes_[0])
+
+    clf = Strict(global_candidates=["safe"], subtasks=["a", "b"],
+                 conditions={"a": "a_ok"}).fit(X, Y)
+    rep = explain(clf, X, Y)
+    np.testing.assert_array_equal(rep.proba, np.full(len(X), 0.7))
+    assert not rep.predicted_acceptable.any()
+    assert set(rep.violations) == {str(i) for i in range(len(X))}
+    assert rep.vote_f1_weighted == pytest.approx(
+        f1_score(Y == 1, np.zeros(len(X), bool), average="weighted", labels=[True, False],
+                 zero_division=0.0))
 
 
 def test_layered_layout():

@@ -5,7 +5,6 @@ import pandas as pd
 import pytest
 
 from bsi_sklearn import Specification
-from bsi_sklearn.report import _transitive_reduction as transitive_reduction
 from bsi_sklearn.report import (
     clause_sentence,
     clause_specification,
@@ -13,6 +12,7 @@ from bsi_sklearn.report import (
     ordered_clauses,
     violated_clauses,
 )
+from bsi_sklearn.report.wording import _transitive_reduction as transitive_reduction
 
 DESC = {
     "strikers_alive": "the strikers are alive",

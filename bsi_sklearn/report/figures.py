@@ -14,6 +14,7 @@ __all__ = [
     "marginals_png",
     "order_dag_png",
     "satisfaction_png",
+    "wrap_label",
 ]
 
 _MAP_COLOR = "#2166ac"

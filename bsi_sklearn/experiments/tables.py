@@ -1,4 +1,4 @@
-"""Tables (CSV, Markdown) and the report file of an experiment run."""
+"""Tables of an experiment run (Markdown, summaries by size) and the files that hold them."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ from bsi_sklearn.experiments._claims import claims_frame
 from bsi_sklearn.experiments._plots import PRIOR_LABELS
 
 __all__ = [
+    "SUPERVISED_INTRO",
     "markdown_table",
     "priors_table",
     "summary_table",
@@ -165,6 +166,7 @@ def supervised_table(summary, domain):
     return markdown_table(summary_table(summary, cols, band=False))
 
 
+#: The paragraph that introduces the tables of :func:`supervised_table` in a report.
 SUPERVISED_INTRO = (
     "Expected similarity to the ground truth and accuracy on a held-out balanced test set "
     "(positives and negatives), for positive-only fits (`pos`) and for the same positives "

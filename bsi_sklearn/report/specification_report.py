@@ -1,0 +1,313 @@
+"""The `SpecificationReport` object: a fitted classifier's explanation, its figures and outputs."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from bsi_sklearn.report import figures
+from bsi_sklearn.report.document import (
+    Code,
+    Document,
+    render_html,
+    render_html_fragment,
+    render_markdown,
+)
+from bsi_sklearn.report.wording import _short_label, _sort_key, clause_specification
+
+__all__ = ["SpecificationReport"]
+
+
+class SpecificationReport:
+    """What a fitted :class:`~bsi_sklearn.BSIClassifier` learned, ready to read and share.
+
+    Built by :func:`explain`; render it with :meth:`to_markdown` (``report.md`` and PNG
+    figures) or :meth:`to_html` (one self-contained file), or display it in a notebook.
+
+    Attributes
+    ----------
+    title : str
+    specification : Specification
+        The MAP specification.
+    ltl, ltl_latex : str
+        The MAP specification as LTL text and as LaTeX.
+    clauses : pandas.DataFrame
+        One row per MAP clause (index: clause keys, reading order): ``kind`` (global,
+        eventual, order), ``ltl``, ``latex``, ``sentence``, ``inclusion_probability``.
+    descriptions : dict
+        Proposition -> phrase used in the sentences.
+    top : pandas.DataFrame
+        The ``top_k`` most probable specifications, indexed by rank (from 1):
+        ``probability``, ``ltl``, ``n_clauses`` and ``difference`` (the clauses added, ``+``,
+        and removed, ``-``, relative to the MAP specification; empty for the MAP).
+    map_probability, entropy : float
+        Posterior probability of the MAP specification; entropy (nats) of the posterior.
+    n_unique_specifications : int
+    clause_marginals : pandas.Series
+        Posterior inclusion probability of every candidate clause.
+    order_edges : list of (a, b)
+        Transitive reduction of the MAP orders (the arrows of the DAG figure).
+    inference : dict
+        How the posterior was obtained: ``method``, ``prior``, ``likelihood``,
+        ``dropped_mass``, ``rhat`` (MCMC only).
+    demo_names : list of str or None
+        One name per demonstration (``None`` without ``X``).
+    clause_states : pandas.DataFrame or None
+        MAP clauses x demonstrations: 0 violated, 1 satisfied, 2 satisfied vacuously (the
+        clause's condition is false).
+    map_satisfied : ndarray of bool or None
+        Whether each demonstration satisfies the MAP specification.
+    proba : ndarray or None
+        Posterior-vote probability that each demonstration is acceptable.
+    predicted_acceptable : ndarray of bool or None
+        ``classifier.predict(X) == classes_[1]``.
+    violations : dict or None
+        Demonstration name -> violated MAP clause keys, for every demonstration predicted
+        unacceptable.
+    labels : ndarray of bool or None
+        ``y == classes_[1]``.
+    confusion_matrix : pandas.DataFrame or None
+        Rows: label (acceptable, unacceptable); columns: MAP specification's verdict.
+    f1, f1_weighted : float or None
+        F1 of the MAP specification for the acceptable class, and the mean of both classes'
+        F1 weighted by support (the paper's LFE score).
+    vote_f1_weighted : float or None
+        The same weighted F1 for the classifier's posterior vote (``predict``).
+    """
+
+    def __init__(self, **fields):
+        self.__dict__.update(fields)
+        self._pngs = None
+
+    def __repr__(self):
+        return (f"SpecificationReport(title={self.title!r}, map={self.ltl!r}, "
+                f"n_clauses={len(self.clauses)})")
+
+    # ------------------------------------------------------------------ sentences
+    @property
+    def sentences(self):
+        """One plain-English sentence per MAP clause."""
+        return list(self.clauses["sentence"])
+
+    # ------------------------------------------------------------------ figures
+    def figures(self):
+        """The report's figures as PNG bytes, by name (rendered once, then cached).
+
+        Names: ``clause_marginals``, ``order_dag`` (when the MAP has orders),
+        ``satisfaction`` (with demonstrations and at least one MAP clause),
+        ``confusion_matrix`` (with labels).
+        """
+        if self._pngs is None:
+            self._pngs = self._render_figures()
+        return dict(self._pngs)
+
+    def _marginal_rows(self):
+        m = self.clause_marginals
+        in_map = set(self.clauses.index)
+        keys = list(m.index)
+        if len(keys) > 60:  # keep the chart readable: drop near-impossible clauses
+            keys = [k for k in keys if m[k] >= 0.01 or k in in_map]
+        return keys, [m[k] for k in keys], [k in in_map for k in keys]
+
+    def _render_figures(self):
+        conds = self.specification.conditions
+        pngs = {}
+        keys, values, in_map = self._marginal_rows()
+        if keys:
+            pngs["clause_marginals"] = figures.marginals_png(
+                [_short_label(k) for k in keys], values, in_map)
+        if self.order_edges:
+            nodes = sorted({x for e in self.order_edges for x in e}, key=_sort_key)
+            labels = {}
+            for v in nodes:
+                text = str(v)
+                if v in self.descriptions:
+                    text += "\n" + figures.wrap_label(self.descriptions[v])
+                labels[v] = text
+            probs = {(a, b): float(self.clause_marginals[("U", a, b)])
+                     for a, b in self.order_edges}
+            pngs["order_dag"] = figures.order_dag_png(nodes, self.order_edges, labels, probs)
+        if self.clause_states is not None and len(self.clauses):
+            states = self.clause_states.to_numpy()
+            overall = self.map_satisfied.astype(int)[None, :]
+            rows = [clause_specification(k, conds).to_ltl() for k in self.clauses.index]
+            cols = []
+            for j, name in enumerate(self.demo_names):
+                label = name
+                if self.labels is not None:
+                    label += f"\ny={int(self.labels[j])}"
+                cols.append(label)
+            colors = ["#b2182b" if not ok else "black" for ok in self.predicted_acceptable]
+            pngs["satisfaction"] = figures.satisfaction_png(
+                np.vstack([states, overall]), rows + ["MAP specification"], cols, colors)
+        if self.confusion_matrix is not None:
+            pngs["confusion_matrix"] = figures.confusion_matrix_png(
+                self.confusion_matrix.to_numpy(), ["acceptable", "unacceptable"])
+        return pngs
+
+    # ------------------------------------------------------------------ document
+    def _document(self):
+        doc = Document()
+        pngs = self.figures()
+        doc.add("h", 1, self.title)
+        self._section_specification(doc)
+        self._section_posterior(doc, pngs)
+        self._section_orders(doc, pngs)
+        if self.clause_states is not None:
+            self._section_demonstrations(doc, pngs)
+        if self.confusion_matrix is not None:
+            self._section_labels(doc, pngs)
+        self._section_propositions(doc)
+        return doc, pngs
+
+    def _section_specification(self, doc):
+        doc.add("h", 2, "MAP specification")
+        info = self.inference
+        doc.add("p", f"The most probable specification (posterior probability "
+                     f"{self.map_probability:.3f}) has {len(self.clauses)} clause"
+                     f"{'' if len(self.clauses) == 1 else 's'}; a demonstration is acceptable "
+                     f"when it satisfies all of them. Inferred with the {info['prior']} prior "
+                     f"and the {info['likelihood']} likelihood ({info['method']} inference).")
+        doc.add("pre", self.ltl)
+        doc.add("math", self.ltl_latex)
+        if not len(self.clauses):
+            doc.add("p", "The MAP specification is 'true': it accepts every demonstration.")
+            return
+        groups = (("global", "Always (global clauses)"), ("eventual", "Eventually"),
+                  ("order", "Ordering"))
+        for kind, heading in groups:
+            rows = self.clauses[self.clauses["kind"] == kind]
+            if len(rows):
+                doc.add("h", 3, heading)
+                doc.add("ul", [[f"{s} ", Code(ltl), f" (p = {p:.2f})"]
+                               for s, ltl, p in zip(rows["sentence"], rows["ltl"],
+                                                    rows["inclusion_probability"])])
+        doc.add("p", "\"A before B\" means that A does happen, and B does not happen at an "
+                     "earlier step than A. Conditions are read at the first step. p is the "
+                     "posterior probability that the clause belongs to the specification.")
+
+    def _section_posterior(self, doc, pngs):
+        doc.add("h", 2, "Posterior")
+        info = self.inference
+        text = (f"{self.n_unique_specifications} unique specifications; entropy "
+                f"{self.entropy:.3f} nats ({self.entropy / np.log(2):.3f} bits).")
+        if info.get("dropped_mass"):
+            text += f" Posterior mass left out of the list: {info['dropped_mass']:.2g}."
+        if info.get("rhat") is not None:
+            text += f" MCMC split-R-hat of the log posterior: {info['rhat']:.3f}."
+        doc.add("p", text)
+        doc.add("table", ["rank", "probability", "difference from the MAP", "specification"],
+                [[str(r), f"{p:.4f}", Code(diff) if diff else "(MAP)", Code(ltl)]
+                 for r, p, diff, ltl in zip(self.top.index, self.top["probability"],
+                                            self.top["difference"], self.top["ltl"])])
+        if "clause_marginals" in pngs:
+            doc.add("h", 3, "Clause inclusion probabilities")
+            doc.add("figure", "clause_marginals",
+                    "Posterior probability that each candidate clause belongs to the "
+                    "specification (blue: in the MAP specification).")
+
+    def _section_orders(self, doc, pngs):
+        doc.add("h", 2, "Ordering constraints")
+        if "order_dag" not in pngs:
+            doc.add("p", "The MAP specification has no ordering constraints.")
+            return
+        doc.add("p", "An arrow from A to B: A must happen before B (implied orders, A before "
+                     "C when A before B before C, are not drawn).")
+        doc.add("figure", "order_dag", "Ordering constraints of the MAP specification.")
+
+    def _section_demonstrations(self, doc, pngs):
+        n = len(self.demo_names)
+        n_bad = int((~self.predicted_acceptable).sum())
+        doc.add("h", 2, "Demonstrations")
+        doc.add("p", f"{n} demonstration{'' if n == 1 else 's'}, "
+                     f"{int(self.map_satisfied.sum())} satisfy the MAP specification; the "
+                     f"classifier (posterior vote) predicts {n_bad} unacceptable.")
+        if "satisfaction" in pngs:
+            doc.add("figure", "satisfaction",
+                    "Clause-by-demonstration satisfaction of the MAP specification "
+                    "(last row: all clauses together).")
+        if not n_bad:
+            return
+        doc.add("h", 3, "Why demonstrations are predicted unacceptable")
+        sentence = dict(zip(self.clauses.index, self.clauses["sentence"]))
+        ltl = dict(zip(self.clauses.index, self.clauses["ltl"]))
+        rows = []
+        for j, name in enumerate(self.demo_names):
+            if self.predicted_acceptable[j]:
+                continue
+            keys = self.violations[name]
+            if keys:
+                why = [x for k in keys for x in (f"{sentence[k]} ", Code(ltl[k]), "; ")][:-1]
+            else:
+                why = ("none: it satisfies the MAP specification but less than half of the "
+                       "posterior mass")
+            row = [name, f"{self.proba[j]:.3f}"]
+            if self.labels is not None:
+                row.append("acceptable" if self.labels[j] else "unacceptable")
+            rows.append(row + [why])
+        header = ["demonstration", "P(acceptable)"]
+        header += ["label"] if self.labels is not None else []
+        doc.add("table", header + ["violated clauses"], rows)
+
+    def _section_labels(self, doc, pngs):
+        doc.add("h", 2, "Agreement with the labels")
+        cm = self.confusion_matrix.to_numpy()
+        doc.add("p", f"MAP specification: F1 (acceptable) = {self.f1:.3f}, weighted F1 = "
+                     f"{self.f1_weighted:.3f}. Posterior vote (predict): weighted F1 = "
+                     f"{self.vote_f1_weighted:.3f}.")
+        doc.add("table", ["label", "MAP says acceptable", "MAP says unacceptable"],
+                [["acceptable", str(cm[0, 0]), str(cm[0, 1])],
+                 ["unacceptable", str(cm[1, 0]), str(cm[1, 1])]])
+        doc.add("figure", "confusion_matrix", "Confusion matrix of the MAP specification.")
+
+    def _section_propositions(self, doc):
+        doc.add("h", 2, "Propositions")
+        rows = []
+        for name, role in self.roles_table:
+            rows.append([Code(str(name)), role, self.descriptions.get(name, "")])
+        doc.add("table", ["proposition", "role", "description"], rows)
+
+    # ------------------------------------------------------------------ outputs
+    def markdown(self, figure_dir="."):
+        """The report as Markdown text, figures referenced as ``figure_dir/<name>.png``."""
+        doc, pngs = self._document()
+        prefix = str(figure_dir).rstrip("/")
+        files = {name: f"{prefix}/{name}.png" if prefix not in ("", ".") else f"{name}.png"
+                 for name in pngs}
+        return render_markdown(doc, files)
+
+    def to_markdown(self, directory):
+        """Write ``report.md`` and its PNG figures into ``directory`` (created if needed).
+
+        Returns
+        -------
+        pathlib.Path
+            The path of ``report.md``.
+        """
+        directory = Path(directory)
+        directory.mkdir(parents=True, exist_ok=True)
+        doc, pngs = self._document()
+        for name, data in pngs.items():
+            (directory / f"{name}.png").write_bytes(data)
+        path = directory / "report.md"
+        path.write_text(render_markdown(doc, {n: f"{n}.png" for n in pngs}), encoding="utf-8")
+        return path
+
+    def html(self):
+        """The report as one self-contained HTML document (figures embedded as base64 PNG)."""
+        doc, pngs = self._document()
+        return render_html(doc, pngs, self.title)
+
+    def to_html(self, path):
+        """Write the self-contained HTML report to ``path``; returns it as a ``Path``."""
+        path = Path(path)
+        if path.parent != Path(""):
+            path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(self.html(), encoding="utf-8")
+        return path
+
+    def _repr_html_(self):
+        doc, pngs = self._document()
+        return render_html_fragment(doc, pngs)
+

@@ -1,0 +1,273 @@
+"""Clause wording: clause keys in reading order, one-clause specifications, English sentences."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from bsi_sklearn.specification import Specification
+
+__all__ = [
+    "clause_sentence",
+    "clause_specification",
+    "describe_specification",
+    "ordered_clauses",
+    "violated_clauses",
+]
+
+_KINDS = {"G": "global", "F": "eventual", "U": "order"}
+
+
+def _sort_key(x):
+    return (type(x).__name__, x)
+
+
+def ordered_clauses(specification):
+    """Clause keys of a specification in reading order: globals, eventuals, then orders.
+
+    Keys are ``("G", p)``, ``("F", w)`` and ``("U", a, b)`` (*a precedes b*), as in
+    :meth:`Specification.clauses`; within a kind they are sorted by identifier, the order
+    of :meth:`Specification.clause_strings`.
+
+    Examples
+    --------
+    >>> from bsi_sklearn import Specification
+    >>> ordered_clauses(Specification(globals=["safe"], eventuals=["b", "a"],
+    ...                               orders=[("a", "b")]))
+    [('G', 'safe'), ('F', 'a'), ('F', 'b'), ('U', 'a', 'b')]
+    """
+    spec = _check_spec(specification)
+    return (
+        [("G", p) for p in sorted(spec.globals, key=_sort_key)]
+        + [("F", w) for w in sorted(spec.eventuals, key=_sort_key)]
+        + [("U", a, b) for a, b in sorted(spec.orders,
+                                          key=lambda o: (_sort_key(o[0]), _sort_key(o[1])))]
+    )
+
+
+def clause_specification(clause, conditions=None):
+    """The one-clause :class:`Specification` of a clause key.
+
+    Parameters
+    ----------
+    clause : tuple
+        ``("G", p)``, ``("F", w)`` or ``("U", a, b)``.
+    conditions : mapping, default=None
+        Subtask -> condition proposition, as in :class:`Specification`.
+
+    Returns
+    -------
+    Specification
+
+    Examples
+    --------
+    >>> print(clause_specification(("U", "a", "b"), {"a": "a_ok"}).to_ltl())
+    (a_ok -> (!b U a))
+    """
+    kind = _check_clause(clause)
+    if kind == "G":
+        return Specification(globals=[clause[1]])
+    if kind == "F":
+        return Specification(eventuals=[clause[1]], conditions=conditions)
+    return Specification(orders=[(clause[1], clause[2])], conditions=conditions)
+
+
+def _check_clause(clause):
+    ok = isinstance(clause, tuple) and len(clause) >= 2 and clause[0] in _KINDS and (
+        len(clause) == (3 if clause[0] == "U" else 2))
+    if not ok:
+        raise ValueError(
+            f"clause {clause!r} is not a clause key ('G', p), ('F', w) or ('U', a, b)"
+        )
+    return clause[0]
+
+
+def _check_descriptions(descriptions, names=None):
+    if descriptions is None:
+        return {}
+    if not isinstance(descriptions, Mapping):
+        raise ValueError(
+            f"descriptions must be a mapping proposition -> phrase, got "
+            f"{type(descriptions).__name__}"
+        )
+    for key, text in descriptions.items():
+        if not isinstance(text, str) or not text.strip():
+            raise ValueError(f"descriptions[{key!r}] must be a non-empty string, got {text!r}")
+        if names is not None and key not in names:
+            raise ValueError(
+                f"descriptions: {key!r} is not a proposition of the classifier; known "
+                f"propositions are {list(names)[:20]}{' ...' if len(names) > 20 else ''}"
+            )
+    return {k: " ".join(v.split()) for k, v in descriptions.items()}
+
+
+def _phrase(ident, descriptions):
+    return descriptions[ident] if ident in descriptions else f"{ident} holds"
+
+
+def _capitalised(ident, descriptions):
+    text = _phrase(ident, descriptions)
+    if ident in descriptions and text[:1].islower():
+        text = text[0].upper() + text[1:]
+    return text
+
+
+def clause_sentence(clause, conditions=None, descriptions=None):
+    """One plain-English sentence for a clause.
+
+    Every proposition is read through its phrase: ``descriptions[p]`` when given (a short
+    statement in the present tense, e.g. ``"POI 3 is visited"``), else ``"p holds"``. With
+    phrases ``P``, ``W``, ``A``, ``B`` and condition phrases ``C``:
+
+    ==========================  =============================================
+    clause                      sentence
+    ==========================  =============================================
+    ``G(p)``                    ``Always, P.``
+    ``F(w)``                    ``Eventually, W.``
+    ``pi_w -> F(w)``            ``If C, eventually W.``
+    ``!b U a``                  ``A before B.`` (first letter capitalised)
+    ``pi_a -> (!b U a)``        ``If C, A before B.``
+    ==========================  =============================================
+
+    "A before B" is the strong until of the template: A does happen, and B does not happen
+    at an earlier step than A (both at the same step is fine). Conditions are read at the
+    first step of a demonstration.
+
+    Parameters
+    ----------
+    clause : tuple
+        ``("G", p)``, ``("F", w)`` or ``("U", a, b)``.
+    conditions : mapping, default=None
+        Subtask -> condition proposition.
+    descriptions : mapping, default=None
+        Proposition -> short phrase.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> d = {"alive": "the strikers are alive", "omega_3": "POI 3 is visited",
+    ...      "pi_3": "POI 3 is accessible", "omega_1": "POI 1 is visited",
+    ...      "pi_1": "POI 1 is accessible"}
+    >>> clause_sentence(("G", "alive"), descriptions=d)
+    'Always, the strikers are alive.'
+    >>> clause_sentence(("F", "omega_3"), {"omega_3": "pi_3"}, d)
+    'If POI 3 is accessible, eventually POI 3 is visited.'
+    >>> clause_sentence(("U", "omega_1", "omega_3"), descriptions=d)
+    'POI 1 is visited before POI 3 is visited.'
+    >>> clause_sentence(("F", "omega_2"))
+    'Eventually, omega_2 holds.'
+    """
+    kind = _check_clause(clause)
+    d = _check_descriptions(descriptions)
+    cond = dict(conditions) if conditions is not None else {}
+    if kind == "G":
+        return f"Always, {_phrase(clause[1], d)}."
+    if kind == "F":
+        w = clause[1]
+        if w in cond and cond[w] is not None:
+            return f"If {_phrase(cond[w], d)}, eventually {_phrase(w, d)}."
+        return f"Eventually, {_phrase(w, d)}."
+    a, b = clause[1], clause[2]
+    if a in cond and cond[a] is not None:
+        return f"If {_phrase(cond[a], d)}, {_phrase(a, d)} before {_phrase(b, d)}."
+    return f"{_capitalised(a, d)} before {_phrase(b, d)}."
+
+
+def describe_specification(specification, descriptions=None):
+    """One sentence per clause of a specification, in :func:`ordered_clauses` order.
+
+    See :func:`clause_sentence` for the phrasing. The empty specification (``true``) has no
+    clauses and gives an empty list.
+
+    Examples
+    --------
+    >>> from bsi_sklearn import Specification
+    >>> spec = Specification(globals=["safe"], eventuals=["a"], orders=[("a", "b")])
+    >>> for s in describe_specification(spec, {"safe": "the robot is safe"}):
+    ...     print(s)
+    Always, the robot is safe.
+    Eventually, a holds.
+    a holds before b holds.
+    """
+    spec = _check_spec(specification)
+    return [clause_sentence(c, spec.conditions, descriptions) for c in ordered_clauses(spec)]
+
+
+def violated_clauses(specification, trace, feature_names=None):
+    """The clauses of a specification that a demonstration violates.
+
+    Each clause is evaluated on its own, as the one-clause specification of
+    :func:`clause_specification` (:meth:`Specification.satisfied_by` semantics). A clause whose
+    condition is false at the first step is satisfied (vacuously).
+
+    Parameters
+    ----------
+    specification : Specification
+    trace : array-like of shape (T, n_props) or pandas.DataFrame
+    feature_names : sequence, default=None
+        Column names of ``trace``; taken from the DataFrame columns when omitted.
+
+    Returns
+    -------
+    list of tuple
+        Violated clause keys, in :func:`ordered_clauses` order.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from bsi_sklearn import Specification
+    >>> spec = Specification(globals=["safe"], eventuals=["a", "b"], orders=[("a", "b")])
+    >>> trace = np.array([[1, 0, 0], [0, 0, 1], [1, 1, 1]])  # b before a, unsafe once
+    >>> violated_clauses(spec, trace, feature_names=["safe", "a", "b"])
+    [('G', 'safe'), ('U', 'a', 'b')]
+    """
+    spec = _check_spec(specification)
+    cond = spec.conditions
+    return [c for c in ordered_clauses(spec)
+            if not clause_specification(c, cond).satisfied_by(trace, feature_names)]
+
+
+def _check_spec(spec):
+    if not isinstance(spec, Specification):
+        raise ValueError(f"specification must be a Specification, got {type(spec).__name__}")
+    return spec
+
+
+def _clause_condition(clause, conditions):
+    if clause[0] == "G":
+        return None
+    return conditions.get(clause[1])
+
+
+def _transitive_reduction(orders):
+    orders = set(orders)
+    succ = {}
+    for a, b in orders:
+        succ.setdefault(a, set()).add(b)
+    return sorted(
+        ((a, b) for a, b in orders
+         if not any((c, b) in orders for c in succ.get(a, ()) if c != b)),
+        key=lambda o: (_sort_key(o[0]), _sort_key(o[1])),
+    )
+
+
+
+def _difference(spec, reference):
+    """Clauses added to (+) and removed from (-) ``reference`` to obtain ``spec``."""
+    mine, ref = spec.clauses(), reference.clauses()
+    added = [f"+ {clause_specification(k, spec.conditions).to_ltl()}"
+             for k in ordered_clauses(spec) if k not in ref]
+    removed = [f"- {clause_specification(k, reference.conditions).to_ltl()}"
+               for k in ordered_clauses(reference) if k not in mine]
+    return "; ".join(added + removed)
+
+
+def _short_label(key):
+    if key[0] == "G":
+        return f"G({key[1]})"
+    if key[0] == "F":
+        return f"F({key[1]})"
+    return f"{key[1]} before {key[2]}"
+
