@@ -1,18 +1,22 @@
 """Recurrent baselines of the paper's large-force-exercise comparison (LSTM, Bi-LSTM, coupled).
 
 The torch-backed names are imported on first use, so that ``PAPER_BASELINES`` (and the
-``bsi-lfe`` command line that lists it) does not load torch.
+``bsi-lfe`` command line that lists it) does not load torch. torch is the optional extra
+``bsi-sklearn[baselines]``: without it those names raise ``ModuleNotFoundError`` saying
+``pip install "bsi-sklearn[baselines]"`` (:func:`require_torch` checks up front).
 """
 
 import importlib
 
 from baselines._paper import PAPER_BASELINES
+from baselines._torch import require_torch
 
 __all__ = [
     "LSTMSequenceClassifier",
     "PAPER_BASELINES",
     "make_paper_baseline",
     "paper_baselines",
+    "require_torch",
 ]
 
 _TORCH_NAMES = {"LSTMSequenceClassifier", "make_paper_baseline", "paper_baselines"}

@@ -9,7 +9,6 @@ import time
 import warnings
 
 import numpy as np
-import torch
 from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.exceptions import DataConversionWarning
 from sklearn.model_selection import train_test_split
@@ -17,7 +16,6 @@ from sklearn.utils import check_random_state
 from sklearn.utils.class_weight import compute_class_weight
 from sklearn.utils.multiclass import type_of_target
 from sklearn.utils.validation import check_is_fitted
-from torch import nn
 
 from baselines._paper import PAPER_BASELINES
 from baselines._sequences import (
@@ -28,6 +26,10 @@ from baselines._sequences import (
     pad_sequences,
     reverse_index,
 )
+from baselines._torch import require_torch
+
+torch = require_torch()  # with a message naming the [baselines] extra when torch is absent
+nn = torch.nn
 
 __all__ = [
     "LSTMSequenceClassifier",

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["Config", "Section", "time_call", "machine_info", "md_table", "fmt_s", "fmt_n",
-           "save_figure", "repo_root", "fit_problem", "target", "problem_roles"]
+           "save_figure", "repo_root", "target", "problem_roles"]
 
 
 def repo_root():
@@ -70,11 +70,6 @@ def time_call(fn, repeats, warmup=1):
         walls.append(time.perf_counter() - t0)
         cpus.append(time.process_time() - c0)
     return statistics.median(walls), statistics.median(cpus), result, walls
-
-
-def fit_problem(clf, X, y=None):
-    """``clf.fit`` as a zero-argument callable."""
-    return lambda: clf.fit(X, y)
 
 
 def _cpu_model():

@@ -11,17 +11,20 @@ relative path), then
 
 * **BSI**: :class:`~bsi_sklearn.preprocessing.NegationAugmenter` adds ``!p`` for every
   proposition (so ``G(!p)`` is reachable), candidate clauses are screened on the training
-  positives (see :func:`select_roles`), and :class:`~bsi_sklearn.BSIClassifier` is fitted on the
-  training positives and negatives: exact enumeration when the support is at most
+  positives (see :func:`external_bsi.select_roles`), and :class:`~bsi_sklearn.BSIClassifier`
+  is fitted on the training positives and negatives: exact enumeration when the support is at most
   ``--max-exact`` hypotheses, MCMC otherwise. Reported: test accuracy (posterior vote), the MAP
   specification, its test accuracy, fit time, and when the target lies in the BSI template
   whether the MAP specification contains the target's clauses (recovery).
 * **Scarlet** (Raha et al., TACAS 2022; PyPI ``scarlet-ltl``, MIT) learns from the same training
   split in a worker process (per-file timeout); its formula is parsed
-  (:func:`parse_scarlet_formula`) and evaluated on the test split with
+  (:func:`external_scarlet.parse_scarlet_formula`) and evaluated on the test split with
   :mod:`bsi_sklearn.ltl` under Scarlet's own finite-trace semantics (strong next).
 
-Writes a per-file CSV and a Markdown report (``benchmarks/RESULTS_external.md``).
+Writes a per-file CSV and a Markdown report (``benchmarks/RESULTS_external.md``). This module
+holds the settings, the splits, the evaluation of a file and the run; the screening and fit of
+BSI are in ``external_bsi.py``, Scarlet's formulas and worker in ``external_scarlet.py``, the
+statistics and the report in ``external_report.py``.
 Scarlet is installed on demand into a private directory (``--scarlet-dir``) rather than the
 project's environment: its dependency ``lark`` 1.x would overwrite the ``lark`` module of
 ``lark-parser`` 0.12 that ``flloat`` (a test dependency of this project) needs.
@@ -30,11 +33,7 @@ project's environment: its dependency ``lark`` 1.x would overwrite the ``lark`` 
 from __future__ import annotations
 
 import argparse
-import json
-import os
-import select
 import shlex
-import subprocess
 import sys
 import tempfile
 import time
@@ -50,12 +49,18 @@ HERE = Path(__file__).resolve().parent
 if str(HERE) not in sys.path:
     sys.path.insert(0, str(HERE))
 
-from _common import machine_info, md_table  # noqa: E402
+from external_bsi import NEG, fit_bsi  # noqa: E402
+from external_report import summarize, write_report  # noqa: E402
+from external_scarlet import (  # noqa: E402
+    DEFAULT_SCARLET_DIR,
+    ScarletWorker,
+    ensure_scarlet,
+    evaluate_scarlet_formula,
+    parse_scarlet_formula,
+)
 
 from bsi_sklearn import BSIClassifier  # noqa: E402
 from bsi_sklearn.io import read_trace_file  # noqa: E402
-from bsi_sklearn.ltl import And, Atom, Next, Not, parse_ltl  # noqa: E402
-from bsi_sklearn.preprocessing import NegationAugmenter  # noqa: E402
 
 __all__ = [
     "Config",
@@ -63,26 +68,16 @@ __all__ = [
     "find_trace_files",
     "family_of",
     "split_indices",
-    "select_roles",
-    "fit_bsi",
-    "parse_scarlet_formula",
-    "scarlet_semantics",
-    "evaluate_scarlet_formula",
-    "ScarletWorker",
-    "ensure_scarlet",
+    "file_seed",
     "evaluate_file",
     "scarlet_columns",
+    "scarlet_subset",
+    "quick_files",
     "run_evaluation",
-    "summarize",
-    "write_report",
     "main",
 ]
 
 DEFAULT_DATA = HERE.parent / ".." / "shared" / "benchmarks-data"
-SCARLET_VERSION = "0.0.4"
-DEFAULT_SCARLET_DIR = Path.home() / ".cache" / "bsi-sklearn" / f"scarlet-ltl-{SCARLET_VERSION}"
-LAST = "__last__"  # proposition true at the last step: Scarlet's strong next needs it
-NEG = "!"  # NegationAugmenter's prefix, the one Formula.to_specification reads
 
 
 @dataclass
@@ -170,369 +165,6 @@ def split_indices(y, test_size=0.3, seed=0):
 def file_seed(rel_path, seed):
     """A seed per file, independent of the order and number of files evaluated."""
     return (zlib.crc32(str(rel_path).encode()) + 7919 * seed) % (2**31 - 1)
-
-
-# -- BSI ------------------------------------------------------------------------------------
-
-
-def _clause_stats(traces):
-    """Per trace: G(p), F(p) and the first step of p (``T`` when never), every column."""
-    always = np.array([t.all(axis=0) for t in traces])
-    ever = np.array([t.any(axis=0) for t in traces])
-    first = np.array([np.where(t.any(axis=0), t.argmax(axis=0), len(t)) for t in traces])
-    return always, ever, first
-
-
-def select_roles(traces, y, names, *, min_support=0.9, max_globals=6, max_subtasks=6):
-    """Screen the candidate clauses of BSI on the training data and cap their number.
-
-    With a negation for every proposition there are ``2 n`` global candidates and subtasks:
-    up to 14 of each on these files, about ``10**21`` hypotheses for Prior 2, most of them
-    contradictions (``G(p) & G(!p)``) that no positive satisfies. Clauses that training
-    positives violate cannot raise the posterior of a specification, so only propositions
-    whose clause holds on at least ``min_support`` of the training positives are kept (the
-    margin leaves room for label noise):
-
-    * global candidate ``p`` when ``G(p)`` holds on enough positives;
-    * subtask ``w`` when ``F(w)`` holds on enough positives.
-
-    Candidates are then ranked by how well their clauses separate the classes: for globals
-    the positive-minus-negative rate of ``G(p)``; for subtasks the best such gap among
-    ``F(w)`` and the orders ``(!b U a)`` involving ``w`` whose positive rate passes
-    ``min_support``. Only the ``max_globals`` and ``max_subtasks`` best are kept (ties: plain
-    propositions before negations, then name order).
-
-    Parameters
-    ----------
-    traces : list of ndarray of shape (T_i, n_names), dtype bool
-    y : ndarray of shape (n_traces,)
-        1 for positives, 0 for negatives.
-    names : list of str
-        Column names.
-    min_support, max_globals, max_subtasks : see above.
-
-    Returns
-    -------
-    globals, subtasks : list of str
-        In rank order.
-    screened : dict
-        Numbers of candidates that passed the screening (``"globals"``, ``"subtasks"``).
-
-    Examples
-    --------
-    >>> t = np.array([[1, 0], [1, 1]], dtype=bool)      # columns p, q
-    >>> u = np.array([[0, 0], [1, 0]], dtype=bool)
-    >>> select_roles([t, t, u], np.array([1, 1, 0]), ["p", "q"])
-    (['p'], ['q', 'p'], {'globals': 1, 'subtasks': 2})
-    """
-    y = np.asarray(y)
-    pos, neg = y == 1, y == 0
-    if not pos.any():
-        return [], [], {"globals": 0, "subtasks": 0}
-    always, ever, first = _clause_stats(traces)
-    lengths = np.array([len(t) for t in traces])
-
-    def rate(truth, mask):
-        return float(truth[mask].mean()) if mask.any() else 0.0
-
-    def tie(k):
-        return (names[k].startswith(NEG), names[k])
-
-    n = len(names)
-    g_ok = [k for k in range(n) if rate(always[:, k], pos) >= min_support]
-    g_gap = {k: rate(always[:, k], pos) - rate(always[:, k], neg) for k in g_ok}
-    s_ok = [k for k in range(n) if rate(ever[:, k], pos) >= min_support]
-    s_gap = {k: rate(ever[:, k], pos) - rate(ever[:, k], neg) for k in s_ok}
-    for a in s_ok:
-        for b in s_ok:
-            if a == b:
-                continue
-            # (!b U a): a happens, and no b strictly before the first a
-            order = (first[:, a] < lengths) & (first[:, a] <= first[:, b])
-            if rate(order, pos) >= min_support:
-                gap = rate(order, pos) - rate(order, neg)
-                s_gap[a] = max(s_gap[a], gap)
-                s_gap[b] = max(s_gap[b], gap)
-    globals_ = sorted(g_ok, key=lambda k: (-g_gap[k], *tie(k)))[:max_globals]
-    subtasks = sorted(s_ok, key=lambda k: (-s_gap[k], *tie(k)))[:max_subtasks]
-    return ([names[k] for k in globals_], [names[k] for k in subtasks],
-            {"globals": len(g_ok), "subtasks": len(s_ok)})
-
-
-def fit_bsi(X_train, y_train, cfg, random_state=0):
-    """Augment with negations, screen the roles, fit :class:`BSIClassifier`.
-
-    Parameters
-    ----------
-    X_train : list of DataFrame
-        Training traces with named boolean columns.
-    y_train : ndarray
-        1 / 0 labels.
-    cfg : Config
-    random_state : int
-        Seed of the MCMC chains (unused by exact inference).
-
-    Returns
-    -------
-    augmenter : NegationAugmenter
-    clf : BSIClassifier
-    info : dict
-        ``fit_s`` (wall seconds: augmentation, screening and fit), ``globals``, ``subtasks``
-        (the roles used), ``screened_*`` (candidates before the caps).
-    """
-    t0 = time.perf_counter()
-    augmenter = NegationAugmenter(prefix=NEG).fit(X_train)
-    Xa = augmenter.transform(X_train)
-    names = [str(n) for n in augmenter.get_feature_names_out()]
-    arrays = [np.asarray(x, dtype=bool) for x in Xa]
-    globals_, subtasks, screened = select_roles(
-        arrays, y_train, names, min_support=cfg.min_support,
-        max_globals=cfg.max_globals, max_subtasks=cfg.max_subtasks)
-    clf = BSIClassifier(prior=cfg.prior, likelihood=cfg.likelihood, global_candidates=globals_,
-                        subtasks=subtasks, inference="auto", max_exact_hypotheses=cfg.max_exact,
-                        n_samples=cfg.n_samples, n_chains=cfg.n_chains, n_jobs=1,
-                        random_state=random_state)
-    with warnings.catch_warnings():
-        # R-hat warnings are recorded per file (mcmc_rhat), not printed 400 times
-        warnings.simplefilter("ignore")
-        clf.fit(Xa, y_train)
-    info = {"fit_s": time.perf_counter() - t0, "globals": globals_, "subtasks": subtasks,
-            "screened_globals": screened["globals"], "screened_subtasks": screened["subtasks"]}
-    return augmenter, clf, info
-
-
-# -- Scarlet --------------------------------------------------------------------------------
-
-
-def _rename(formula, mapping):
-    """The formula with its atoms renamed through ``mapping`` (others kept)."""
-    if isinstance(formula, Atom):
-        return Atom(mapping.get(formula.name, formula.name))
-    children = [_rename(c, mapping) for c in formula.children]
-    return type(formula)(*children) if children else formula
-
-
-def scarlet_semantics(formula, last=LAST):
-    """Rewrite a formula read with Scarlet's semantics for :mod:`bsi_sklearn.ltl`.
-
-    Scarlet evaluates ``X phi`` at the last step of a finite trace as false (strong next, as
-    in LTLf); :mod:`bsi_sklearn.ltl` reads the repeated last state there. With a proposition
-    ``last`` true exactly at the last step, ``X phi`` becomes ``!last & X phi``, equal to
-    Scarlet's ``X phi`` at every step. ``F``, ``G``, ``U`` and the Boolean operators agree.
-
-    >>> print(scarlet_semantics(parse_ltl("F(X(a))")))
-    F(!__last__ & X(a))
-    """
-    if isinstance(formula, Next):
-        return And(Not(Atom(last)), Next(scarlet_semantics(formula.operand, last)))
-    if isinstance(formula, Atom) or not formula.children:
-        return formula
-    return type(formula)(*[scarlet_semantics(c, last) for c in formula.children])
-
-
-def parse_scarlet_formula(text, names=None):
-    """Parse a formula printed by Scarlet into a :class:`~bsi_sklearn.ltl.Formula`.
-
-    Scarlet prints formulas two ways: ``repr`` in prefix notation (``&(F(a),X(!(b)))``)
-    and ``prettyPrint`` in infix with a space after unary operators (``(F a) & (X (! b))``,
-    the form of its CSV output). Both are accepted. The result keeps Scarlet's atoms,
-    renamed through ``names`` (Scarlet atom -> proposition name) when given; evaluate it
-    with :func:`evaluate_scarlet_formula`, which applies Scarlet's strong next.
-
-    Parameters
-    ----------
-    text : str
-        The formula.
-    names : mapping, default=None
-        Scarlet atom -> proposition name.
-
-    Returns
-    -------
-    formula : Formula
-
-    Raises
-    ------
-    ValueError
-        When the text is not a formula, or names an atom missing from ``names``.
-
-    Examples
-    --------
-    >>> print(parse_scarlet_formula("((F v0) & (F v1)) & (X (! v2))",
-    ...                             names={"v0": "a", "v1": "b", "v2": "c"}))
-    F(a) & F(b) & X(!c)
-    >>> parse_scarlet_formula("F(&(a,F(b)))") == parse_ltl("F(a & F(b))")
-    True
-    """
-    if not isinstance(text, str) or not text.strip():
-        raise ValueError(f"empty Scarlet formula {text!r}")
-    formula = parse_ltl(text.strip())
-    if names is not None:
-        missing = sorted(formula.atoms - set(names))
-        if missing:
-            raise ValueError(f"Scarlet formula {text!r} names unknown atoms {missing}")
-        formula = _rename(formula, dict(names))
-    return formula
-
-
-def with_last(X):
-    """Traces with an extra boolean column :data:`LAST`, true at the last step only."""
-    out = []
-    for x in X:
-        x = pd.DataFrame(x).copy()
-        x[LAST] = np.arange(len(x)) == len(x) - 1
-        out.append(x)
-    return out
-
-
-def evaluate_scarlet_formula(formula, X):
-    """Truth of a Scarlet formula on traces (DataFrames), under Scarlet's finite semantics.
-
-    >>> trace = pd.DataFrame({"a": [False, True]})
-    >>> evaluate_scarlet_formula(parse_scarlet_formula("X a"), [trace]).tolist()
-    [True]
-    >>> evaluate_scarlet_formula(parse_scarlet_formula("X (X a)"), [trace]).tolist()
-    [False]
-    """
-    return scarlet_semantics(formula).evaluate(with_last(X))
-
-
-_WORKER = r"""
-import json, logging, sys, time
-try:  # die with the benchmark process (Linux), not after a long inference
-    import ctypes, signal
-    ctypes.CDLL("libc.so.6").prctl(1, signal.SIGKILL)
-except Exception:
-    pass
-logging.disable(logging.CRITICAL)
-from Scarlet.inferLTL import inferLTL
-from Scarlet.sample import Sample
-print(json.dumps({"ready": True}), flush=True)
-for line in sys.stdin:
-    req = json.loads(line)
-    sample = Sample(positive=[], negative=[])
-    sample.readFromFile(req["trace"])
-    t0 = time.perf_counter()
-    try:
-        f = inferLTL(sample, req["csv"], ["F", "G", "X", "&", "|", "!"], "SC", 0, False,
-                     False, req["thres"], {})
-        out = {"formula": None if f is None else repr(f)}
-    except Exception as exc:  # reported per file, the worker goes on
-        out = {"error": type(exc).__name__ + ": " + str(exc)[:200]}
-    out["seconds"] = time.perf_counter() - t0
-    print(json.dumps(out), flush=True)
-"""
-
-
-def ensure_scarlet(target_dir, install=True, verbose=1):
-    """Path of a directory from which ``import Scarlet`` works, installing it if needed.
-
-    ``pip install --target`` keeps Scarlet and its dependencies (``lark`` 1.x among them)
-    out of the project's environment; the worker process puts the directory first on its
-    ``PYTHONPATH``.
-    """
-    target_dir = Path(target_dir)
-    if (target_dir / "Scarlet" / "inferLTL.py").is_file():
-        return target_dir
-    if not install:
-        raise RuntimeError(f"Scarlet is not installed in {target_dir}")
-    cmd = [sys.executable, "-m", "pip", "install", "--quiet", "--disable-pip-version-check",
-           "--target", str(target_dir), f"scarlet-ltl=={SCARLET_VERSION}"]
-    if verbose:
-        print(f"Installing Scarlet (PyPI scarlet-ltl {SCARLET_VERSION}, MIT) into {target_dir}"
-              f" for this benchmark only:\n  {shlex.join(cmd)}", file=sys.stderr)
-    target_dir.parent.mkdir(parents=True, exist_ok=True)
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL if not verbose else None)
-    return target_dir
-
-
-class ScarletWorker:
-    """A long-lived process running Scarlet on one training sample at a time.
-
-    One process for the whole run saves Scarlet's import time (seconds) on every file; a
-    request that outlives ``timeout`` kills the process (restarted on the next request) and
-    keeps the best formula Scarlet had written to its CSV by then, if any.
-    """
-
-    def __init__(self, site_dir, timeout=60.0):
-        self.site_dir = str(site_dir)
-        self.timeout = float(timeout)
-        self.proc = None
-        self.tmp = tempfile.TemporaryDirectory(prefix="bsi-scarlet-")
-
-    def _start(self):
-        env = dict(os.environ)
-        env["PYTHONPATH"] = self.site_dir + os.pathsep + env.get("PYTHONPATH", "")
-        self.proc = subprocess.Popen(
-            [sys.executable, "-u", "-c", _WORKER], stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True, env=env,
-            cwd=self.tmp.name)
-        reply = self._read(120.0)
-        if reply is None or not reply.get("ready"):
-            self.close()
-            raise RuntimeError("the Scarlet worker did not start (is scarlet-ltl installed?)")
-
-    def _read(self, timeout):
-        ready, _, _ = select.select([self.proc.stdout], [], [], timeout)
-        if not ready:
-            return None
-        line = self.proc.stdout.readline()
-        return json.loads(line) if line else {"error": "worker exited"}
-
-    def close(self):
-        """Stop the worker process."""
-        if self.proc is not None:
-            self.proc.kill()
-            self.proc.wait()
-            self.proc = None
-
-    def learn(self, positives, negatives, n_props, thres=0.0):
-        """Run Scarlet on boolean traces; returns a dict.
-
-        ``thres`` is Scarlet's bound on the fraction of misclassified training traces
-        (0: the formula must separate them all).
-
-        Keys: ``status`` (``ok``, ``timeout``, ``none`` when Scarlet found no formula,
-        ``error``), ``formula`` (text over the atoms ``v0, v1, ...`` naming the columns,
-        or None), ``seconds`` (Scarlet's own time, or wall time up to the timeout).
-        """
-        if self.proc is None or self.proc.poll() is not None:
-            self._start()
-        sample = Path(self.tmp.name) / "train.trace"
-        csv = Path(self.tmp.name) / "progress.csv"
-        csv.unlink(missing_ok=True)
-
-        def line(t):
-            return ";".join(",".join("1" if v else "0" for v in row) for row in t)
-
-        # Scarlet reads the alphabet line with its newline: the file must not end with one.
-        text = "\n".join([*map(line, positives), "---", *map(line, negatives), "---",
-                          "F,G,X,!,&,|", "---", ",".join(f"v{i}" for i in range(n_props))])
-        sample.write_text(text)
-        t0 = time.perf_counter()
-        self.proc.stdin.write(json.dumps(
-            {"trace": str(sample), "csv": str(csv), "thres": float(thres)}) + "\n")
-        self.proc.stdin.flush()
-        reply = self._read(self.timeout)
-        if reply is None:
-            self.close()
-            return {"status": "timeout", "formula": _last_csv_formula(csv),
-                    "seconds": time.perf_counter() - t0}
-        if "error" in reply:
-            self.close()
-            return {"status": "error", "formula": None, "seconds": reply.get("seconds"),
-                    "error": reply["error"]}
-        status = "ok" if reply["formula"] is not None else "none"
-        return {"status": status, "formula": reply["formula"], "seconds": reply["seconds"]}
-
-
-def _last_csv_formula(csv):
-    """The last formula Scarlet wrote to its progress CSV (prettyPrint), or None."""
-    try:
-        rows = pd.read_csv(csv)
-    except (OSError, ValueError, pd.errors.EmptyDataError):
-        return None
-    rows = rows.dropna(subset=["Formula"])
-    return None if rows.empty else str(rows["Formula"].iloc[-1])
 
 
 # -- one file -------------------------------------------------------------------------------
@@ -707,250 +339,6 @@ def scarlet_columns(path, data_dir, cfg, worker):
     return out
 
 
-# -- report ---------------------------------------------------------------------------------
-
-
-def _mean(s):
-    s = pd.to_numeric(s, errors="coerce").dropna()
-    return float(s.mean()) if len(s) else float("nan")
-
-
-def _median(s):
-    s = pd.to_numeric(s, errors="coerce").dropna()
-    return float(s.median()) if len(s) else float("nan")
-
-
-def _group_stats(g, min_support):
-    ran = g[g["scarlet_status"] != "skipped"]
-    rec = g[g["in_template"]]
-    ident = rec[rec["target_train_pos_rate"] >= min_support]
-    scored = ran[ran["scarlet_accuracy"].notna()]
-    return {
-        "files": len(g),
-        "bsi_accuracy": _mean(g["bsi_accuracy"]),
-        "bsi_map_accuracy": _mean(g["bsi_map_accuracy"]),
-        "target_accuracy": _mean(g["target_test_accuracy"]),
-        "in_template": len(rec),
-        "recovered": int(rec["recovered"].astype(bool).sum()) if len(rec) else 0,
-        "recovery_rate": float(rec["recovered"].astype(bool).mean()) if len(rec) else float(
-            "nan"),
-        "identifiable": len(ident),
-        "recovered_identifiable": int(ident["recovered"].astype(bool).sum()),
-        "recovered_exactly": int(rec["recovered_exactly"].astype(bool).sum()) if len(rec) else 0,
-        "bsi_fit_s_median": _median(g["bsi_fit_s"]),
-        "scarlet_files": len(ran),
-        "scarlet_timeouts": int((ran["scarlet_status"] == "timeout").sum()),
-        "scarlet_failed": int(ran["scarlet_status"].isin(["error", "none"]).sum()),
-        "scarlet_scored": len(scored),
-        "scarlet_timeouts_scored": int((scored["scarlet_status"] == "timeout").sum()),
-        # both learners on the files where Scarlet returned a formula
-        "bsi_accuracy_on_scarlet_files": _mean(scored["bsi_accuracy"]),
-        "scarlet_accuracy": _mean(scored["scarlet_accuracy"]),
-        "scarlet_s_median": _median(ran["scarlet_s"]),
-    }
-
-
-def summarize(df, min_support=Config.min_support):
-    """Per-family and overall statistics (a DataFrame indexed by family, ``ALL`` last).
-
-    ``identifiable``: in-template files whose target holds on at least ``min_support`` of
-    the training positives (under label noise it may hold on few of them).
-    """
-    rows = {fam: _group_stats(g, min_support) for fam, g in df.groupby("family", sort=True)}
-    rows["ALL"] = _group_stats(df, min_support)
-    return pd.DataFrame.from_dict(rows, orient="index")
-
-
-def _f(x, digits=3):
-    if x is None or (isinstance(x, float) and not np.isfinite(x)):
-        return "-"
-    return f"{x:.{digits}f}"
-
-
-def write_report(df, summary, out, cfg, command, seconds, csv_path):
-    """Write the Markdown report."""
-    info = machine_info()
-    lines = [
-        "# External benchmarks: BSI vs Scarlet on samples2LTL / Scarlet traces",
-        "",
-        f"Generated by `{command}` on {info['date']} in {seconds / 60:.1f} min "
-        f"(commit {info.get('commit', '?')}). Machine: {info['cpu']}, "
-        f"{info['usable_cores']} usable cores, {info.get('memory_gib', '?')} GiB, "
-        f"load average {info.get('load_average', '?')} at the end (the machine is shared: "
-        "timings are noisy); Python {python}, numpy {numpy}, numba {numba}, scikit-learn "
-        "{sk}. Per-file results: `{csv}`.".format(
-            python=info["python"], numpy=info["numpy"], numba=info["numba"],
-            sk=info["scikit-learn"], csv=csv_path),
-        "",
-        "Data: `../shared/benchmarks-data` (read-only; MIT, see its README): samples2LTL "
-        "finite-trace benchmarks (Dwyer patterns, noise-free `perfect_class` and 5 % label "
-        "noise `5pc_misclass`) and Scarlet's RQ2 `Varying_form` benchmarks.",
-        "",
-        "## Protocol",
-        "",
-        f"* Split: per file, stratified {1 - cfg.test_size:.0%} train / {cfg.test_size:.0%} "
-        f"test, seeded by the file's path (seed {cfg.seed}); a class with fewer than two "
-        "traces stays in training, so some test sets hold one class only.",
-        "* BSI: `NegationAugmenter` adds `!p` for every proposition; every proposition and "
-        "negation is a candidate global and subtask, screened on the training positives: "
-        f"`G(p)` (resp. `F(w)`) must hold on >= {cfg.min_support:.0%} of them, then the "
-        f"{cfg.max_globals} globals and {cfg.max_subtasks} subtasks that best separate the "
-        "classes are kept (`select_roles`; without this the support reaches 10^21 "
-        "hypotheses, and MCMC from prior draws sits on contradictions `G(p) & G(!p)`). "
-        f"`BSIClassifier(prior={cfg.prior!r}, likelihood={cfg.likelihood!r})`, epsilon by "
-        f"the paper's rule; exact inference up to {cfg.max_exact:,} hypotheses, else MCMC "
-        f"({cfg.n_chains} chains x {cfg.n_samples:,} samples). Accuracy is the posterior "
-        "vote (`predict`); the MAP specification's own accuracy is beside it. Fit time "
-        "includes augmentation and screening.",
-        "* Recovery (targets in the BSI template: `G(p)`, `G(!p)`, `F(p)`, conjunctions of "
-        "`F`): the MAP specification contains every clause of the target "
-        "(`Formula.to_specification`); `exact` counts MAP == target.",
-        "* Scarlet: `scarlet-ltl` " + SCARLET_VERSION + " (operators F, G, X, &, |, !; "
-        f"loss threshold {cfg.scarlet_thres} on noise-free files and "
-        f"{cfg.scarlet_noisy_thres} on the `5pc_misclass` ones, Scarlet's option for noisy "
-        "samples: with 0 it must separate mislabelled traces too and mostly times out) on "
-        "the same training split, "
-        f"{cfg.scarlet_timeout:.0f} s per file; on timeout the best formula it had written "
-        "so far is scored. Its formula is evaluated by `bsi_sklearn.ltl` with Scarlet's "
-        "strong next (`X` false at the last step).",
-    ]
-    if cfg.scarlet and cfg.scarlet_every > 1:
-        lines.append(f"* Scarlet ran on every {cfg.scarlet_every}-th file of each folder "
-                     "(the first included) to keep the run short; its columns compare both "
-                     "learners on those files only.")
-    if not cfg.scarlet:
-        lines.append("* Scarlet: not run (`--no-scarlet`).")
-    if cfg.quick:
-        lines.append("* `--quick`: two files per folder; not the full evaluation.")
-    a = summary.loc["ALL"]
-    lines += [
-        "",
-        "## Overall",
-        "",
-        f"* {int(a['files'])} files; BSI mean test accuracy **{_f(a['bsi_accuracy'])}** "
-        f"(MAP specification {_f(a['bsi_map_accuracy'])}; the target itself "
-        f"{_f(a['target_accuracy'])}), median fit {_f(a['bsi_fit_s_median'], 2)} s.",
-        f"* In-template targets: {int(a['in_template'])} files, recovered "
-        f"{int(a['recovered'])} (**{_f(a['recovery_rate'])}**), the MAP equal to the target "
-        f"in {int(a['recovered_exactly'])}. Where the target holds on >= "
-        f"{cfg.min_support:.0%} of the training positives ({int(a['identifiable'])} files; "
-        "label noise leaves fewer in some small noisy files): recovered "
-        f"{int(a['recovered_identifiable'])}.",
-    ]
-    if cfg.scarlet:
-        lines.append(
-            f"* Scarlet ran on {int(a['scarlet_files'])} files and gave a formula on "
-            f"{int(a['scarlet_scored'])} ({int(a['scarlet_timeouts'])} timeouts at "
-            f"{cfg.scarlet_timeout:.0f} s, {int(a['scarlet_timeouts_scored'])} of them with a "
-            f"formula found by then; {int(a['scarlet_failed'])} errors or no formula). On those "
-            f"{int(a['scarlet_scored'])} files: Scarlet mean test accuracy "
-            f"**{_f(a['scarlet_accuracy'])}**, BSI **{_f(a['bsi_accuracy_on_scarlet_files'])}**"
-            f". Median time: Scarlet {_f(a['scarlet_s_median'], 2)} s, BSI "
-            f"{_f(a['bsi_fit_s_median'], 2)} s. Files where Scarlet gave no formula count for "
-            "neither learner in this comparison.")
-    header = ["family", "files", "BSI acc", "MAP acc", "target acc", "in template",
-              "recovered", "recovered / identifiable", "BSI fit (median s)"]
-    if cfg.scarlet:
-        header += ["Scarlet files", "timeouts", "with formula", "BSI acc (same files)",
-                   "Scarlet acc", "Scarlet s (median)"]
-    table = []
-    for fam, s in summary.iterrows():
-        r = [f"**{fam}**" if fam == "ALL" else fam, int(s["files"]), _f(s["bsi_accuracy"]),
-             _f(s["bsi_map_accuracy"]), _f(s["target_accuracy"]), int(s["in_template"]),
-             f"{int(s['recovered'])} ({_f(s['recovery_rate'], 2)})" if s["in_template"]
-             else "-",
-             f"{int(s['recovered_identifiable'])}/{int(s['identifiable'])}" if s["in_template"]
-             else "-", _f(s["bsi_fit_s_median"], 2)]
-        if cfg.scarlet:
-            r += [int(s["scarlet_files"]), int(s["scarlet_timeouts"]), int(s["scarlet_scored"]),
-                  _f(s["bsi_accuracy_on_scarlet_files"]), _f(s["scarlet_accuracy"]),
-                  _f(s["scarlet_s_median"], 2)]
-        table.append(r)
-    lines += ["", "## Per family", "", md_table(header, table)]
-    figure = _figure(summary, cfg, Path(out))
-    if figure:
-        lines += ["", f"![test accuracy per family]({figure})"]
-    # per target formula: what BSI finds for each pattern
-    lines += ["", "## Per target formula", "",
-              "The MAP specification shown is the most frequent one among the files of that "
-              "target (with its count).", ""]
-    header = ["target", "in template", "files", "BSI acc", "recovered", "most frequent MAP"]
-    if cfg.scarlet:
-        header += ["Scarlet acc", "most frequent Scarlet formula"]
-    table = []
-    for tgt, g in df.groupby("target", sort=False):
-        maps = g["bsi_map"].value_counts()
-        rec = g["recovered"].dropna().astype(bool)
-        r = [f"`{tgt}`", "yes" if g["in_template"].iloc[0] else "no", len(g),
-             _f(_mean(g["bsi_accuracy"])),
-             f"{int(rec.sum())}/{len(rec)}" if len(rec) else "-",
-             f"`{maps.index[0]}` ({maps.iloc[0]})"]
-        if cfg.scarlet:
-            sf = g["scarlet_formula"].dropna().value_counts()
-            r += [_f(_mean(g["scarlet_accuracy"])),
-                  f"`{sf.index[0]}` ({sf.iloc[0]})" if len(sf) else "-"]
-        table.append(r)
-    lines += [md_table(header, table)]
-    lines += ["", "## Notes", ""] + [f"* {n}" for n in _notes(df, cfg)]
-    Path(out).write_text("\n".join(lines) + "\n")
-
-
-def _figure(summary, cfg, out):
-    """Bar chart of test accuracy per family; returns its path relative to ``out``."""
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        return None
-    fams = [f for f in summary.index if f != "ALL"] + ["ALL"]
-    labels = [f.replace("samples2LTL/", "").replace("_misclass", "").replace(
-        "perfect_class", "perfect").replace("disjunctionOfExistence", "disj.") for f in fams]
-    bars = [("BSI, all files", "bsi_accuracy"), ("target formula", "target_accuracy")]
-    if cfg.scarlet:
-        bars += [("BSI, Scarlet's files", "bsi_accuracy_on_scarlet_files"),
-                 ("Scarlet", "scarlet_accuracy")]
-    fig, ax = plt.subplots(figsize=(10, 4))
-    width = 0.8 / len(bars)
-    x = np.arange(len(fams))
-    for k, (label, col) in enumerate(bars):
-        ax.bar(x + (k - (len(bars) - 1) / 2) * width,
-               summary.loc[fams, col].astype(float).fillna(0), width, label=label)
-    ax.set_xticks(x, labels, rotation=30, ha="right", fontsize=8)
-    ax.set_ylim(0, 1.05)
-    ax.set_ylabel("mean test accuracy")
-    ax.legend(fontsize=8, ncol=len(bars), loc="lower center", bbox_to_anchor=(0.5, 1.0),
-              frameon=False)
-    fig.tight_layout()
-    folder = out.parent / "figures"
-    folder.mkdir(parents=True, exist_ok=True)
-    stem = "accuracy" if out.stem == "RESULTS_external" else out.stem
-    name = f"external_{stem}.png"
-    fig.savefig(folder / name, dpi=110)
-    plt.close(fig)
-    return f"figures/{name}"
-
-
-def _notes(df, cfg):
-    notes = []
-    one_class = int(((df["n_test_pos"] == 0) | (df["n_test_neg"] == 0)).sum())
-    notes.append(f"{one_class} files have a one-class test split (a class with one trace "
-                 "only, kept for training).")
-    inf = df["bsi_inference"].value_counts().to_dict()
-    notes.append(f"BSI inference: {inf}; largest support {int(df['bsi_hypotheses'].max()):,} "
-                 f"hypotheses; slowest fit {df['bsi_fit_s'].max():.2f} s "
-                 f"({df.loc[df['bsi_fit_s'].idxmax(), 'file']}).")
-    capped = int(((df["bsi_screened_subtasks"] > cfg.max_subtasks)
-                  | (df["bsi_screened_globals"] > cfg.max_globals)).sum())
-    notes.append(f"{capped} files had more screened candidates than the caps "
-                 f"({cfg.max_globals} globals, {cfg.max_subtasks} subtasks).")
-    if "mcmc_rhat" in df and df["mcmc_rhat"].notna().any():
-        bad = int((df["mcmc_rhat"] > 1.05).sum())
-        notes.append(f"MCMC fits with split-R-hat > 1.05: {bad}.")
-    return notes
-
-
 def main(argv=None):
     """Command-line entry point."""
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
@@ -1003,6 +391,7 @@ def main(argv=None):
     df = run_evaluation(files, args.data, cfg, scarlet_subset(files, cfg.scarlet_every))
     summary = summarize(df, cfg.min_support)
     csv_path = Path(args.out).with_suffix(".csv")
+    csv_path.parent.mkdir(parents=True, exist_ok=True)
     df.to_csv(csv_path, index=False)
     command = "python benchmarks/external.py " + shlex.join(sys.argv[1:] if argv is None
                                                            else list(argv))

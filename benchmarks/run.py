@@ -4,7 +4,10 @@
     python benchmarks/run.py --quick         # every size shrunk: about a minute
     python benchmarks/run.py --quick --only exact,predict --out /tmp/bench
     python benchmarks/run.py --only scaling,reference
-    bsi bench [--quick] [--only NAME]        # the same, from the command line
+    python benchmarks/run.py --list          # the benchmarks by name
+
+The benchmarks ship with the repository, not with the installed package: this script is their
+only entry point, and the package never loads anything from this folder.
 
 Every benchmark is a module ``bench_<name>.py`` next to this file with a ``run(cfg)`` function
 returning a ``Section`` (Markdown, raw numbers, and the targets it checks). Timings are medians
@@ -27,8 +30,6 @@ if str(HERE) not in sys.path:
 
 from _common import Config, Section, fmt_s, machine_info, md_table  # noqa: E402
 
-from bsi_sklearn._cli_bench import add_arguments  # noqa: E402
-
 #: name -> (module, one-line description), in the order of RESULTS.md. Modules that are not
 #: there (``bench_lfe`` and ``bench_reference`` are written separately) are skipped with a note.
 BENCHMARKS = {
@@ -49,12 +50,56 @@ BENCHMARKS = {
 }
 
 
+def add_arguments(parser):
+    """Options of the benchmark suite.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The parser to extend.
+
+    Returns
+    -------
+    parser : argparse.ArgumentParser
+
+    Examples
+    --------
+    >>> p = add_arguments(argparse.ArgumentParser())
+    >>> args = p.parse_args(["--quick", "--only", "exact,predict"])
+    >>> args.quick, args.only, args.out
+    (True, 'exact,predict', None)
+    """
+    parser.add_argument("--quick", action="store_true",
+                        help="shrink every size (about a minute; used by the tests); the "
+                             "numbers are not the recorded ones")
+    parser.add_argument("--only", default=None, metavar="NAME[,NAME...]",
+                        help="run only these benchmarks (comma-separated; see --list)")
+    parser.add_argument("--repeats", type=int, default=None,
+                        help="timed calls per measurement, the median is reported "
+                             "(default 7, --quick 2)")
+    parser.add_argument("--out", default=None, metavar="DIR",
+                        help="folder for RESULTS.md, results.json and figures/ "
+                             "(default: the benchmarks/ folder itself)")
+    parser.add_argument("--no-install", action="store_true",
+                        help="never run `npm install` for the webppl reference "
+                             "(implied by --quick)")
+    parser.add_argument("--list", action="store_true", help="list the benchmarks and exit")
+    parser.add_argument("--note", default=None, metavar="TEXT",
+                        help="a paragraph for the header of RESULTS.md (e.g. the conditions "
+                             "of the run)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    return parser
+
+
+def build_parser():
+    """The argument parser of ``python benchmarks/run.py``."""
+    return add_arguments(argparse.ArgumentParser(
+        prog="benchmarks/run.py", description="Run the bsi-sklearn benchmark suite."))
+
+
 def parse_args(argv=None):
-    """Parse the suite's options (the same as ``bsi bench``)."""
-    parser = argparse.ArgumentParser(
-        prog="benchmarks/run.py", description="Run the bsi-sklearn benchmark suite.")
-    add_arguments(parser)
-    return parser.parse_args(argv)
+    """Parse the suite's options."""
+    return build_parser().parse_args(argv)
 
 
 def select(only):
@@ -224,8 +269,18 @@ def run_suite(args, prog="python benchmarks/run.py"):
 
 
 def main(argv=None):
-    """Entry point of ``python benchmarks/run.py``; returns the exit status."""
-    return run_suite(parse_args(argv))
+    """Entry point of ``python benchmarks/run.py``; returns the exit status.
+
+    A bad option value (an unknown benchmark name, ``--repeats 0``) prints
+    ``benchmarks/run.py: error: ...`` on stderr and gives status 2, as argparse does.
+    """
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return run_suite(args)
+    except ValueError as exc:
+        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

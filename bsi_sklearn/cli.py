@@ -1,4 +1,4 @@
-"""The ``bsi`` command line: ``fit``, ``reproduce`` and ``bench`` subcommands.
+"""The ``bsi`` command line: ``fit`` and ``reproduce`` subcommands.
 
 Each subcommand lives in its own module exposing ``add_arguments(parser)`` and ``run(args)``;
 this file only wires them, importing a module when its subcommand runs.
@@ -6,8 +6,8 @@ this file only wires them, importing a module when its subcommand runs.
 
 import sys
 
-from bsi_sklearn._cli_common import build_parser as build_parser_from
-from bsi_sklearn._cli_common import run_command
+from bsi_sklearn.cli_support import build_parser as build_parser_from
+from bsi_sklearn.cli_support import run_command
 
 __all__ = ["main"]
 
@@ -16,7 +16,6 @@ SUBCOMMANDS = {
     "fit": ("bsi_sklearn._cli_fit", "fit BSI on trace files and print the posterior"),
     "reproduce": ("bsi_sklearn.experiments.reproduce",
                   "reproduce the paper's synthetic-domain or dinner-table experiments"),
-    "bench": ("bsi_sklearn._cli_bench", "run the benchmark suite in benchmarks/"),
 }
 
 

@@ -6,8 +6,8 @@ this file only wires them, importing a module when the parser is built.
 
 import sys
 
-from bsi_sklearn._cli_common import build_parser as build_parser_from
-from bsi_sklearn._cli_common import run_command
+from bsi_sklearn.cli_support import build_parser as build_parser_from
+from bsi_sklearn.cli_support import run_command
 
 __all__ = ["main"]
 

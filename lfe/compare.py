@@ -456,6 +456,11 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
         The tables (``f1``, ``table``, ``map_f1``, ``times``, ``f1_folds``), the
         out-of-fold predictions and the folds; ``save(out)`` writes the files.
 
+    Raises
+    ------
+    ModuleNotFoundError
+        When torch (the ``bsi-sklearn[baselines]`` extra) is not installed, before any fit.
+
     Examples
     --------
     >>> from lfe import make_lfe_dataset
@@ -487,6 +492,7 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
             f"n_splits={n_splits} is more than the {len(dataset)} scenarios of the dataset"
         )
 
+    baselines.require_torch()  # the networks need torch: say so before the BSI fits, not after
     objectives = list(MISSION_OBJECTIVES)
     labels = dataset.labels[objectives]
     extractor = LFEPropositionExtractor().fit(dataset.scenarios)

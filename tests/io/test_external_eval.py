@@ -1,6 +1,7 @@
-"""benchmarks/external.py: the external-benchmark evaluation and the Scarlet formula parser."""
+"""The external-benchmark evaluation (benchmarks/external.py), its BSI screening
+(external_bsi.py), Scarlet formula parser (external_scarlet.py) and statistics
+(external_report.py)."""
 
-import importlib.util
 import itertools
 import sys
 from pathlib import Path
@@ -9,26 +10,22 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from bsi_sklearn.ltl import parse_ltl
+from bsi_sklearn.ltl import Atom, parse_ltl
 
 ROOT = Path(__file__).parents[2]
 DATA = ROOT / ".." / "shared" / "benchmarks-data"
 SAMPLES = DATA / "samples2LTL" / "traces" / "finite"
 SCARLET = DATA / "scarlet" / "All_benchmarks" / "RQ2-benchmarks" / "Varying_form" / "TracesFiles"
+BENCH = ROOT / "benchmarks"
+if str(BENCH) not in sys.path:
+    sys.path.insert(0, str(BENCH))
+
+import external as E  # noqa: E402
+import external_bsi as B  # noqa: E402
+import external_report as R  # noqa: E402
+import external_scarlet as S  # noqa: E402
 
 needs_data = pytest.mark.skipif(not DATA.is_dir(), reason="../shared/benchmarks-data is absent")
-
-
-def _load():
-    spec = importlib.util.spec_from_file_location("bsi_external_benchmark",
-                                                  ROOT / "benchmarks" / "external.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # dataclasses look their module up there
-    spec.loader.exec_module(module)
-    return module
-
-
-E = _load()
 
 
 # -- Scarlet's formulas -------------------------------------------------------------------
@@ -36,31 +33,31 @@ E = _load()
 
 def test_parser_reads_both_scarlet_notations():
     names = {"v0": "a", "v1": "b", "v2": "c"}
-    pretty = E.parse_scarlet_formula("((F v0) & (F v1)) & (X (! v2))", names=names)
-    prefix = E.parse_scarlet_formula("&(&(F(v0),F(v1)),X(!(v2)))", names=names)
+    pretty = S.parse_scarlet_formula("((F v0) & (F v1)) & (X (! v2))", names=names)
+    prefix = S.parse_scarlet_formula("&(&(F(v0),F(v1)),X(!(v2)))", names=names)
     assert pretty == prefix == parse_ltl("F(a) & F(b) & X(!c)")
     # the shapes Scarlet's directed formulas take: F/X chains, G over disjunctions
-    assert E.parse_scarlet_formula("F (v0 & (X (F v1)))", names) == parse_ltl("F(a & X(F(b)))")
-    assert E.parse_scarlet_formula("X (G ((! v0) | v2))", names) == parse_ltl("X(G(!a | c))")
-    assert E.parse_scarlet_formula("v1") == parse_ltl("v1")
-    assert E.parse_scarlet_formula("true") == parse_ltl("true")
+    assert S.parse_scarlet_formula("F (v0 & (X (F v1)))", names) == parse_ltl("F(a & X(F(b)))")
+    assert S.parse_scarlet_formula("X (G ((! v0) | v2))", names) == parse_ltl("X(G(!a | c))")
+    assert S.parse_scarlet_formula("v1") == parse_ltl("v1")
+    assert S.parse_scarlet_formula("true") == parse_ltl("true")
 
 
 @pytest.mark.parametrize("text", ["", "   ", "F (", "v0 &", "&(v0)"])
 def test_parser_rejects_malformed_text(text):
     with pytest.raises(ValueError):
-        E.parse_scarlet_formula(text)
+        S.parse_scarlet_formula(text)
 
 
 def test_parser_rejects_unknown_atoms():
     with pytest.raises(ValueError, match="unknown atoms"):
-        E.parse_scarlet_formula("F (v0 & v7)", names={"v0": "a"})
+        S.parse_scarlet_formula("F (v0 & v7)", names={"v0": "a"})
 
 
 def _scarlet_truth(f, trace, i):
     """Scarlet's finite-trace semantics (Scarlet.sample.Trace.truthValue), written out."""
     n = len(trace)
-    if isinstance(f, E.Atom):
+    if isinstance(f, Atom):
         return bool(trace[f.name][i])
     kind = type(f).__name__
     if kind == "Constant":
@@ -82,7 +79,7 @@ def _scarlet_truth(f, trace, i):
 
 def _random_formula(rng, depth):
     if depth == 0 or rng.random() < 0.25:
-        return E.Atom(str(rng.choice(["a", "b"])))
+        return Atom(str(rng.choice(["a", "b"])))
     op = rng.choice(["!", "X", "F", "G", "&", "|"])
     if op in ("&", "|"):
         left, right = _random_formula(rng, depth - 1), _random_formula(rng, depth - 1)
@@ -97,7 +94,7 @@ def test_strong_next_matches_scarlets_semantics():
     differs = 0
     for _ in range(150):
         f = _random_formula(rng, 4)
-        ours = E.evaluate_scarlet_formula(f, traces)
+        ours = S.evaluate_scarlet_formula(f, traces)
         theirs = [_scarlet_truth(f, t, 0) for t in traces]
         np.testing.assert_array_equal(ours, theirs, err_msg=str(f))
         differs += not np.array_equal(f.evaluate(traces), theirs)
@@ -106,10 +103,10 @@ def test_strong_next_matches_scarlets_semantics():
 
 def test_strong_next_on_a_short_trace():
     trace = pd.DataFrame({"a": [True]})
-    f = E.parse_scarlet_formula("X a")
+    f = S.parse_scarlet_formula("X a")
     assert f.evaluate([trace]).tolist() == [True]  # bsi_sklearn.ltl: repeated last state
-    assert E.evaluate_scarlet_formula(f, [trace]).tolist() == [False]  # Scarlet: strong next
-    assert E.evaluate_scarlet_formula(E.parse_scarlet_formula("G (X a)"), [trace]).tolist() == [
+    assert S.evaluate_scarlet_formula(f, [trace]).tolist() == [False]  # Scarlet: strong next
+    assert S.evaluate_scarlet_formula(S.parse_scarlet_formula("G (X a)"), [trace]).tolist() == [
         False]
 
 
@@ -117,10 +114,10 @@ def test_last_formula_of_scarlets_progress_csv(tmp_path):
     csv = tmp_path / "progress.csv"
     csv.write_text("Time Elapsed,Formula Size,Formula,is Terminated?\n"
                    "0.1,2,F v0,\n1.5,4,(F v0) & (G v1),\n")
-    assert E._last_csv_formula(csv) == "(F v0) & (G v1)"
+    assert S._last_csv_formula(csv) == "(F v0) & (G v1)"
     csv.write_text("Time Elapsed,Formula Size,Formula,is Terminated?\n")
-    assert E._last_csv_formula(csv) is None
-    assert E._last_csv_formula(tmp_path / "missing.csv") is None
+    assert S._last_csv_formula(csv) is None
+    assert S._last_csv_formula(tmp_path / "missing.csv") is None
 
 
 # -- splits and role screening ------------------------------------------------------------
@@ -149,7 +146,7 @@ def test_select_roles_screens_on_positives_and_caps():
             t[rng.integers(6), 2] = True
         traces.append(np.hstack([t, ~t]))
         y.append(1 - i % 2)
-    g, s, screened = E.select_roles(traces, np.array(y), names, max_subtasks=2)
+    g, s, screened = B.select_roles(traces, np.array(y), names, max_subtasks=2)
     assert g == ["!q"]  # G(!q) on every positive; no other G(.) on 90 % of them
     assert len(s) == 2 and screened["subtasks"] >= 2
     assert set(s) <= {"p", "r", "!p", "!q", "!r"} and "q" not in s
@@ -181,7 +178,7 @@ def test_evaluation_on_a_handful_of_files():
     assert "G(x0)" in df["bsi_map"].iloc[0] and "G(!x0)" in df["bsi_map"].iloc[1]
     assert df["bsi_accuracy"].iloc[[3, 4]].min() >= 0.9
     assert df["family"].tolist()[-1] == "scarlet/Varying_form"
-    summary = E.summarize(df)
+    summary = R.summarize(df)
     assert summary.loc["ALL", "files"] == 5 and summary.loc["ALL", "recovery_rate"] == 1.0
     # the same split and seeds give the same numbers
     again = E.evaluate_file(files[3], DATA, cfg)

@@ -1,7 +1,8 @@
-"""Shared plumbing of the ``bsi`` and ``bsi-lfe`` command lines.
+"""Shared plumbing of the ``bsi`` and ``bsi-lfe`` command lines: parser wiring and exit status.
 
 Each subcommand lives in its own module exposing ``add_arguments(parser)`` and ``run(args)``;
-a command line is a table ``name -> (module, help)`` wired by :func:`build_parser`.
+a command line is a table ``name -> (module, help)`` wired by :func:`build_parser` and run by
+:func:`run_command`. ``lfe.cli`` builds ``bsi-lfe`` from the same two functions.
 """
 
 import argparse
@@ -16,6 +17,30 @@ def build_parser(prog, description, subcommands):
 
     A subcommand whose module is absent (an optional part not installed) is left out; an
     import error inside a present module propagates.
+
+    Parameters
+    ----------
+    prog : str
+        Name of the command (``bsi``, ``bsi-lfe``).
+    description : str
+        One-line description shown by ``--help``.
+    subcommands : dict
+        ``name -> (module_name, help)``; the module exposes ``add_arguments(parser)`` and
+        ``run(args)``.
+
+    Returns
+    -------
+    parser : argparse.ArgumentParser
+        The parser; each subparser sets ``args._run`` to its module's ``run``.
+
+    Examples
+    --------
+    >>> parser = build_parser("bsi", "demo", {"fit": ("bsi_sklearn._cli_fit", "fit files"),
+    ...                                       "gone": ("no_such_module_xyz", "left out")})
+    >>> parser.parse_args(["fit", "a.trace"]).files
+    ['a.trace']
+    >>> "{fit}" in parser.format_usage()
+    True
     """
     parser = argparse.ArgumentParser(prog=prog, description=description)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -37,6 +62,18 @@ def run_command(parser, argv=None):
 
     A ``ValueError`` or ``FileNotFoundError`` (bad input) prints ``prog command: error: ...``
     on stderr and gives status 2, as argparse does for bad arguments.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        A parser made by :func:`build_parser`.
+    argv : list of str, default=None
+        The arguments; ``None`` reads ``sys.argv[1:]``.
+
+    Returns
+    -------
+    status : int
+        The subcommand's exit status (0 when it returns ``None``), 2 on bad input.
     """
     args = parser.parse_args(argv)
     try:
