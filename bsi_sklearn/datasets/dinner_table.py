@@ -6,7 +6,7 @@ The scene's constants live in ``_dinner_scene``, the simulated wrist motion in
 
 from __future__ import annotations
 
-import numbers
+from numbers import Integral, Real
 
 import numpy as np
 import pandas as pd
@@ -25,6 +25,7 @@ from bsi_sklearn.datasets._dinner_scene import (
     TABLE_HEIGHT,
 )
 from bsi_sklearn.datasets.tsr import TaskSpaceRegion, make_pose
+from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.specification import Specification
 
 __all__ = [
@@ -36,6 +37,15 @@ __all__ = [
     "MEALS",
     "PARTICIPANTS",
 ]
+
+# negative_kinds is a sequence, checked by _check_kinds.
+_DEMOS_CONSTRAINTS = {
+    "n_demos": [Interval(Integral, 0, None, closed="left")],
+    "n_negative": [Interval(Integral, 0, None, closed="left")],
+    "sampling_rate": [Interval(Real, 1.0, 1000.0, closed="both")],  # Hz
+    "max_tries": [Interval(Integral, 1, None, closed="left")],
+    "random_state": ["random_state"],
+}
 
 
 def _tsr_bounds(piece):
@@ -282,15 +292,14 @@ def make_dinner_table_demos(
     ...     for t, y in zip(data.traces, data.labels))
     True
     """
-    n_demos = _check_int(n_demos, "n_demos", 0)
-    n_negative = _check_int(n_negative, "n_negative", 0)
+    validate_params(
+        {"n_demos": n_demos, "n_negative": n_negative, "sampling_rate": sampling_rate,
+         "max_tries": max_tries, "random_state": random_state},
+        _DEMOS_CONSTRAINTS, "make_dinner_table_demos",
+    )
+    n_demos, n_negative, max_tries = int(n_demos), int(n_negative), int(max_tries)
     if n_demos + n_negative < 1:
         raise ValueError("n_demos + n_negative must be at least 1")
-    max_tries = _check_int(max_tries, "max_tries", 1)
-    if isinstance(sampling_rate, bool) or not isinstance(sampling_rate, numbers.Real) or not (
-        np.isfinite(sampling_rate) and 1.0 <= sampling_rate <= 1000.0
-    ):
-        raise ValueError(f"sampling_rate must be a number in [1, 1000] Hz, got {sampling_rate!r}")
     kinds = _check_kinds(negative_kinds, n_negative)
     rng = check_random_state(random_state)
     tsrs = dinner_table_tsrs()
@@ -350,12 +359,6 @@ def make_dinner_table_demos(
         f"Ground truth: {spec.to_ltl()}"
     )
     return out
-
-
-def _check_int(value, name, minimum):
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
 
 
 def _check_kinds(kinds, n_negative):

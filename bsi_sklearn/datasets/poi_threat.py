@@ -2,14 +2,15 @@
 
 from __future__ import annotations
 
-import numbers
 import re
+from numbers import Integral, Real
 
 import numpy as np
 import pandas as pd
 from sklearn.utils import Bunch, check_random_state
 
 from bsi_sklearn.datasets._poi_navigation import Navigator
+from bsi_sklearn.param_validation import Interval, Options, validate_params
 from bsi_sklearn.specification import Specification
 
 __all__ = [
@@ -26,6 +27,23 @@ POI_LAYOUTS = {
 _SCENARIO_ORDERS = {1: [(1, 2), (2, 3), (3, 4)], 2: [(1, 3), (3, 5)], 3: []}
 _SCENARIO_N_POIS = {1: 4, 2: 5, 3: 5}
 NEGATIVE_KINDS = ("threat", "skip", "order")
+
+_SCENARIOS = Options(Integral, tuple(_SCENARIO_ORDERS))
+_N_THREATS = [Interval(Integral, 1, None, closed="left")]
+_POSITIVE = [Interval(Real, 0, None, closed="neither")]
+# poi_positions, start and negative_kinds are arrays / sequences, checked where they are read.
+_DEMOS_CONSTRAINTS = {
+    "scenario": [_SCENARIOS, Specification],
+    "n_demos": [Interval(Integral, 0, None, closed="left")],
+    "n_negative": [Interval(Integral, 0, None, closed="left")],
+    "n_threats": _N_THREATS,
+    "threat_radius": _POSITIVE,
+    "poi_radius": _POSITIVE,
+    "speed": _POSITIVE,
+    "max_turn_rate": _POSITIVE,
+    "max_tries": [Interval(Integral, 1, None, closed="left")],
+    "random_state": ["random_state"],
+}
 
 
 def _names(n_threats, n_pois):
@@ -60,10 +78,10 @@ def poi_threat_specification(scenario, n_threats=5):
     & (pi_4 -> F(omega_4)) & (pi_5 -> F(omega_5)) & (pi_1 -> (!omega_3 U omega_1))
     & (pi_1 -> (!omega_5 U omega_1)) & (pi_3 -> (!omega_5 U omega_3))
     """
-    if (isinstance(scenario, bool) or not isinstance(scenario, numbers.Integral)
-            or scenario not in _SCENARIO_ORDERS):
-        raise ValueError(f"scenario must be 1, 2, 3 or a Specification, got {scenario!r}")
-    n_threats = _check_int(n_threats, "n_threats", 1)
+    validate_params({"scenario": scenario, "n_threats": n_threats},
+                    {"scenario": [_SCENARIOS], "n_threats": _N_THREATS},
+                    "poi_threat_specification")
+    n_threats = int(n_threats)
     taus, omegas, pis = _names(n_threats, _SCENARIO_N_POIS[scenario])
     return Specification(
         globals=taus,
@@ -110,8 +128,9 @@ def poi_threat_labels(
     pos = _as_points(positions, "positions", extra_columns=True)[:, :2]
     threats = _as_points(threat_positions, "threat_positions", allow_empty=True)
     pois = _as_points(poi_positions, "poi_positions", allow_empty=True)
-    threat_radius = _check_positive(threat_radius, "threat_radius")
-    poi_radius = _check_positive(poi_radius, "poi_radius")
+    validate_params({"threat_radius": threat_radius, "poi_radius": poi_radius},
+                    _DEMOS_CONSTRAINTS, "poi_threat_labels")
+    threat_radius, poi_radius = float(threat_radius), float(poi_radius)
     tau, omega, pi = _label_arrays(pos, threats, pois, threat_radius, poi_radius)
     taus, omegas, pis = _names(len(threats), len(pois))
     data = np.concatenate([tau, omega, np.broadcast_to(pi, (len(pos), len(pois)))], axis=1)
@@ -233,16 +252,19 @@ def make_poi_threat_demos(
     ...     for t, y in zip(data.traces, data.labels))
     True
     """
-    n_demos = _check_int(n_demos, "n_demos", 0)
-    n_negative = _check_int(n_negative, "n_negative", 0)
+    validate_params(
+        {"scenario": scenario, "n_demos": n_demos, "n_negative": n_negative,
+         "n_threats": n_threats, "threat_radius": threat_radius, "poi_radius": poi_radius,
+         "speed": speed, "max_turn_rate": max_turn_rate, "max_tries": max_tries,
+         "random_state": random_state},
+        _DEMOS_CONSTRAINTS, "make_poi_threat_demos",
+    )
+    n_demos, n_negative, n_threats = int(n_demos), int(n_negative), int(n_threats)
+    max_tries = int(max_tries)
+    threat_radius, poi_radius = float(threat_radius), float(poi_radius)
+    speed, max_turn_rate = float(speed), float(max_turn_rate)
     if n_demos + n_negative < 1:
         raise ValueError("n_demos + n_negative must be at least 1")
-    n_threats = _check_int(n_threats, "n_threats", 1)
-    max_tries = _check_int(max_tries, "max_tries", 1)
-    threat_radius = _check_positive(threat_radius, "threat_radius")
-    poi_radius = _check_positive(poi_radius, "poi_radius")
-    speed = _check_positive(speed, "speed")
-    max_turn_rate = _check_positive(max_turn_rate, "max_turn_rate")
     if speed >= poi_radius:
         raise ValueError(f"speed ({speed}) must be smaller than poi_radius ({poi_radius})")
     if max_turn_rate > np.pi / 2:
@@ -370,20 +392,6 @@ def _spec_indices(spec):
         sorted(idx(w) for w in spec.eventuals),
         sorted((idx(a), idx(b)) for a, b in spec.orders),
     )
-
-
-def _check_int(value, name, minimum):
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
-
-
-def _check_positive(value, name):
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (
-        np.isfinite(value) and value > 0
-    ):
-        raise ValueError(f"{name} must be a positive number, got {value!r}")
-    return float(value)
 
 
 def _as_points(value, name, allow_empty=False, extra_columns=False):
