@@ -2,8 +2,8 @@
 
 Estimators declare ``_parameter_constraints = {"name": [constraint, ...]}`` as scikit-learn's
 do, and call :func:`validate_params` first in ``fit``; plain functions and command lines use
-the same constraints (:func:`validate_params`, :func:`check_options`). A value is valid when
-it satisfies at least one constraint of its list. scikit-learn's own
+the same constraints (:func:`validate_params`, :func:`check_options`, :func:`option_type`). A
+value is valid when it satisfies at least one constraint of its list. scikit-learn's own
 ``sklearn.utils._param_validation`` is private and changes between releases; this module has
 the same shape and is public.
 
@@ -29,6 +29,7 @@ caller, the parameter and what is allowed::
 
 from __future__ import annotations
 
+import argparse
 import math
 import numbers
 from collections.abc import Iterable, Mapping
@@ -44,6 +45,7 @@ __all__ = [
     "StrOptions",
     "check_options",
     "describe",
+    "option_type",
     "is_satisfied",
     "validate_params",
 ]
@@ -508,3 +510,48 @@ got 0
     for dest, allowed in constraints.items():
         if hasattr(args, dest):
             _check("--" + dest.replace("_", "-"), getattr(args, dest), allowed, None)
+
+
+def option_type(convert, constraints):
+    """An argparse ``type=`` that converts an option's text and checks it against constraints.
+
+    A bad value is an argparse error (usage and exit status 2), named as argparse names it.
+    Use it where an option is checked while parsing; :func:`check_options` checks after.
+
+    Parameters
+    ----------
+    convert : callable
+        Text -> value (``int``, ``float``...); a ``ValueError`` it raises reads as argparse's
+        usual ``invalid int value``.
+    constraints : list
+        The constraints the converted value must satisfy one of.
+
+    Returns
+    -------
+    parse : callable
+        ``parse(text) -> value``.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> from numbers import Integral
+    >>> parser = argparse.ArgumentParser(prog="demo", exit_on_error=False)
+    >>> positive = [Interval(Integral, 1, None, closed="left")]
+    >>> _ = parser.add_argument("--sizes", nargs="+", type=option_type(int, positive))
+    >>> parser.parse_args(["--sizes", "3", "5"]).sizes
+    [3, 5]
+    >>> parser.parse_args(["--sizes", "0"])
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentError: argument --sizes: must be an integer >= 1, got 0
+    """
+    words = _join(describe(c) for c in constraints)
+
+    def parse(text):
+        value = convert(text)
+        if not any(is_satisfied(c, value) for c in constraints):
+            raise argparse.ArgumentTypeError(f"must be {words}, got {text}")
+        return value
+
+    parse.__name__ = getattr(convert, "__name__", "value")
+    return parse

@@ -231,3 +231,36 @@ def test_estimator_rejects_a_bad_type_for_every_validated_parameter(estimator):
 def test_classifier_parameters_are_validated_before_the_data():
     with pytest.raises(InvalidParameterError, match="BSIClassifier: p_global must be"):
         BSIClassifier(p_global=1.5).fit("not traces")
+
+
+# ---------------------------------------------------------------- command lines
+@pytest.mark.parametrize("argv, message", [
+    (["fit", "no_such.trace", "--top", "0"],
+     "bsi fit: error: --top must be an integer >= 1, got 0"),
+    (["fit", "no_such.trace", "--n-samples", "0"], "--n-samples must be an integer >= 1, got 0"),
+    (["fit", "no_such.trace", "--seed", "-1"], "--seed must be an integer in [0, 4294967295]"),
+])
+def test_bsi_options_are_checked_before_any_work(argv, message, capsys):
+    from bsi_sklearn.cli import main
+
+    assert main(argv) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_option_type_errors_are_usage_errors(capsys):
+    from bsi_sklearn.cli import main
+
+    with pytest.raises(SystemExit) as exc:
+        main(["reproduce", "dinner", "--sizes", "3", "0"])
+    assert exc.value.code == 2
+    assert "argument --sizes: must be an integer >= 1, got 0" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["reproduce", "dinner", "--n-jobs", "x"])
+    assert "invalid int value: 'x'" in capsys.readouterr().err
+
+
+def test_bsi_lfe_report_options_are_checked(tmp_path, capsys):
+    lfe_cli = pytest.importorskip("lfe.cli")
+    assert lfe_cli.main(["report", "--out", str(tmp_path / "r"), "--n-jobs", "0"]) == 2
+    assert "--n-jobs must be None or a non-zero integer, got 0" in capsys.readouterr().err
+    assert not (tmp_path / "r").exists()

@@ -135,7 +135,7 @@ def test_cli_simulate_writes_a_dataset_that_loads(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("args, match", [
-    (["--n-scenarios", "0"], "--n-scenarios must be a positive integer"),
+    (["--n-scenarios", "0"], "--n-scenarios must be an integer >= 1, got 0"),
     (["--noise", "2"], "--noise must be a number in"),
     (["--time-noise", "-1"], "--time-noise must be a finite number >= 0"),
     (["--seed", "-1"], "--seed must be"),
