@@ -489,7 +489,9 @@ def check_options(args, constraints):
         The parsed options.
     constraints : mapping
         Option destination (``"n_scenarios"``) -> list of constraints, as for
-        :func:`validate_params`.
+        :func:`validate_params`. An option left at ``None`` was not given and is not checked,
+        and ``None`` is not listed among the allowed values, so the constraints of a
+        function's parameters serve its options as they are.
 
     Raises
     ------
@@ -508,8 +510,10 @@ def check_options(args, constraints):
 got 0
     """
     for dest, allowed in constraints.items():
-        if hasattr(args, dest):
-            _check("--" + dest.replace("_", "-"), getattr(args, dest), allowed, None)
+        value = getattr(args, dest, None)
+        if value is None or allowed == "no_validation":
+            continue
+        _check("--" + dest.replace("_", "-"), value, [c for c in allowed if c is not None], None)
 
 
 def option_type(convert, constraints):

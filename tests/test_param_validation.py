@@ -207,6 +207,14 @@ def test_check_options_names_options_as_typed():
     check_options(args, constraints)
 
 
+def test_check_options_skips_options_not_given_and_does_not_offer_none():
+    constraints = {"folds": [Interval(Integral, 2, None, closed="left"), None]}
+    check_options(argparse.Namespace(folds=None), constraints)
+    with pytest.raises(InvalidParameterError) as info:
+        check_options(argparse.Namespace(folds=1), constraints)
+    assert str(info.value) == "--folds must be an integer >= 2, got 1"
+
+
 # ---------------------------------------------------------------- estimators using it
 @pytest.mark.parametrize("estimator", [BSIClassifier(), NegationAugmenter()])
 def test_estimator_constraints_cover_every_parameter(estimator):
@@ -262,5 +270,5 @@ def test_option_type_errors_are_usage_errors(capsys):
 def test_bsi_lfe_report_options_are_checked(tmp_path, capsys):
     lfe_cli = pytest.importorskip("lfe.cli")
     assert lfe_cli.main(["report", "--out", str(tmp_path / "r"), "--n-jobs", "0"]) == 2
-    assert "--n-jobs must be None or a non-zero integer, got 0" in capsys.readouterr().err
+    assert "--n-jobs must be a non-zero integer, got 0" in capsys.readouterr().err
     assert not (tmp_path / "r").exists()

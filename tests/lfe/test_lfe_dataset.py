@@ -97,7 +97,7 @@ def test_make_lfe_dataset_is_reproducible():
 
 @pytest.mark.parametrize("n", [0, -1, 2.0, True])
 def test_make_lfe_dataset_bad_size(n):
-    with pytest.raises(ValueError, match="n_scenarios must be a positive integer"):
+    with pytest.raises(ValueError, match="n_scenarios must be an integer >= 1"):
         make_lfe_dataset(n)
 
 
