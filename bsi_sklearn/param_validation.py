@@ -32,7 +32,7 @@ from __future__ import annotations
 import argparse
 import math
 import numbers
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -140,17 +140,7 @@ class Interval:
         self.closed = closed
 
     def is_satisfied_by(self, value):
-        """Whether ``value`` lies in the interval.
-
-        Parameters
-        ----------
-        value : object
-            The value to check.
-
-        Returns
-        -------
-        inside : bool
-        """
+        """Whether ``value`` lies in the interval."""
         if _is_bool(value) or not isinstance(value, self.type):
             return False
         if self.type is numbers.Real:
@@ -220,17 +210,7 @@ class Options:
         self.options = tuple(options)
 
     def is_satisfied_by(self, value):
-        """Whether ``value`` is one of the options (and of the right type).
-
-        Parameters
-        ----------
-        value : object
-            The value to check.
-
-        Returns
-        -------
-        allowed : bool
-        """
+        """Whether ``value`` is one of the options (and of the right type)."""
         if self.type is not bool and _is_bool(value):
             return False
         if not isinstance(value, self.type):
@@ -265,9 +245,6 @@ class StrOptions(Options):
     def __init__(self, options):
         super().__init__(str, options)
 
-    def __repr__(self):
-        return f"StrOptions({list(self.options)!r})"
-
 
 class Satisfies:
     """Any check the other constraints do not express: a predicate and its description.
@@ -291,17 +268,7 @@ class Satisfies:
         self.description = description
 
     def is_satisfied_by(self, value):
-        """Whether the predicate accepts ``value``.
-
-        Parameters
-        ----------
-        value : object
-            The value to check.
-
-        Returns
-        -------
-        accepted : bool
-        """
+        """Whether the predicate accepts ``value``."""
         try:
             return bool(self.predicate(value))
         except Exception:  # noqa: BLE001 - a failing predicate rejects the value
@@ -329,25 +296,11 @@ _TYPE_WORDS = {
     bool: "a bool",
     dict: "a dict",
     Mapping: "a mapping",
-    list: "a list",
-    tuple: "a tuple",
-    Iterable: "an iterable",
 }
 
 
 def is_satisfied(constraint, value):
-    """Whether ``value`` satisfies one constraint.
-
-    Parameters
-    ----------
-    constraint : None, type, str, callable, Interval, Options or Satisfies
-        See the module's docstring.
-    value : object
-        The value to check.
-
-    Returns
-    -------
-    satisfied : bool
+    """Whether ``value`` satisfies ``constraint`` (any of the module docstring's kinds).
 
     Examples
     --------
@@ -377,15 +330,6 @@ def is_satisfied(constraint, value):
 
 def describe(constraint):
     """The words for one constraint, as they read after "must be".
-
-    Parameters
-    ----------
-    constraint : None, type, str, callable, Interval, Options or Satisfies
-        See the module's docstring.
-
-    Returns
-    -------
-    words : str
 
     Examples
     --------
