@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import contextlib
 import math
-import numbers
 import time
 import warnings
+from numbers import Integral, Real
 
 import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin
@@ -27,6 +27,12 @@ from baselines._sequences import (
     reverse_index,
 )
 from baselines._torch import require_torch
+from bsi_sklearn.param_validation import (
+    Interval,
+    Satisfies,
+    StrOptions,
+    validate_params,
+)
 
 torch = require_torch()  # with a message naming the [baselines] extra when torch is absent
 nn = torch.nn
@@ -39,6 +45,10 @@ __all__ = [
 ]
 
 _POOLINGS = ("last", "mean", "max")
+_LIST_OF_DICTS = Satisfies(
+    lambda v: isinstance(v, (list, tuple)) and all(isinstance(d, dict) for d in v),
+    "a list of dicts",
+)
 
 
 class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
@@ -348,48 +358,34 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
                 valid_idx, order_rng, device,
             )
 
+    _parameter_constraints = {
+        "hidden_size": [Interval(Integral, 1, None, closed="left")],
+        "num_layers": [Interval(Integral, 1, None, closed="left")],
+        "bidirectional": ["boolean"],
+        "coupled": ["boolean"],
+        "n_phases": [Interval(Integral, 2, None, closed="left")],  # checked when coupled
+        "pooling": [StrOptions(_POOLINGS)],
+        "dropout": [Interval(Real, 0, 1, closed="left")],
+        "max_epochs": [Interval(Integral, 1, None, closed="left")],
+        "lr": [Interval(Real, 0, math.inf, closed="neither")],
+        "batch_size": [Interval(Integral, 1, None, closed="left")],
+        "weight_decay": [Interval(Real, 0, math.inf, closed="left")],
+        "validation_fraction": [Interval(Real, 0, 1, closed="left"), None],
+        "patience": [Interval(Integral, 1, None, closed="left")],
+        "class_weight": [None, StrOptions(("balanced",)), dict, _LIST_OF_DICTS],
+        "standardize": ["boolean"],
+        "clip_grad_norm": [Interval(Real, 0, math.inf, closed="neither"), None],
+        "random_state": "no_validation",  # check_random_state, in fit
+        "verbose": "no_validation",
+        "device": "no_validation",  # any torch.device spec, checked below
+        "n_threads": [Interval(Integral, 1, None, closed="left"), None],
+    }
+
     def _check_hyperparameters(self):
-        def positive_int(value, param):
-            if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
-                raise ValueError(f"{param} must be a positive integer, got {value!r}")
-
-        def real(value, param, low, high, low_open=False, high_open=False):
-            ok = isinstance(value, numbers.Real) and not isinstance(value, bool)
-            ok = ok and np.isfinite(value)
-            ok = ok and (value > low if low_open else value >= low)
-            ok = ok and (value < high if high_open else value <= high)
-            if not ok:
-                lo, hi = "(" if low_open else "[", ")" if high_open else "]"
-                raise ValueError(
-                    f"{param} must be a number in {lo}{low}, {high}{hi}, got {value!r}"
-                )
-
-        for param in ("hidden_size", "num_layers", "max_epochs", "batch_size", "patience"):
-            positive_int(getattr(self, param), param)
-        if self.n_threads is not None:
-            positive_int(self.n_threads, "n_threads")
-        if self.coupled:
-            positive_int(self.n_phases, "n_phases")
-            if self.n_phases < 2:
-                raise ValueError(f"n_phases must be at least 2, got {self.n_phases!r}")
-        real(self.lr, "lr", 0, math.inf, low_open=True, high_open=True)
-        real(self.weight_decay, "weight_decay", 0, math.inf, high_open=True)
-        real(self.dropout, "dropout", 0, 1, high_open=True)
-        if self.validation_fraction is not None:
-            real(self.validation_fraction, "validation_fraction", 0, 1, high_open=True)
-        if self.clip_grad_norm is not None:
-            real(self.clip_grad_norm, "clip_grad_norm", 0, math.inf, low_open=True)
-        if self.pooling not in _POOLINGS:
-            raise ValueError(f"pooling must be one of {_POOLINGS}, got {self.pooling!r}")
-        cw = self.class_weight
-        if not (cw is None or isinstance(cw, dict) or (isinstance(cw, str) and cw == "balanced")
-                or (isinstance(cw, (list, tuple)) and all(isinstance(d, dict) for d in cw))):
-            raise ValueError(
-                f"class_weight must be None, 'balanced', a dict or a list of dicts, got {cw!r}"
-            )
-        for param in ("bidirectional", "coupled", "standardize"):
-            if not isinstance(getattr(self, param), (bool, np.bool_)):
-                raise ValueError(f"{param} must be a bool, got {getattr(self, param)!r}")
+        params = self.get_params(deep=False)
+        if not self.coupled:
+            params.pop("n_phases", None)
+        validate_params(params, self._parameter_constraints, type(self).__name__)
         try:
             torch.device(self.device)
         except (RuntimeError, TypeError) as exc:

@@ -1,9 +1,12 @@
 """``bsi fit FILE...``: fit BSI on trace files and print the MAP specification and posterior."""
 
+from numbers import Integral
+
 import numpy as np
 
 from bsi_sklearn.classifier import BSIClassifier
 from bsi_sklearn.likelihood import LIKELIHOODS
+from bsi_sklearn.param_validation import Interval, check_options
 from bsi_sklearn.priors import PRIORS
 
 __all__ = ["add_arguments", "run"]
@@ -21,6 +24,13 @@ def add_arguments(parser):
     parser.add_argument("--seed", type=int, default=0)
 
 
+_OPTION_CONSTRAINTS = {
+    "n_samples": BSIClassifier._parameter_constraints["n_samples"],
+    "top": [Interval(Integral, 1, None, closed="left")],
+    "seed": [Interval(Integral, 0, 2**32 - 1, closed="both")],
+}
+
+
 def _load(path):
     from bsi_sklearn import io
 
@@ -32,6 +42,7 @@ def _load(path):
 
 def run(args):
     """Fit on every file (one model per file) and print the results."""
+    check_options(args, _OPTION_CONSTRAINTS)
     for path in args.files:
         X, y, target = _load(path)
         clf = BSIClassifier(prior=args.prior, likelihood=args.likelihood,

@@ -1,7 +1,8 @@
 """`BSIClassifier`: Bayesian Specification Inference as a scikit-learn classifier."""
 
-import numbers
+import math
 import warnings
+from numbers import Integral, Real
 
 import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin
@@ -21,6 +22,12 @@ from bsi_sklearn.mcmc import (
     unique_states,
 )
 from bsi_sklearn.model import make_model
+from bsi_sklearn.param_validation import (
+    NONZERO_INTEGER,
+    Interval,
+    StrOptions,
+    validate_params,
+)
 from bsi_sklearn.posterior import Posterior
 from bsi_sklearn.priors import PRIORS, count_hypotheses
 from bsi_sklearn.roles import resolve_roles
@@ -187,47 +194,35 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         return tags
 
     # ------------------------------------------------------------------ validation
-    def _check_params(self):
-        def option(name, allowed):
-            value = getattr(self, name)
-            if not isinstance(value, str) or value not in allowed:
-                raise ValueError(f"{name} must be one of {list(allowed)}, got {value!r}")
+    # The proposition roles and pos_label are checked against the data, in fit.
+    _parameter_constraints = {
+        "prior": [StrOptions(PRIORS)],
+        "likelihood": [StrOptions(LIKELIHOODS)],
+        "global_candidates": "no_validation",
+        "subtasks": "no_validation",
+        "conditions": "no_validation",
+        "p_global": [Interval(Real, 0.0, 1.0, closed="both")],
+        "p_eventual": [Interval(Real, 0.0, 1.0, closed="both")],
+        "p_part": [Interval(Real, 0.0, 1.0, closed="both")],
+        "n_new": [Interval(Real, 0.0, math.inf, closed="neither")],
+        "epsilon": [Interval(Real, 0.0, 1.0, closed="neither"), None],
+        "inference": [StrOptions(_INFERENCE)],
+        "n_samples": [Interval(Integral, 1, None, closed="left")],
+        "burn_in": [Interval(Integral, 0, None, closed="left")],
+        "n_chains": [Interval(Integral, 1, None, closed="left")],
+        "max_exact_hypotheses": [Interval(Integral, 0, None, closed="left")],
+        "tol": [Interval(Real, 0.0, 1.0, closed="left")],
+        "binarize": [None, Interval(Real, None, None, closed="neither")],
+        "pos_label": "no_validation",
+        "n_jobs": [None, NONZERO_INTEGER],
+        "random_state": ["random_state"],
+        "verbose": [Interval(Integral, 0, None, closed="left")],
+    }
 
-        def real(name, low, high, low_open=False, high_open=False, allow_none=False):
-            value = getattr(self, name)
-            if value is None and allow_none:
-                return
-            if not isinstance(value, numbers.Real) or isinstance(value, bool) or \
-                    not np.isfinite(value):
-                raise ValueError(f"{name} must be a real number, got {value!r}")
-            if value < low or value > high or (low_open and value == low) or \
-                    (high_open and value == high):
-                lo, hi = "(" if low_open else "[", ")" if high_open else "]"
-                raise ValueError(f"{name} must be in {lo}{low}, {high}{hi}, got {value!r}")
-
-        def integer(name, low, allow_none=False):
-            value = getattr(self, name)
-            if value is None and allow_none:
-                return
-            if not isinstance(value, numbers.Integral) or isinstance(value, bool) or value < low:
-                raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
-
-        option("prior", PRIORS)
-        option("likelihood", LIKELIHOODS)
-        option("inference", _INFERENCE)
-        for name in ("p_global", "p_eventual", "p_part"):
-            real(name, 0.0, 1.0)
-        real("n_new", 0.0, np.inf, low_open=True)
-        real("epsilon", 0.0, 1.0, low_open=True, high_open=True, allow_none=True)
-        real("tol", 0.0, 1.0, high_open=True)
-        integer("n_samples", 1)
-        integer("burn_in", 0)
-        integer("n_chains", 1)
-        integer("max_exact_hypotheses", 0)
-        integer("verbose", 0)
-        if self.n_jobs is not None and (not isinstance(self.n_jobs, numbers.Integral)
-                                        or isinstance(self.n_jobs, bool) or self.n_jobs == 0):
-            raise ValueError(f"n_jobs must be None or a non-zero integer, got {self.n_jobs!r}")
+    def _validate_params(self):
+        """Check the parameters against ``_parameter_constraints`` (raises ValueError)."""
+        validate_params(self.get_params(deep=False), self._parameter_constraints,
+                        type(self).__name__)
 
     # ------------------------------------------------------------------ fit
     def fit(self, X, y=None):
@@ -246,7 +241,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         -------
         self : BSIClassifier
         """
-        self._check_params()
+        self._validate_params()
         name = type(self).__name__
         traces = check_traces(X, binarize=self.binarize, estimator_name=name)
         y01, classes = check_labels(y, traces.n_demos, self.pos_label)

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
+from numbers import Integral
 from typing import NamedTuple
 
 import numpy as np
 
+from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.specification import Specification
 
 __all__ = [
@@ -52,9 +54,12 @@ class OrderCounts(NamedTuple):
     extra: float
 
 
-def _check_spec(spec, name):
-    if not isinstance(spec, Specification):
-        raise ValueError(f"{name} must be a Specification, got {type(spec).__name__}")
+_SPEC = [Specification]
+_TOP_K = [Interval(Integral, 1, None, closed="left")]
+
+
+def _check_spec(spec, name, caller):
+    validate_params({name: spec}, {name: _SPEC}, caller)
     return spec
 
 
@@ -89,8 +94,8 @@ def jaccard_similarity(spec, truth):
     >>> jaccard_similarity(spec, truth)
     0.5
     """
-    a = _check_spec(spec, "spec").clauses()
-    b = _check_spec(truth, "truth").clauses()
+    a = _check_spec(spec, "spec", "jaccard_similarity").clauses()
+    b = _check_spec(truth, "truth", "jaccard_similarity").clauses()
     union = len(a | b)
     if union == 0:
         return 1.0
@@ -159,14 +164,14 @@ class _Profile(NamedTuple):
         return np.where(union > 0, self.inter / np.maximum(union, 1), 1.0)
 
 
-def _profile(posterior, truth):
+def _profile(posterior, truth, caller):
     """Count, for every specification of ``posterior``, what it shares with ``truth``.
 
     Uses ``posterior.clause_matrix()`` (boolean ``(n_specs, n_keys)``, columns in the order
     of ``posterior.clause_keys()``) when the posterior offers both: no ``Specification``
     needs to be built, which matters for posteriors of 10^5 specifications.
     """
-    _check_spec(truth, "truth")
+    _check_spec(truth, "truth", caller)
     true_clauses = truth.clauses()
     matrix = getattr(posterior, "clause_matrix", None)
     keys = getattr(posterior, "clause_keys", None)
@@ -253,7 +258,7 @@ def expected_similarity(posterior, truth):
     >>> expected_similarity(posterior, truth)
     0.875
     """
-    prof = _profile(posterior, truth)
+    prof = _profile(posterior, truth, "expected_similarity")
     return float(np.dot(prof.probs, prof.similarity))
 
 
@@ -283,14 +288,13 @@ def best_similarity(posterior, truth, k=5):
     >>> best_similarity(posterior, truth, k=1), best_similarity(posterior, truth, k=2)
     (0.5, 1.0)
     """
-    k = _check_k(k)
-    prof = _profile(posterior, truth)
+    k = _check_k(k, "best_similarity")
+    prof = _profile(posterior, truth, "best_similarity")
     return float(prof.similarity[:k].max())
 
 
-def _check_k(k):
-    if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
-        raise ValueError(f"k must be a positive integer, got {k!r}")
+def _check_k(k, caller):
+    validate_params({"k": k}, {"k": _TOP_K}, caller)
     return int(k)
 
 
@@ -323,8 +327,8 @@ def similarity_summary(posterior, truth, k=5):
     >>> summary["truth_rank"], summary["map_similarity"], summary["correct_orders"]
     (2, 0.6666666666666666, 0.4)
     """
-    k = _check_k(k)
-    prof = _profile(posterior, truth)
+    k = _check_k(k, "similarity_summary")
+    prof = _profile(posterior, truth, "similarity_summary")
     sim = prof.similarity
     exact = np.flatnonzero((prof.inter == prof.truth_size) & (prof.size == prof.truth_size))
     rank = int(exact[0]) + 1 if len(exact) else None
@@ -375,8 +379,8 @@ def classify_orders(spec, truth):
     >>> result.counts
     OrderCounts(correct=1, incorrect=2, extra=2)
     """
-    inferred = _check_spec(spec, "spec").orders
-    true = _check_spec(truth, "truth").orders
+    inferred = _check_spec(spec, "spec", "classify_orders").orders
+    true = _check_spec(truth, "truth", "classify_orders").orders
     correct = inferred & true
     incorrect = frozenset(p for p in inferred if (p[1], p[0]) in true)
     extra = inferred - correct - incorrect
@@ -406,7 +410,7 @@ def expected_order_counts(posterior, truth):
     >>> expected_order_counts(posterior, truth)
     OrderCounts(correct=0.5, incorrect=0.5, extra=0.0)
     """
-    prof = _profile(posterior, truth)
+    prof = _profile(posterior, truth, "expected_order_counts")
     return OrderCounts(
         float(np.dot(prof.probs, prof.correct)),
         float(np.dot(prof.probs, prof.incorrect)),

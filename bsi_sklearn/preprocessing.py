@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-import numbers
+from numbers import Real
 
 import numpy as np
 import pandas as pd
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
+from bsi_sklearn.param_validation import Satisfies, validate_params
 from bsi_sklearn.roles import resolve_propositions
 from bsi_sklearn.traces import check_consistent_traces, check_traces, is_frame
 
@@ -75,6 +76,13 @@ class NegationAugmenter(TransformerMixin, BaseEstimator, auto_wrap_output_keys=N
     ['a', 'b', '!b']
     """
 
+    # propositions are resolved against the data in fit.
+    _parameter_constraints = {
+        "propositions": "no_validation",
+        "prefix": [Satisfies(lambda v: isinstance(v, str) and v != "", "a non-empty string")],
+        "binarize": [None, Real],
+    }
+
     def __init__(self, *, propositions=None, prefix="!", binarize=None):
         self.propositions = propositions
         self.prefix = prefix
@@ -99,10 +107,8 @@ class NegationAugmenter(TransformerMixin, BaseEstimator, auto_wrap_output_keys=N
         -------
         self : NegationAugmenter
         """
-        if not isinstance(self.prefix, str) or not self.prefix:
-            raise ValueError(f"prefix must be a non-empty string, got {self.prefix!r}")
-        if self.binarize is not None and not isinstance(self.binarize, numbers.Real):
-            raise ValueError(f"binarize must be None or a number, got {self.binarize!r}")
+        validate_params(self.get_params(deep=False), self._parameter_constraints,
+                        type(self).__name__)
         traces = check_traces(X, binarize=self.binarize, estimator_name=type(self).__name__)
         names = traces.feature_names
         self.n_features_in_ = traces.n_props

@@ -1,8 +1,10 @@
 """``bsi-lfe simulate``: simulate, annotate and save a dataset of LFE missions."""
 
-import math
+from numbers import Integral
 from pathlib import Path
 
+from bsi_sklearn.param_validation import Interval, check_options
+from lfe.annotate import _ANNOTATE_CONSTRAINTS
 from lfe.dataset import make_lfe_dataset
 
 __all__ = ["add_arguments", "run"]
@@ -22,16 +24,17 @@ def add_arguments(parser):
                         help="output directory (CSV tables and JSON, see LFEDataset.save)")
 
 
+_OPTION_CONSTRAINTS = {
+    "n_scenarios": [Interval(Integral, 1, None, closed="left")],
+    "seed": [Interval(Integral, 0, 2**32 - 1, closed="both")],
+    "noise": _ANNOTATE_CONSTRAINTS["noise"],
+    "time_noise": _ANNOTATE_CONSTRAINTS["time_noise"],
+}
+
+
 def _check_args(args):
     # Checked before simulating, so a typo fails at once and writes nothing.
-    if args.n_scenarios < 1:
-        raise ValueError(f"--n-scenarios must be a positive integer, got {args.n_scenarios}")
-    if not 0 <= args.seed < 2**32:
-        raise ValueError(f"--seed must be an integer in [0, 2**32), got {args.seed}")
-    if not 0.0 <= args.noise <= 1.0:
-        raise ValueError(f"--noise must be a number in [0, 1], got {args.noise}")
-    if not (math.isfinite(args.time_noise) and args.time_noise >= 0):
-        raise ValueError(f"--time-noise must be a finite number >= 0, got {args.time_noise}")
+    check_options(args, _OPTION_CONSTRAINTS)
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out {out} is a file, not a directory")

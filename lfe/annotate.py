@@ -7,12 +7,13 @@ debrief and a proposition set defined by subject-matter experts are, but not ide
 
 from __future__ import annotations
 
-import numbers
+from numbers import Integral, Real
 
 import numpy as np
 import pandas as pd
 from sklearn.utils import check_random_state
 
+from bsi_sklearn.param_validation import Interval, validate_params
 from lfe.scenario import check_scenarios
 
 __all__ = [
@@ -29,18 +30,16 @@ MISSION_OBJECTIVES = ("MO1", "MO2", "MO3")
 PHASE_NAMES = ("escort_push", "strikers_push", "tot", "egress")
 
 
-def _check_probability(value, name):
-    if (isinstance(value, bool) or not isinstance(value, numbers.Real)
-            or not 0.0 <= value <= 1.0):
-        raise ValueError(f"{name} must be a number in [0, 1], got {value!r}")
-    return float(value)
-
-
-def _check_nonnegative(value, name):
-    if (isinstance(value, bool) or not isinstance(value, numbers.Real)
-            or not np.isfinite(value) or value < 0):
-        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
-    return float(value)
+_PROBABILITY = [Interval(Real, 0, 1, closed="both")]
+_ANNOTATE_CONSTRAINTS = {
+    "noise": _PROBABILITY,
+    "time_noise": [Interval(Real, 0, None, closed="left")],
+    "min_target_hits": [Interval(Integral, 1, None, closed="left")],
+    "max_attrition": _PROBABILITY,
+    "superiority_fraction": _PROBABILITY,
+    "max_air_losses": [Interval(Integral, 0, None, closed="left")],
+    "random_state": "no_validation",  # check_random_state
+}
 
 
 def _first_time(times, mask, default):
@@ -270,16 +269,13 @@ def annotate_scenarios(scenarios, *, noise=0.0, time_noise=0.0, min_target_hits=
     >>> labels.shape
     (2, 3)
     """
-    noise = _check_probability(noise, "noise")
-    time_noise = _check_nonnegative(time_noise, "time_noise")
-    max_attrition = _check_probability(max_attrition, "max_attrition")
-    superiority_fraction = _check_probability(superiority_fraction, "superiority_fraction")
-    if (isinstance(max_air_losses, bool) or not isinstance(max_air_losses, numbers.Integral)
-            or max_air_losses < 0):
-        raise ValueError(f"max_air_losses must be an integer >= 0, got {max_air_losses!r}")
-    if (isinstance(min_target_hits, bool) or not isinstance(min_target_hits, numbers.Integral)
-            or min_target_hits < 1):
-        raise ValueError(f"min_target_hits must be an integer >= 1, got {min_target_hits!r}")
+    validate_params(
+        {"noise": noise, "time_noise": time_noise, "min_target_hits": min_target_hits,
+         "max_attrition": max_attrition, "superiority_fraction": superiority_fraction,
+         "max_air_losses": max_air_losses}, _ANNOTATE_CONSTRAINTS, "annotate_scenarios",
+    )
+    noise, time_noise = float(noise), float(time_noise)
+    max_attrition, superiority_fraction = float(max_attrition), float(superiority_fraction)
     scenarios = check_scenarios(scenarios)
     rng = check_random_state(random_state)
     ids, label_rows, phase_rows = [], [], []

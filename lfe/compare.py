@@ -9,9 +9,9 @@ mission objective; and the F1 of the MAP specification fitted on the whole datas
 from __future__ import annotations
 
 import io
-import numbers
 import time
 import warnings
+from numbers import Integral
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +25,12 @@ import baselines
 from baselines import PAPER_BASELINES
 from bsi_sklearn.classifier import BSIClassifier
 from bsi_sklearn.experiments.tables import markdown_table
+from bsi_sklearn.param_validation import (
+    NONZERO_INTEGER,
+    Interval,
+    check_options,
+    validate_params,
+)
 from lfe.annotate import MISSION_OBJECTIVES
 from lfe.dataset import LFEDataset, load_lfe_dataset, make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
@@ -403,11 +409,14 @@ def _run_task(kind, name, fold, data, train, test, params, seed):
             "extra": extra}
 
 
-def _check_int(name, value, low, allow_none=False):
-    if value is None and allow_none:
-        return
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low:
-        raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
+_COMPARE_CONSTRAINTS = {
+    "dataset": [None, LFEDataset],
+    "n_splits": [Interval(Integral, 2, None, closed="left"), None],
+    "seed": [Interval(Integral, 0, None, closed="left")],
+    "n_jobs": [None, NONZERO_INTEGER],
+    "quick": "no_validation",  # read as a truth value
+    "verbose": [Interval(Integral, 0, None, closed="left")],
+}
 
 
 def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, verbose=1):
@@ -474,19 +483,13 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     >>> full = compare()   # the paper's setting: 1.5 to 4 minutes on 2 cores  # doctest: +SKIP
     """
     start_run = time.perf_counter()
+    validate_params({"dataset": dataset, "n_splits": n_splits, "seed": seed, "n_jobs": n_jobs,
+                     "quick": quick, "verbose": verbose}, _COMPARE_CONSTRAINTS, "compare")
     if n_splits is None:
         n_splits = _QUICK["n_splits"] if quick else 4
-    _check_int("n_splits", n_splits, 2)
-    _check_int("seed", seed, 0)
-    _check_int("verbose", verbose, 0)
-    if n_jobs is not None and (isinstance(n_jobs, bool) or not isinstance(n_jobs, numbers.Integral)
-                               or n_jobs == 0):
-        raise ValueError(f"n_jobs must be None or a non-zero integer, got {n_jobs!r}")
     if dataset is None:
         dataset = (make_lfe_dataset(_QUICK["n_scenarios"], random_state=0) if quick
                    else load_lfe_dataset())
-    if not isinstance(dataset, LFEDataset):
-        raise ValueError(f"dataset must be an LFEDataset, got {type(dataset).__name__}")
     if n_splits > len(dataset):
         raise ValueError(
             f"n_splits={n_splits} is more than the {len(dataset)} scenarios of the dataset"
@@ -608,8 +611,18 @@ def add_arguments(parser):
                         help="0: no progress bar (default: 1)")
 
 
+_OPTION_CONSTRAINTS = {
+    "n_scenarios": [Interval(Integral, 1, None, closed="left"), None],
+    "folds": [Interval(Integral, 2, None, closed="left"), None],
+    "seed": [Interval(Integral, 0, None, closed="left")],
+    "n_jobs": [None, NONZERO_INTEGER],
+    "verbose": [Interval(Integral, 0, None, closed="left")],
+}
+
+
 def run(args):
     """Run the comparison, write its files to ``--out`` and print the table."""
+    check_options(args, _OPTION_CONSTRAINTS)
     if args.dataset is not None and args.n_scenarios is not None:
         raise ValueError("give either --dataset or --n-scenarios, not both")
     if args.dataset is not None:

@@ -12,7 +12,13 @@ import numpy as np
 import pandas as pd
 from sklearn.utils import check_random_state
 
-from lfe.annotate import MISSION_OBJECTIVES, PHASE_NAMES, annotate_scenarios
+from bsi_sklearn.param_validation import Interval, validate_params
+from lfe.annotate import (
+    _ANNOTATE_CONSTRAINTS,
+    MISSION_OBJECTIVES,
+    PHASE_NAMES,
+    annotate_scenarios,
+)
 from lfe.scenario import (
     _FLOAT_SITE,
     _FLOAT_TRACK,
@@ -246,6 +252,14 @@ class LFEDataset:
         return cls(scenarios, labels, phases, info=header.get("info"))
 
 
+_MAKE_CONSTRAINTS = {
+    "n_scenarios": [Interval(numbers.Integral, 1, None, closed="left")],
+    "random_state": ["random_state"],
+    "noise": _ANNOTATE_CONSTRAINTS["noise"],
+    "time_noise": _ANNOTATE_CONSTRAINTS["time_noise"],
+}
+
+
 def make_lfe_dataset(n_scenarios=24, random_state=0, *, noise=0.04, time_noise=10.0):
     """Simulate and annotate a dataset of offensive-counter-air large-force exercises.
 
@@ -278,9 +292,8 @@ def make_lfe_dataset(n_scenarios=24, random_state=0, *, noise=0.04, time_noise=1
     >>> ds.phases.shape
     (2, 4)
     """
-    if (isinstance(n_scenarios, bool) or not isinstance(n_scenarios, numbers.Integral)
-            or n_scenarios < 1):
-        raise ValueError(f"n_scenarios must be a positive integer, got {n_scenarios!r}")
+    validate_params({"n_scenarios": n_scenarios, "random_state": random_state, "noise": noise,
+                     "time_noise": time_noise}, _MAKE_CONSTRAINTS, "make_lfe_dataset")
     rng = check_random_state(random_state)
     width = max(3, len(str(n_scenarios - 1)))
     scenarios = []

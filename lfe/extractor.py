@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-import numbers
+from numbers import Real
 
 import numpy as np
 import pandas as pd
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
+from bsi_sklearn.param_validation import Interval, StrOptions, validate_params
 from lfe.annotate import PHASE_NAMES, phase_labels
 from lfe.scenario import FLIGHT_PHASES, ROLES, check_scenarios
 
@@ -130,7 +131,7 @@ def proposition_roles(propositions="paper"):
     >>> len(roles["subtasks"]), roles["conditions"]
     (6, {})
     """
-    spec = _proposition_set(propositions)
+    spec = _proposition_set(propositions, "proposition_roles")
     return {
         "global_candidates": list(spec["global_candidates"]),
         "subtasks": list(spec["subtasks"]),
@@ -138,11 +139,9 @@ def proposition_roles(propositions="paper"):
     }
 
 
-def _proposition_set(propositions):
-    if not isinstance(propositions, str) or propositions not in PROPOSITION_SETS:
-        raise ValueError(
-            f"propositions must be one of {list(PROPOSITION_SETS)}, got {propositions!r}"
-        )
+def _proposition_set(propositions, caller):
+    validate_params({"propositions": propositions},
+                    {"propositions": [StrOptions(PROPOSITION_SETS)]}, caller)
     return PROPOSITION_SETS[propositions]
 
 
@@ -232,13 +231,15 @@ class LFEPropositionExtractor(TransformerMixin, BaseEstimator, auto_wrap_output_
         tags.requires_fit = True
         return tags
 
+    _parameter_constraints = {
+        "propositions": [StrOptions(PROPOSITION_SETS)],
+        "time_step": [None, Interval(Real, 0, None, closed="neither")],
+    }
+
     def _check_params(self):
-        spec = _proposition_set(self.propositions)
-        step = self.time_step
-        if step is not None and (isinstance(step, bool) or not isinstance(step, numbers.Real)
-                                 or not np.isfinite(step) or step <= 0):
-            raise ValueError(f"time_step must be None or a positive number, got {step!r}")
-        return spec
+        validate_params(self.get_params(deep=False), self._parameter_constraints,
+                        type(self).__name__)
+        return PROPOSITION_SETS[self.propositions]
 
     def fit(self, X, y=None):
         """Validate the scenarios and fix the proposition names and roles.

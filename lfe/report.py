@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import html
 import warnings
+from numbers import Integral
 from pathlib import Path
 
 from sklearn.exceptions import ConvergenceWarning
 
 from bsi_sklearn.classifier import BSIClassifier
 from bsi_sklearn.likelihood import LIKELIHOODS
+from bsi_sklearn.param_validation import Interval, check_options
 from bsi_sklearn.priors import PRIORS
 from bsi_sklearn.report import explain
 from lfe.annotate import MISSION_OBJECTIVES
@@ -185,8 +187,16 @@ def add_arguments(parser):
     parser.add_argument("--n-jobs", type=int, default=None)
 
 
+_OPTION_CONSTRAINTS = {
+    "n_samples": BSIClassifier._parameter_constraints["n_samples"],
+    "seed": [Interval(Integral, 0, 2**32 - 1, closed="both")],
+    "n_jobs": BSIClassifier._parameter_constraints["n_jobs"],
+}
+
+
 def run(args):
     """Fit, explain and write the reports; print a one-line summary per objective."""
+    check_options(args, _OPTION_CONSTRAINTS)
     if args.dataset is None and args.quick:
         dataset = make_lfe_dataset(n_scenarios=_QUICK["n_scenarios"], random_state=args.seed)
     else:

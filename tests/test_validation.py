@@ -88,9 +88,9 @@ def test_roles():
     [
         ({"prior": "dag"}, "prior must be one of"),
         ({"likelihood": "x"}, "likelihood must be one of"),
-        ({"p_part": 1.5}, r"p_part must be in \[0.0, 1.0\]"),
-        ({"n_new": 0}, "n_new must be in"),
-        ({"epsilon": 1.0}, "epsilon must be in"),
+        ({"p_part": 1.5}, r"p_part must be a number in \[0.0, 1.0\]"),
+        ({"n_new": 0}, r"n_new must be a number in \(0.0, inf\)"),
+        ({"epsilon": 1.0}, r"epsilon must be a number in \(0.0, 1.0\) or None"),
         ({"n_samples": 0}, "n_samples must be an integer >= 1"),
         ({"n_chains": 2.5}, "n_chains must be an integer"),
         ({"inference": "vi"}, "inference must be one of"),

@@ -2,11 +2,19 @@
 
 from __future__ import annotations
 
-import numbers
+from numbers import Integral
 
 import numpy as np
 
+from bsi_sklearn.param_validation import Interval, validate_params
+
 __all__ = ["plot_demos"]
+
+# data, indices and ax are checked against each other where they are read.
+_PLOT_CONSTRAINTS = {
+    "n": [Interval(Integral, 1, None, closed="left")],
+    "ncols": [Interval(Integral, 1, None, closed="left")],
+}
 
 
 def plot_demos(data, indices=None, *, n=4, ax=None, ncols=4):
@@ -50,6 +58,7 @@ def plot_demos(data, indices=None, *, n=4, ax=None, ncols=4):
     """
     import matplotlib.pyplot as plt
 
+    validate_params({"n": n, "ncols": ncols}, _PLOT_CONSTRAINTS, "plot_demos")
     if "wrist_poses" in data:
         draw = _draw_dinner
     elif "threat_positions" in data:
@@ -58,7 +67,6 @@ def plot_demos(data, indices=None, *, n=4, ax=None, ncols=4):
         raise ValueError("data is not the output of a bsi_sklearn.datasets generator")
     n_total = len(data.traces)
     if indices is None:
-        n = _check_int(n, "n")
         indices = list(range(min(n, n_total)))
     else:
         indices = [int(i) for i in np.atleast_1d(indices)]
@@ -66,7 +74,7 @@ def plot_demos(data, indices=None, *, n=4, ax=None, ncols=4):
             if not 0 <= i < n_total:
                 raise ValueError(f"indices has {i}, outside [0, {n_total})")
     if ax is None:
-        ncols = min(_check_int(ncols, "ncols"), len(indices))
+        ncols = min(int(ncols), len(indices))
         nrows = -(-len(indices) // ncols)
         _, axes = plt.subplots(nrows, ncols, figsize=(3.2 * ncols, 3.2 * nrows), squeeze=False)
         axes = axes.ravel()
@@ -127,9 +135,3 @@ def _draw_dinner(a, data, i):
     a.set_xlim(-0.65, 1.25)
     a.set_ylim(-0.75, 0.5)
     a.set_xlabel(f"{data.meals[i]}, participant {data.participants[i]}", fontsize=8)
-
-
-def _check_int(value, name):
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
-        raise ValueError(f"{name} must be a positive integer, got {value!r}")
-    return int(value)

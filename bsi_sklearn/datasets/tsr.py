@@ -8,7 +8,6 @@ from sklearn.utils import check_random_state
 __all__ = ["TaskSpaceRegion", "make_pose", "rpy_to_matrix", "matrix_to_rpy"]
 
 _TWO_PI = 2.0 * np.pi
-_ANGLE_NAMES = ("roll", "pitch", "yaw")
 _BOUND_NAMES = ("x", "y", "z", "roll", "pitch", "yaw")
 
 

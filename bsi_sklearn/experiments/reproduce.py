@@ -2,27 +2,18 @@
 
 from __future__ import annotations
 
-import argparse
+from numbers import Integral
 
 import pandas as pd
+
+from bsi_sklearn.param_validation import NONZERO_INTEGER, Interval, option_type
 
 __all__ = ["add_arguments", "run"]
 
 EXPERIMENTS = ("synthetic", "dinner")
 
-
-def _positive_int(text):
-    value = int(text)
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be a positive integer, got {text}")
-    return value
-
-
-def _n_jobs(text):
-    value = int(text)
-    if value == 0:
-        raise argparse.ArgumentTypeError("must be a non-zero integer (-1: all cores)")
-    return value
+_positive_int = option_type(int, [Interval(Integral, 1, None, closed="left")])
+_n_jobs = option_type(int, [NONZERO_INTEGER])
 
 
 def add_arguments(parser):
@@ -35,7 +26,7 @@ def add_arguments(parser):
                         help="small sizes and few repeats: well under a minute")
     parser.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
     parser.add_argument("--n-jobs", type=_n_jobs, default=-1,
-                        help="fits run in this many threads (default: -1, all cores)")
+                        help="fits run in this many threads (default: -1, all cores; not 0)")
     parser.add_argument("--repeats", type=_positive_int, default=None,
                         help="random draws of the training set per size (default: the "
                              "experiment's)")

@@ -254,14 +254,14 @@ def test_early_stopping_restores_the_best_epoch():
 @pytest.mark.parametrize(
     "params, match",
     [
-        ({"hidden_size": 0}, "hidden_size must be a positive integer"),
+        ({"hidden_size": 0}, "hidden_size must be an integer >= 1"),
         ({"lr": -1.0}, "lr must be a number"),
         ({"validation_fraction": 1.0}, "validation_fraction must be a number"),
         ({"pooling": "first"}, "pooling must be one of"),
-        ({"coupled": True, "n_phases": 1}, "n_phases must be at least 2"),
+        ({"coupled": True, "n_phases": 1}, "n_phases must be an integer >= 2"),
         ({"class_weight": "auto"}, "class_weight must be None"),
         ({"device": "no-such-device"}, "is not a torch device"),
-        ({"n_threads": 0}, "n_threads must be a positive integer"),
+        ({"n_threads": 0}, "n_threads must be an integer >= 1"),
     ],
 )
 def test_bad_hyperparameters(params, match):

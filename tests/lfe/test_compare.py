@@ -171,7 +171,7 @@ def test_folds_are_stratified_and_seeded():
 
 @pytest.mark.parametrize("argv, message", [
     (["--dataset", "no/such/dataset"], "no/such/dataset"),
-    (["--folds", "1"], "n_splits"),
+    (["--folds", "1"], "--folds must be an integer >= 2, got 1"),
     (["--n-scenarios", "3", "--folds", "4"], "n_splits=4"),
     (["--dataset", "x", "--n-scenarios", "4"], "either --dataset or --n-scenarios"),
 ])

@@ -97,7 +97,7 @@ def test_make_lfe_dataset_is_reproducible():
 
 @pytest.mark.parametrize("n", [0, -1, 2.0, True])
 def test_make_lfe_dataset_bad_size(n):
-    with pytest.raises(ValueError, match="n_scenarios must be a positive integer"):
+    with pytest.raises(ValueError, match="n_scenarios must be an integer >= 1"):
         make_lfe_dataset(n)
 
 
@@ -135,7 +135,7 @@ def test_cli_simulate_writes_a_dataset_that_loads(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("args, match", [
-    (["--n-scenarios", "0"], "--n-scenarios must be a positive integer"),
+    (["--n-scenarios", "0"], "--n-scenarios must be an integer >= 1, got 0"),
     (["--noise", "2"], "--noise must be a number in"),
     (["--time-noise", "-1"], "--time-noise must be a finite number >= 0"),
     (["--seed", "-1"], "--seed must be"),
