@@ -1,10 +1,13 @@
 """`Posterior`: a categorical distribution over unique canonical specifications."""
 
+import numbers
+
 import numpy as np
 import pandas as pd
 from numba import njit
 
 from bsi_sklearn.clauses import clause_truth, pack_rows
+from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.specification import Specification
 from bsi_sklearn.traces import Traces, check_traces
 
@@ -135,9 +138,8 @@ class Posterior:
 
     def top(self, k=5):
         """The ``k`` most probable specifications as ``(Specification, probability)`` pairs."""
-        k = int(k)
-        if k < 1:
-            raise ValueError(f"k must be a positive integer, got {k}")
+        validate_params({"k": k}, {"k": [Interval(numbers.Integral, 1, None, closed="left")]},
+                        "Posterior.top")
         return [(self._build_spec(i), float(self.probabilities[i]))
                 for i in range(min(k, len(self)))]
 

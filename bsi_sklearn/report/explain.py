@@ -9,6 +9,7 @@ import pandas as pd
 from sklearn.metrics import confusion_matrix, f1_score
 from sklearn.utils.validation import check_is_fitted
 
+from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.report.specification_report import SpecificationReport
 from bsi_sklearn.report.wording import (
     _KINDS,
@@ -24,6 +25,9 @@ from bsi_sklearn.traces import check_consistent_traces, check_traces
 
 __all__ = ["explain"]
 
+
+_CONSTRAINTS = {"top_k": [Interval(numbers.Integral, 1, None, closed="left")],
+                "title": [str, None]}
 
 def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=None,
             demo_names=None):
@@ -84,12 +88,9 @@ def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=Non
     roles = posterior.roles
     names = list(roles.names)
     descriptions = _check_descriptions(descriptions, names)
-    if isinstance(top_k, bool) or not isinstance(top_k, numbers.Integral) or top_k < 1:
-        raise ValueError(f"top_k must be a positive integer, got {top_k!r}")
+    validate_params({"top_k": top_k, "title": title}, _CONSTRAINTS, "explain")
     if title is None:
         title = "BSI specification report"
-    if not isinstance(title, str):
-        raise ValueError(f"title must be a string, got {type(title).__name__}")
     if y is not None and X is None:
         raise ValueError("y was given without X: labels need their demonstrations")
 
