@@ -190,6 +190,19 @@ def _log_prior_forest(parent, n_children, n_roots, n_new):
 
 
 @njit(cache=True, nogil=True)
+def _count_children(parent, n_children):
+    # Number of children of every node, into n_children; returns the number of roots.
+    n_children[:] = 0
+    n_roots = 0
+    for v in range(parent.shape[0]):
+        if parent[v] < 0:
+            n_roots += 1
+        else:
+            n_children[parent[v]] += 1
+    return n_roots
+
+
+@njit(cache=True, nogil=True)
 def log_prior_structure(parent, model):
     """Closed-form log-probability of an order structure under the model's prior.
 
@@ -210,12 +223,7 @@ def log_prior_structure(parent, model):
     if n == 0:
         return 0.0
     n_children = np.zeros(n, dtype=np.int64)
-    n_roots = 0
-    for v in range(n):
-        if parent[v] < 0:
-            n_roots += 1
-        else:
-            n_children[parent[v]] += 1
+    n_roots = _count_children(parent, n_children)
     if model.prior == _FOREST:
         return _log_prior_forest(parent, n_children, n_roots, model.n_new)
     for v in range(n):
@@ -350,15 +358,10 @@ def _enumerate_structures(n, code):
                 ok = False
                 break
         if ok and code != _FOREST:
-            n_children[:] = 0
-            n_roots = 0
+            n_roots = _count_children(parent, n_children)
             for v in range(n):
-                if parent[v] < 0:
-                    n_roots += 1
-                else:
-                    n_children[parent[v]] += 1
-                    if n_children[parent[v]] > 1:
-                        ok = False
+                if n_children[v] > 1:
+                    ok = False
             if code == _LINEAR_CHAIN and n_roots != 1:
                 ok = False
         if ok:
