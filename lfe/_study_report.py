@@ -70,6 +70,7 @@ def plot_learning_curves(table, objective, metric="f1"):
             ax.set_title(f"{objective}: noise {noise:g}, {ps} propositions", fontsize="medium")
             ax.set_xlabel("training missions")
             ax.set_ylabel("weighted F1 on the test missions" if metric == "f1" else metric)
+            ax.set_ylim(0, 1.05)  # a t-interval of few repeats can reach past [0, 1]
             ax.grid(alpha=0.3)
     axes[0, -1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
     return fig

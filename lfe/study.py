@@ -100,26 +100,35 @@ def _cell_name(noise, propositions, n_train, repeat):
     return f"{propositions}_noise{noise:g}_n{n_train}_r{repeat}.json"
 
 
-def _simulate_and_run(repeat, todo, config, seeds):
-    """One repeat's missions, then its cells; return ``[(cell, rows), ...]``."""
-    data = simulate_repeat(n_pool=max(config["sizes"]), test_size=config["test_size"],
-                           noises=config["noise"], propositions=config["propositions"],
-                           dataset_seed=seeds["dataset_seed"], label_seed=seeds["label_seed"])
-    settings = {"networks": config["networks"], "bsi": config["bsi"],
-                "grid": config["grid"]}
-    results = []
-    for noise, ps, n_train in todo:
-        split_seed = derive_seed(config["seed"], repeat, 2, n_train)
-        model_seed = derive_seed(config["seed"], repeat, 3, n_train)
-        train = draw_training_set(data["clean"], data["n_pool"], n_train, split_seed)
-        start = time.perf_counter()
-        rows = run_cell(data, noise=noise, propositions=ps, n_train=n_train, train=train,
-                        model_seed=model_seed, settings=settings)
-        cell = dict(repeat=repeat, noise=noise, propositions=ps, n_train=n_train,
-                    **seeds, split_seed=split_seed, model_seed=model_seed,
-                    cell_s=time.perf_counter() - start)
-        results.append((cell, rows))
-    return results
+def _simulate(repeat, config, seeds):
+    """One repeat's missions (:func:`lfe._study_cells.simulate_repeat`)."""
+    return repeat, simulate_repeat(
+        n_pool=max(config["sizes"]), test_size=config["test_size"], noises=config["noise"],
+        propositions=config["propositions"], dataset_seed=seeds["dataset_seed"],
+        label_seed=seeds["label_seed"])
+
+
+def _slice(data, noise, propositions):
+    """The part of a repeat's data one cell reads (less to send to a worker)."""
+    return {"n_pool": data["n_pool"], "clean": data["clean"], "flight": data["flight"],
+            "labels": {noise: data["labels"][noise]}, "phases": {noise: data["phases"][noise]},
+            "props": {propositions: data["props"][propositions]},
+            "roles": {propositions: data["roles"][propositions]}}
+
+
+def _run_cell(data, repeat, noise, propositions, n_train, config, seeds):
+    """One cell: draw its training set, fit and score every row; ``(cell, rows)``."""
+    split_seed = derive_seed(config["seed"], repeat, 2, n_train)
+    model_seed = derive_seed(config["seed"], repeat, 3, n_train)
+    train = draw_training_set(data["clean"], data["n_pool"], n_train, split_seed)
+    settings = {"networks": config["networks"], "bsi": config["bsi"], "grid": config["grid"]}
+    start = time.perf_counter()
+    rows = run_cell(data, noise=noise, propositions=propositions, n_train=n_train, train=train,
+                    model_seed=model_seed, settings=settings)
+    cell = dict(repeat=repeat, noise=noise, propositions=propositions, n_train=n_train,
+                **seeds, split_seed=split_seed, model_seed=model_seed,
+                cell_s=time.perf_counter() - start)
+    return cell, rows
 
 
 def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=None, seed=0,
@@ -137,8 +146,10 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
     the majority class, and the noise-free commander rule as a ceiling -- and the test set
     scores them (weighted F1 and accuracy per objective).
 
-    Results are written as each repeat's cells finish (``out/cells/*.json``); a rerun with the
-    same arguments and ``out`` resumes, running only the missing cells. The cells go through
+    The repeats are simulated first, then the cells run; each cell's results are written as
+    soon as it finishes (``out/cells/*.json``), so an interrupted run keeps them, and a rerun
+    with the same arguments and ``out`` resumes, simulating only the repeats with missing
+    cells and running only those cells. The cells go through
     joblib, so ``with joblib.parallel_backend("dask"):`` spreads them over a dask cluster
     with the same results. Every seed derives from ``seed`` and is recorded.
 
@@ -157,8 +168,8 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
     seed : int, default=0
         Root of every seed.
     n_jobs : int, default=None
-        joblib workers over the repeats (``None`` or 1: sequential; -1: every core). The
-        files do not depend on it.
+        joblib workers over the simulations and the cells (``None`` or 1: sequential; -1:
+        every core). The files do not depend on it.
     out : str or Path, default="study"
         Output directory.
     quick : bool, default=False
@@ -205,27 +216,34 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
     config_path.write_text(json.dumps(config, indent=1, sort_keys=True) + "\n")
 
     start = time.perf_counter()
-    tasks = []
-    for r in range(repeats):
-        seeds = {"dataset_seed": derive_seed(seed, r, 0), "label_seed": derive_seed(seed, r, 1)}
-        todo = [(nz, ps, n) for nz in noise for ps in propositions for n in sizes
-                if not (cells_dir / _cell_name(nz, ps, n, r)).exists()]
-        if todo:
-            tasks.append((r, todo, seeds))
-    total = sum(len(todo) for _, todo, _ in tasks)
-    outputs = Parallel(n_jobs=n_jobs, return_as="generator_unordered")(
-        delayed(_simulate_and_run)(r, todo, config, seeds) for r, todo, seeds in tasks)
+    seeds = {r: {"dataset_seed": derive_seed(seed, r, 0), "label_seed": derive_seed(seed, r, 1)}
+             for r in range(repeats)}
+    # repeat by repeat (an interrupted run keeps whole repeats), largest sets first
+    todo = [(r, nz, ps, n) for r in range(repeats) for n in reversed(sizes) for nz in noise
+            for ps in propositions if not (cells_dir / _cell_name(nz, ps, n, r)).exists()]
+    need = sorted({r for r, *_ in todo})
     from tqdm.auto import tqdm
 
-    with tqdm(total=total, desc="bsi-lfe study", unit="cell", disable=not verbose) as bar:
-        for results in outputs:
-            for cell, rows in results:
-                path = cells_dir / _cell_name(cell["noise"], cell["propositions"],
-                                              cell["n_train"], cell["repeat"])
-                tmp = path.with_suffix(".tmp")
-                tmp.write_text(json.dumps({"cell": cell, "rows": rows}) + "\n")
-                os.replace(tmp, path)  # a cell file is complete or absent
-                bar.update()
+    with tqdm(total=len(need) + len(todo), desc="bsi-lfe study", unit="task",
+              disable=not verbose) as bar:
+        # 1. simulate the repeats that still have cells to run
+        data = {}
+        for r, sim in Parallel(n_jobs=n_jobs, return_as="generator_unordered")(
+                delayed(_simulate)(r, config, seeds[r]) for r in need):
+            data[r] = sim
+            bar.update()
+        # 2. the cells, each written as soon as it finishes
+        outputs = Parallel(n_jobs=n_jobs, return_as="generator_unordered")(
+            delayed(_run_cell)(_slice(data[r], nz, ps), r, nz, ps, n, config, seeds[r])
+            for r, nz, ps, n in todo)
+        for cell, rows in outputs:
+            path = cells_dir / _cell_name(cell["noise"], cell["propositions"],
+                                          cell["n_train"], cell["repeat"])
+            tmp = path.with_suffix(".tmp")
+            tmp.write_text(json.dumps({"cell": cell, "rows": rows}) + "\n")
+            os.replace(tmp, path)  # a cell file is complete or absent
+            bar.update()
+        del data
     return _write(out, config, command, time.perf_counter() - start)
 
 
