@@ -132,6 +132,17 @@ def draw_training_set(clean, n_pool, n_train, seed):
     drawn has two members or more, else on MO1, else drawn at random; the whole pool when
     ``n_train == n_pool``.
 
+    Parameters
+    ----------
+    clean : ndarray of shape (n_missions, 3)
+        Noise-free verdicts; the first ``n_pool`` rows are the pool.
+    n_pool : int
+        Size of the training pool.
+    n_train : int
+        Training missions to draw.
+    seed : int
+        Seed of the draw.
+
     Returns
     -------
     positions : ndarray of int, sorted
