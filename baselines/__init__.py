@@ -8,10 +8,11 @@ The torch-backed names are imported on first use, so that ``PAPER_BASELINES`` (a
 
 import importlib
 
-from baselines._paper import PAPER_BASELINES
+from baselines._paper import FAIR_TRAINING, PAPER_BASELINES
 from baselines._torch import require_torch
 
 __all__ = [
+    "FAIR_TRAINING",
     "LSTMSequenceClassifier",
     "PAPER_BASELINES",
     "make_paper_baseline",

@@ -99,6 +99,13 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
     patience : int, default=20
         Stop after this many epochs without improvement of the monitored loss; the weights of
         the best epoch are restored.
+    refit : bool, default=False
+        After early stopping has chosen the number of epochs on the validation split, train a
+        fresh network (same initial weights) on *every* training sequence for exactly that
+        many epochs and keep it, so no training sequence is spent on validation only. Without
+        a validation split (``validation_fraction`` ``None`` or ``0``, or fewer than two
+        sequences) there is nothing to refit and the flag changes nothing. The study and the
+        comparison use ``refit=True`` (see :data:`baselines.FAIR_TRAINING`).
     class_weight : dict, list of dict, "balanced" or None, default=None
         Weights of the labels in each objective's binary cross-entropy, as in scikit-learn's
         forests. ``None`` weights every sequence equally (the paper's loss). ``"balanced"``
@@ -148,6 +155,9 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
         Epoch (1-based) whose weights were kept.
     best_loss_ : float
         Monitored loss at ``best_epoch_``.
+    refit_epochs_ : int
+        Epochs of the refit on every training sequence (``refit=True``); 0 without a refit,
+        when ``module_`` is the early-stopped network itself.
     fit_time_ : float
         Seconds spent in the last ``fit``.
 
@@ -228,6 +238,7 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
         weight_decay=0.0,
         validation_fraction=0.2,
         patience=20,
+        refit=False,
         class_weight=None,
         standardize=True,
         clip_grad_norm=1.0,
@@ -249,6 +260,7 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
         self.weight_decay = weight_decay
         self.validation_fraction = validation_fraction
         self.patience = patience
+        self.refit = refit
         self.class_weight = class_weight
         self.standardize = standardize
         self.clip_grad_norm = clip_grad_norm
@@ -350,13 +362,24 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
             "n_phases": int(self.n_phases) if self.coupled else 0,
             "pooling": self.pooling,
         }
-        with torch.random.fork_rng(devices=fork_devices):
+        with torch.random.fork_rng(devices=fork_devices), _deterministic_torch():
             torch.manual_seed(torch_seed)
             module = _RecurrentNet(**self._net_config).to(device)
             self._train(
                 module, data, sequences.offsets, y01, weights, phase_data, train_idx,
                 valid_idx, order_rng, device,
             )
+            self.refit_epochs_ = 0
+            if self.refit and len(valid_idx) and self.best_epoch_ > 0:
+                # Same initial weights, every training sequence, the chosen number of epochs.
+                torch.manual_seed(torch_seed)
+                module = _RecurrentNet(**self._net_config).to(device)
+                self._train(
+                    module, data, sequences.offsets, y01, weights, phase_data,
+                    np.arange(sequences.n_sequences), np.empty(0, dtype=np.int64), order_rng,
+                    device, epochs=self.best_epoch_,
+                )
+                self.refit_epochs_ = self.best_epoch_
 
     _parameter_constraints = {
         "hidden_size": [Interval(Integral, 1, None, closed="left")],
@@ -374,6 +397,7 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
         "patience": [Interval(Integral, 1, None, closed="left")],
         "class_weight": [None, StrOptions(("balanced",)), dict, _LIST_OF_DICTS],
         "standardize": ["boolean"],
+        "refit": ["boolean"],
         "clip_grad_norm": [Interval(Real, 0, math.inf, closed="neither"), None],
         "random_state": "no_validation",  # check_random_state, in fit
         "verbose": "no_validation",
@@ -480,7 +504,12 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
         return weights
 
     def _train(self, module, data, offsets, y01, weights, phase_data, train_idx, valid_idx,
-               order_rng, device):
+               order_rng, device, epochs=None):
+        """Train ``module`` with early stopping, or for exactly ``epochs`` epochs (a refit).
+
+        With ``epochs`` the weights after the last epoch are kept in ``module_`` and the
+        early-stopping attributes (``history_``, ``best_epoch_``, ...) are left as they are.
+        """
         objective_mask = torch.as_tensor(~self._constant, dtype=torch.float32, device=device)
         optimizer = torch.optim.Adam(
             module.parameters(), lr=self.lr, weight_decay=self.weight_decay
@@ -508,7 +537,7 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
         has_valid = len(valid_idx) > 0
         best_loss, best_epoch, best_state = math.inf, 0, None
         history = []
-        for epoch in range(1, int(self.max_epochs) + 1):
+        for epoch in range(1, int(epochs or self.max_epochs) + 1):
             module.train()
             order = order_rng.permutation(train_idx)
             total, count = 0.0, 0
@@ -523,6 +552,8 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
                 total += float(loss.detach()) * len(indices)
                 count += len(indices)
             train_loss = total / count
+            if epochs is not None:
+                continue
             valid_loss = math.nan
             if has_valid:
                 module.eval()
@@ -541,6 +572,10 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
                 best_state = {k: v.detach().clone() for k, v in module.state_dict().items()}
             elif epoch - best_epoch >= self.patience:
                 break
+        if epochs is not None:
+            module.eval()
+            self.module_ = module
+            return
         if best_state is not None:
             module.load_state_dict(best_state)
         module.eval()
@@ -696,6 +731,21 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
             module.load_state_dict(module_state)
             module.eval()
             self.module_ = module
+
+
+@contextlib.contextmanager
+def _deterministic_torch():
+    """Run the block with torch's deterministic algorithms on, then restore the setting.
+
+    The CPU kernels these networks use are deterministic already; the flag makes torch raise
+    rather than silently pick a nondeterministic kernel (on GPUs, for example).
+    """
+    previous = torch.are_deterministic_algorithms_enabled()
+    torch.use_deterministic_algorithms(True)
+    try:
+        yield
+    finally:
+        torch.use_deterministic_algorithms(previous)
 
 
 @contextlib.contextmanager

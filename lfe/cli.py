@@ -1,4 +1,4 @@
-"""The ``bsi-lfe`` command line: ``simulate``, ``compare`` and ``report`` subcommands.
+"""The ``bsi-lfe`` command line: ``simulate``, ``compare``, ``study`` and ``report`` subcommands.
 
 Each subcommand lives in its own module exposing ``add_arguments(parser)`` and ``run(args)``;
 this file only wires them, importing a module when the parser is built.
@@ -16,6 +16,8 @@ SUBCOMMANDS = {
     "simulate": ("lfe._cli_simulate", "simulate and annotate a dataset of LFE missions"),
     "compare": ("lfe.compare",
                 "BSI vs the LSTM baselines on the LFE missions (the paper's F1 table)"),
+    "study": ("lfe.study",
+              "learning curves of BSI and the networks with 95% intervals over repeats"),
     "report": ("lfe.report",
                "interpretability report of the MAP specification per mission objective"),
 }

@@ -22,7 +22,7 @@ from sklearn.model_selection import KFold, StratifiedKFold
 from sklearn.utils.parallel import Parallel, delayed
 
 import baselines
-from baselines import PAPER_BASELINES
+from baselines import FAIR_TRAINING, PAPER_BASELINES
 from bsi_sklearn.classifier import BSIClassifier
 from bsi_sklearn.experiments.tables import markdown_table
 from bsi_sklearn.param_validation import (
@@ -423,9 +423,12 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     """Cross-validate BSI and the paper's four recurrent baselines on LFE missions.
 
     Every classifier sees the same folds. The baselines (:func:`baselines.make_paper_baseline`,
-    default training: hidden size 32, Adam at 1e-2, at most 200 epochs, early stopping on a
-    20 % validation split of the training scenarios with patience 20, best epoch restored)
-    predict the three objectives at once; the standalone ones read the propositions, the
+    hidden size 32, Adam at 1e-2, mini-batches of 4, at most 200 epochs) are trained with the
+    protocol :data:`baselines.FAIR_TRAINING`: early stopping (patience 20) chooses the number
+    of epochs on a 20 % validation split of the training scenarios, then a fresh network with
+    the same initial weights is refitted on every training scenario for that many epochs, so
+    the networks learn from as many scenarios as BSI. They predict the three objectives at
+    once; the standalone ones read the propositions, the
     coupled ones also the aircraft flight-phase fractions
     (:meth:`LFEPropositionExtractor.flight_phase_features`) and learn the commander's phase
     labels (:meth:`LFEPropositionExtractor.phase_labels`) as a second task. BSI fits one
@@ -511,7 +514,7 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     }
     folds, split = _folds(labels, n_splits, seed)
     fold_seeds = np.random.RandomState(seed).randint(np.iinfo(np.int32).max, size=n_splits)
-    baseline_params = dict(_QUICK_BASELINE) if quick else {}
+    baseline_params = {**FAIR_TRAINING, **(_QUICK_BASELINE if quick else {})}
     bsi_params = dict(_QUICK_BSI) if quick else {}
     everything = np.arange(len(dataset))
 

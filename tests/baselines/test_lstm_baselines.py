@@ -251,6 +251,24 @@ def test_early_stopping_restores_the_best_epoch():
     assert no_valid.best_loss_ == min(h["train_loss"] for h in no_valid.history_)
 
 
+def test_refit_trains_on_every_sequence_for_the_chosen_epochs():
+    params = dict(random_state=0, max_epochs=40, patience=5, hidden_size=8, batch_size=4)
+    stopped = LSTMSequenceClassifier(**params).fit(X_TRAIN, Y_TRAIN)
+    refitted = LSTMSequenceClassifier(refit=True, **params).fit(X_TRAIN, Y_TRAIN)
+    # the same early-stopping run chooses the epoch count; the refit then runs exactly that
+    assert refitted.history_ == stopped.history_
+    assert refitted.best_epoch_ == stopped.best_epoch_ == refitted.refit_epochs_ >= 1
+    assert stopped.refit_epochs_ == 0
+    assert not np.allclose(refitted.predict_proba(X_TEST)[0], stopped.predict_proba(X_TEST)[0])
+    again = LSTMSequenceClassifier(refit=True, **params).fit(X_TRAIN, Y_TRAIN)
+    for a, b in zip(again.predict_proba(X_TEST), refitted.predict_proba(X_TEST)):
+        np.testing.assert_array_equal(a, b)
+    # nothing to refit without a validation split
+    plain = LSTMSequenceClassifier(refit=True, validation_fraction=None, **params)
+    assert plain.fit(X_TRAIN, Y_TRAIN).refit_epochs_ == 0
+    assert not torch.are_deterministic_algorithms_enabled()  # the setting is restored
+
+
 @pytest.mark.parametrize(
     "params, match",
     [

@@ -1,0 +1,305 @@
+"""The work units of ``bsi-lfe study``: simulate one repeat's missions, run one cell on them.
+
+A *repeat* is one independently simulated set of missions: a training pool and a test set of
+fresh missions, every draw from the repeat's own seeds. A *cell* is one training size of one
+repeat, for one label-noise rate and one proposition set: every classifier of the study is
+fitted on the same training missions and scored on the same test missions. Both are plain
+functions of picklable arguments, so joblib can run them in worker processes or on a dask
+cluster.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+
+import numpy as np
+import pandas as pd
+from sklearn.dummy import DummyClassifier
+from sklearn.exceptions import ConvergenceWarning, FitFailedWarning
+from sklearn.model_selection import GridSearchCV, KFold, StratifiedKFold, train_test_split
+
+from baselines import FAIR_TRAINING, PAPER_BASELINES
+from bsi_sklearn.classifier import BSIClassifier
+from lfe.annotate import MISSION_OBJECTIVES, annotate_scenarios
+from lfe.dataset import make_lfe_dataset
+from lfe.extractor import LFEPropositionExtractor
+
+__all__ = [
+    "BSI_CV",
+    "BSI_ROWS",
+    "CEILING",
+    "MAJORITY",
+    "NETWORKS",
+    "ROWS",
+    "TIME_NOISE",
+    "bsi_settings",
+    "derive_seed",
+    "draw_training_set",
+    "network_settings",
+    "run_cell",
+    "search_grid",
+    "simulate_repeat",
+]
+
+#: The four recurrent baselines, in the paper's order.
+NETWORKS = tuple(PAPER_BASELINES)
+#: BSI rows with a fixed prior: name -> ``BSIClassifier(prior=...)``.
+BSI_ROWS = {"BSI (Prior 2)": "sets_of_chains", "BSI (Prior 3)": "forest"}
+#: BSI whose hyperparameters an inner cross-validation on the training set chooses.
+BSI_CV = "BSI (GridSearchCV)"
+#: Always predict the training set's most frequent outcome.
+MAJORITY = "Majority class"
+#: The commander's rule without judgement noise, scored against the (noisy) test labels: the
+#: best any classifier of the labels can expect, not a classifier.
+CEILING = "Noise-free rule (ceiling)"
+#: Every row of the study, in display order.
+ROWS = (*NETWORKS, *BSI_ROWS, BSI_CV, MAJORITY, CEILING)
+#: Standard deviation (s) of the error on the marked phase times (``make_lfe_dataset``'s).
+TIME_NOISE = 10.0
+
+
+def derive_seed(*key):
+    """A 31-bit seed derived from integers (the study's seed, the repeat, a purpose, ...).
+
+    Parameters
+    ----------
+    *key : int
+        Non-negative integers; different keys give independent seeds
+        (:class:`numpy.random.SeedSequence`).
+
+    Returns
+    -------
+    seed : int
+    """
+    return int(np.random.SeedSequence([int(k) for k in key]).generate_state(1)[0] & 0x7FFFFFFF)
+
+
+def simulate_repeat(*, n_pool, test_size, noises, propositions, dataset_seed, label_seed):
+    """Simulate one repeat: a training pool and a test set, labels at every noise rate.
+
+    The ``n_pool + test_size`` missions come from one :func:`lfe.make_lfe_dataset` run seeded
+    with ``dataset_seed`` (the first ``n_pool`` are the training pool, the rest the test set).
+    The commander's rule without noise gives the clean verdicts (the ceiling row and the
+    stratification of the training sets); :func:`lfe.annotate_scenarios` with ``label_seed``
+    gives the verdicts and phase times at each noise rate, so the missions are the same at
+    every rate and only the labels differ.
+
+    Parameters
+    ----------
+    n_pool, test_size : int
+        Missions of the training pool and of the test set.
+    noises : sequence of float
+        Label-noise rates (probability each verdict is flipped).
+    propositions : sequence of str
+        Proposition sets of :class:`lfe.LFEPropositionExtractor`.
+    dataset_seed, label_seed : int
+        Seeds of the missions and of the annotation noise.
+
+    Returns
+    -------
+    data : dict
+        ``clean`` (n, 3) noise-free verdicts; ``labels[noise]`` (n, 3); ``phases[noise]``
+        per-step phase labels; ``props[propositions]`` proposition traces; ``roles[...]``;
+        ``flight`` flight-phase features; ``n_pool``.
+    """
+    dataset = make_lfe_dataset(n_pool + test_size, random_state=dataset_seed, noise=0.0,
+                               time_noise=0.0)
+    scenarios = dataset.scenarios
+    objectives = list(MISSION_OBJECTIVES)
+    data = {"n_pool": n_pool, "clean": dataset.labels[objectives].to_numpy(),
+            "labels": {}, "phases": {}, "props": {}, "roles": {}}
+    extractor = None
+    for ps in propositions:
+        extractor = LFEPropositionExtractor(propositions=ps).fit(scenarios)
+        data["props"][ps] = extractor.transform(scenarios)
+        data["roles"][ps] = {"global_candidates": extractor.global_candidates_,
+                             "subtasks": extractor.subtasks_,
+                             "conditions": extractor.conditions_}
+    data["flight"] = extractor.flight_phase_features(scenarios)
+    for noise in noises:
+        labels, phases = annotate_scenarios(scenarios, noise=noise, time_noise=TIME_NOISE,
+                                            random_state=label_seed)
+        data["labels"][noise] = labels[objectives].to_numpy()
+        data["phases"][noise] = extractor.phase_labels(scenarios, phases)
+    return data
+
+
+def draw_training_set(clean, n_pool, n_train, seed):
+    """Positions of ``n_train`` pool missions, stratified on the clean outcomes where possible.
+
+    Stratified on the combination of the three noise-free verdicts when every combination
+    drawn has two members or more, else on MO1, else drawn at random; the whole pool when
+    ``n_train == n_pool``.
+
+    Parameters
+    ----------
+    clean : ndarray of shape (n_missions, 3)
+        Noise-free verdicts; the first ``n_pool`` rows are the pool.
+    n_pool : int
+        Size of the training pool.
+    n_train : int
+        Training missions to draw.
+    seed : int
+        Seed of the draw.
+
+    Returns
+    -------
+    positions : ndarray of int, sorted
+    """
+    pool = np.arange(n_pool)
+    if n_train >= n_pool:
+        return pool
+    codes = clean[:n_pool] @ (1 << np.arange(clean.shape[1]))
+    for stratify in (codes, clean[:n_pool, 0], None):
+        try:
+            train, _ = train_test_split(pool, train_size=n_train, random_state=seed,
+                                        stratify=stratify)
+        except ValueError:
+            continue
+        return np.sort(train)
+    raise AssertionError("an unstratified split cannot fail")  # pragma: no cover
+
+
+def _weighted_f1(y_true, y_pred):
+    """``f1_score(average="weighted", zero_division=0)`` of 0/1 labels."""
+    total = 0.0
+    for label in np.unique(y_true):
+        tp = np.sum((y_true == label) & (y_pred == label))
+        denom = np.sum(y_true == label) + np.sum(y_pred == label)
+        total += np.sum(y_true == label) * (2.0 * tp / denom if denom else 0.0)
+    return float(total / len(y_true))
+
+
+def _fit_bsi(X, y, roles, params, seed, prior):
+    if not np.any(y == 1):
+        return None  # BSI needs an acceptable mission; predict "failed" throughout
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        return BSIClassifier(prior=prior, random_state=seed, **roles, **params).fit(X, y)
+
+
+def _fit_bsi_cv(X, y, roles, params, grid, seed):
+    """GridSearchCV over ``grid`` on the training set only; ``(classifier, chosen params)``."""
+    if not np.any(y == 1):
+        return None, {}
+    n_min = int(np.bincount(y, minlength=2).min())
+    n_splits = min(3, len(y))
+    cv = (StratifiedKFold(min(n_splits, n_min), shuffle=True, random_state=seed)
+          if n_min >= 2 else KFold(n_splits, shuffle=True, random_state=seed))
+    search = GridSearchCV(BSIClassifier(random_state=seed, **roles, **params), grid,
+                          scoring="f1_weighted", cv=cv, n_jobs=1, error_score=np.nan)
+    with warnings.catch_warnings():
+        # inner folds without an acceptable mission cannot be fitted; they score nan
+        warnings.simplefilter("ignore", (ConvergenceWarning, FitFailedWarning, UserWarning,
+                                         RuntimeWarning))
+        try:
+            search.fit(X, y)
+        except ValueError:  # every inner fit failed: fall back to the defaults
+            return _fit_bsi(X, y, roles, params, seed, "sets_of_chains"), {}
+    chosen = {k: (v if v is None or isinstance(v, str) else float(v))
+              for k, v in search.best_params_.items()}
+    return search.best_estimator_, chosen
+
+
+def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings):
+    """Fit every row of the study on one training set; score it on the test missions.
+
+    Parameters
+    ----------
+    data : dict
+        One repeat, from :func:`simulate_repeat`.
+    noise : float
+        Label-noise rate of this cell.
+    propositions : str
+        Proposition set of this cell.
+    n_train : int
+        Training size (``len(train)``).
+    train : ndarray of int
+        Positions of the training missions in the pool.
+    model_seed : int
+        Seed of every model of the cell (network weights, validation split and batch order,
+        MCMC chains, inner cross-validation folds).
+    settings : dict
+        ``networks`` (:class:`baselines.LSTMSequenceClassifier` parameters), ``bsi``
+        (:class:`bsi_sklearn.BSIClassifier` parameters) and ``grid`` (the inner search's).
+
+    Returns
+    -------
+    rows : list of dict
+        One per row of :data:`ROWS` and objective: ``classifier``, ``objective``, ``f1``,
+        ``accuracy``, ``fit_s`` and ``detail`` (the chosen hyperparameters, the networks'
+        chosen epochs).
+    """
+    import baselines
+
+    n_pool = data["n_pool"]
+    test = np.arange(n_pool, len(data["clean"]))
+    y = data["labels"][noise]
+    props = data["props"][propositions]
+    roles = data["roles"][propositions]
+    objectives = list(MISSION_OBJECTIVES)
+
+    def sub(seqs, idx):
+        return [seqs[i] for i in idx]
+
+    preds, fit_s, detail = {}, {}, {}
+    for name in NETWORKS:
+        start = time.perf_counter()
+        clf = baselines.make_paper_baseline(name, random_state=model_seed,
+                                            **settings["networks"])
+        X = ([pd.concat([p.astype(float), f], axis=1) for p, f in zip(props, data["flight"])]
+             if clf.coupled else props)
+        clf.fit(sub(X, train), y[train], phases=sub(data["phases"][noise], train))
+        preds[name] = clf.predict(sub(X, test))
+        fit_s[name] = time.perf_counter() - start
+        detail[name] = f"epochs={clf.refit_epochs_ or clf.best_epoch_}"
+    X_train, X_test = sub(props, train), sub(props, test)
+    for name in (*BSI_ROWS, BSI_CV):
+        start = time.perf_counter()
+        columns, chosen = [], []
+        for k in range(len(objectives)):
+            if name == BSI_CV:
+                clf, params = _fit_bsi_cv(X_train, y[train, k], roles, settings["bsi"],
+                                          settings["grid"], model_seed)
+                chosen.append(";".join(f"{p}={v}" for p, v in sorted(params.items())))
+            else:
+                clf = _fit_bsi(X_train, y[train, k], roles, settings["bsi"], model_seed,
+                               BSI_ROWS[name])
+            columns.append(np.zeros(len(test), dtype=y.dtype) if clf is None
+                           else clf.predict(X_test))
+        preds[name] = np.column_stack(columns)
+        fit_s[name] = time.perf_counter() - start
+        detail[name] = " | ".join(chosen)
+    majority = DummyClassifier(strategy="most_frequent")
+    preds[MAJORITY] = np.column_stack([
+        majority.fit(np.zeros((len(train), 1)), y[train, k]).predict(np.zeros((len(test), 1)))
+        for k in range(len(objectives))])
+    preds[CEILING] = data["clean"][test]
+    rows = []
+    for name in ROWS:
+        for k, mo in enumerate(objectives):
+            truth, pred = y[test, k], np.asarray(preds[name])[:, k]
+            rows.append({"classifier": name, "objective": mo,
+                         "f1": _weighted_f1(truth, pred),
+                         "accuracy": float(np.mean(truth == pred)),
+                         "fit_s": fit_s.get(name, 0.0), "detail": detail.get(name, "")})
+    return rows
+
+
+def bsi_settings(quick):
+    """BSI parameters of the study (MCMC; shorter chains with ``quick``)."""
+    return dict(inference="mcmc", n_samples=300 if quick else 2000, n_chains=2, burn_in=50)
+
+
+def network_settings(quick):
+    """Network parameters of the study: :data:`baselines.FAIR_TRAINING`, smaller with quick."""
+    small = dict(hidden_size=16, max_epochs=15, patience=5) if quick else {}
+    return {**FAIR_TRAINING, **small}
+
+
+def search_grid(quick):
+    """Hyperparameter grid of the inner search (the prior, and the likelihood's epsilon)."""
+    if quick:
+        return {"prior": ["sets_of_chains", "forest"]}
+    return {"prior": ["sets_of_chains", "forest"], "epsilon": [None, 0.1]}

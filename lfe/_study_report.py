@@ -1,0 +1,179 @@
+"""Renderings of ``bsi-lfe study``: learning-curve figures and the plain-words ``study.md``."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from bsi_sklearn.experiments.tables import markdown_table
+from lfe._study_cells import BSI_CV, BSI_ROWS, CEILING, MAJORITY, NETWORKS, ROWS
+
+__all__ = ["plot_learning_curves", "study_markdown"]
+
+#: What each proposition set can express exactly, for the commander's noise-free rules
+#: (lfe/annotate.py) read against the extractor's propositions (lfe/extractor.py).
+EXPRESSIBILITY = {
+    "paper": "MO3 exactly (`G(friendly_attrition_below_25)`); MO1 nearly (no proposition "
+             "for the fighters' air-to-air shots during the strike, only for shots at the "
+             "strikers); MO2 not at all (no proposition for the time-on-target window: a "
+             "hit after the window fails the rule but satisfies `F(target_hit)`).",
+    "extended": "adds the time-on-target window (`tot_window_open`, `tot_window_closed`), "
+                "pushes, SAM suppression and two briefing conditions. MO2 becomes "
+                "approximately expressible (`target_hit` ordered before `tot_window_closed`; "
+                "a hit before the window opens is not told apart), MO3 stays exact, MO1 "
+                "stays approximate.",
+}
+
+
+def plot_learning_curves(table, objective, metric="f1"):
+    """F1 against training size, one line and 95 % band per row, a panel per noise and set.
+
+    Parameters
+    ----------
+    table : DataFrame
+        ``study.csv``.
+    objective : str
+    metric : str, default="f1"
+
+    Returns
+    -------
+    fig : matplotlib Figure
+    """
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    sel = table[(table["objective"] == objective) & (table["metric"] == metric)]
+    noises = sorted(sel["noise"].unique())
+    sets = list(dict.fromkeys(sel["propositions"]))
+    fig, axes = plt.subplots(len(noises), len(sets), squeeze=False, sharey=True,
+                             figsize=(5.5 * len(sets), 3.8 * len(noises)), layout="constrained")
+    colors = dict(zip(ROWS, plt.get_cmap("tab10").colors))
+    for i, noise in enumerate(noises):
+        for j, ps in enumerate(sets):
+            ax = axes[i, j]
+            cell = sel[(sel["noise"] == noise) & (sel["propositions"] == ps)]
+            for name in ROWS:
+                line = cell[cell["classifier"] == name].sort_values("n_train")
+                if line.empty:
+                    continue
+                style = ("--" if name in (MAJORITY, CEILING)
+                         else "-" if name in (*BSI_ROWS, BSI_CV) else ":")
+                ax.plot(line["n_train"], line["mean"], style, marker="o", ms=3,
+                        color=colors[name], label=name)
+                ax.fill_between(line["n_train"], line["ci_low"], line["ci_high"],
+                                color=colors[name], alpha=0.12, lw=0)
+            ax.set_xscale("log")
+            ticks = sorted(cell["n_train"].unique())
+            ax.set_xticks(ticks, [str(t) for t in ticks])
+            ax.minorticks_off()
+            ax.set_title(f"{objective}: noise {noise:g}, {ps} propositions", fontsize="medium")
+            ax.set_xlabel("training missions")
+            ax.set_ylabel("weighted F1 on the test missions" if metric == "f1" else metric)
+            ax.set_ylim(0, 1.05)  # a t-interval of few repeats can reach past [0, 1]
+            ax.grid(alpha=0.3)
+    axes[0, -1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
+    return fig
+
+
+def _fmt_ci(mean, low, high):
+    if np.isnan(low):
+        return f"{mean:+.3f} (one repeat: no interval)"
+    return f"{mean:+.3f} [{low:+.3f}, {high:+.3f}]"
+
+
+def study_markdown(table, paired, config):
+    """``study.md``: the protocol, the disclosure, the tables and which differences hold.
+
+    Parameters
+    ----------
+    table, paired : DataFrame
+        ``study.csv`` and ``study_paired.csv``.
+    config : dict
+        The study's settings (``config.json``).
+
+    Returns
+    -------
+    text : str
+    """
+    c = config
+    lines = [
+        "# bsi-lfe study: learning curves with 95 % intervals",
+        "",
+        f"Command: `{c['command']}`" + (" (--quick: a smoke test, not a result)"
+                                         if c["quick"] else ""),
+        "",
+        "## Protocol",
+        "",
+        f"- {c['repeats']} repeats; each simulates its own missions with "
+        "`lfe.make_lfe_dataset` (its own dataset seed): a training pool of "
+        f"{max(c['sizes'])} missions and a test set of {c['test_size']} fresh missions. "
+        f"Training sets of {', '.join(map(str, c['sizes']))} missions are drawn from the pool, "
+        "stratified on the noise-free outcomes where possible; the same missions serve every "
+        "classifier, noise rate and proposition set of a repeat.",
+        f"- Label noise: each commander verdict flipped with probability "
+        f"{', '.join(f'{n:g}' for n in c['noise'])} (`make_lfe_dataset`'s default is 0.04); "
+        "phase times carry 10 s of Gaussian error. The test labels carry the same noise.",
+        "- Score: weighted F1 over both outcomes of each objective on the test set (and "
+        "accuracy, in study.csv).",
+        "- Intervals: 95 % Student-t intervals over the repeats (independent datasets), "
+        "`mean ± t(0.975, n-1) sd / sqrt(n)`. Paired differences: BSI minus the best network "
+        "(highest mean F1 of the four at that size, noise and set), computed repeat by repeat "
+        "on the same missions, with the same t-interval; *significant* when it excludes 0.",
+        "- Networks (LSTM, Bi-LSTM and their phase-coupled versions): "
+        f"`{c['networks']}`. Early stopping (patience 20, or 5 with --quick) chooses the "
+        "number of epochs on a 20 % validation split; a fresh network with the same initial "
+        "weights is then refitted on every training mission for that many epochs; "
+        "mini-batches of 4; torch's deterministic algorithms, one thread.",
+        f"- BSI: `{c['bsi']}`, CB likelihood, the proposition set's roles; Prior 2 "
+        "(`sets_of_chains`), Prior 3 (`forest`), and a `GridSearchCV` over "
+        f"`{c['grid']}` (weighted F1, 3-fold inner cross-validation on the training set only).",
+        "- Majority class: the training set's most frequent outcome. Noise-free rule: the "
+        "commander's rule without judgement noise, scored against the noisy test labels (the "
+        "ceiling of any classifier of those labels, e.g. about 1 - noise in accuracy).",
+        f"- Seeds: every seed derives from --seed {c['seed']} (dataset, labels, training-set "
+        "draw, models; numpy SeedSequence) and is recorded per run in study_runs.csv.",
+        "",
+        "## What each proposition set expresses",
+        "",
+    ]
+    for ps in c["propositions"]:
+        lines.append(f"- *{ps}*: {EXPRESSIBILITY.get(ps, '')}")
+    lines += ["", "## Is BSI better than the best network? (weighted F1, paired)", ""]
+    sig = paired[paired["significant"]]
+    if paired["ci_low"].isna().all():
+        lines.append("One repeat only: no interval, nothing can be called significant.")
+    elif sig.empty:
+        lines.append("No difference between a BSI row and the best network is significant "
+                     "at 95 %: every interval contains 0.")
+    else:
+        for _, r in sig.iterrows():
+            word = "better" if r["mean"] > 0 else "worse"
+            lines.append(f"- {r['bsi']} is significantly {word} than {r['best_network']} on "
+                         f"{r['objective']} with {r['n_train']} missions (noise {r['noise']:g}, "
+                         f"{r['propositions']}): "
+                         f"{_fmt_ci(r['mean'], r['ci_low'], r['ci_high'])}.")
+        lines.append(f"- Every other difference ({len(paired) - len(sig)} of {len(paired)}) "
+                     "is not significant: its interval contains 0.")
+    view = paired.copy()
+    view["BSI - best network"] = [_fmt_ci(m, lo, hi) for m, lo, hi in
+                                  zip(view["mean"], view["ci_low"], view["ci_high"])]
+    view["significant"] = np.where(view["significant"], "yes", "no")
+    lines += ["", markdown_table(view[["bsi", "best_network", *["objective", "n_train", "noise",
+                                                                  "propositions"],
+                                       "BSI - best network", "significant"]]), ""]
+    lines += ["## Mean weighted F1 [95 % interval]", ""]
+    f1 = table[table["metric"] == "f1"]
+    for (noise, ps), block in f1.groupby(["noise", "propositions"], sort=False):
+        lines += [f"### Noise {noise:g}, {ps} propositions", ""]
+        wide = block.assign(cell=[f"{m:.3f} [{lo:.3f}, {hi:.3f}]" if not np.isnan(lo)
+                                  else f"{m:.3f}" for m, lo, hi in
+                                  zip(block["mean"], block["ci_low"], block["ci_high"])])
+        wide = wide.pivot_table(index="classifier", columns=["objective", "n_train"],
+                                values="cell", aggfunc="first", sort=False)
+        wide = wide.reindex([r for r in ROWS if r in wide.index])
+        wide.columns = [f"{mo} n={n}" for mo, n in wide.columns]
+        lines += [markdown_table(wide.reset_index()), ""]
+    lines += ["Rows: " + ", ".join(NETWORKS) + ", " + ", ".join((*BSI_ROWS, BSI_CV))
+              + f", {MAJORITY}, {CEILING}.", ""]
+    return "\n".join(lines)

@@ -1,0 +1,104 @@
+"""Statistics of ``bsi-lfe study``: means with 95 % t-intervals over repeats, paired differences.
+
+Every interval is a Student-t interval over the repeats: the repeats are independent
+simulated datasets, each scored on its own test set, so their scores are independent draws and
+``mean ± t(0.975, n - 1) · sd / sqrt(n)`` covers the expected score of a classifier trained on
+``n_train`` missions of this simulator. The paired differences subtract, repeat by repeat, the
+best network's score from BSI's on the same training and test missions, and take the same
+interval over those differences (a paired t-interval).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+from scipy import stats
+
+from lfe._study_cells import BSI_CV, BSI_ROWS, NETWORKS
+
+__all__ = ["KEYS", "METRICS", "paired_differences", "summarise", "t_interval"]
+
+#: Columns that identify a cell of the study (besides the repeat).
+KEYS = ["objective", "n_train", "noise", "propositions"]
+#: Scores per run: weighted F1 over both outcomes, and accuracy.
+METRICS = ("f1", "accuracy")
+
+
+def t_interval(values, confidence=0.95):
+    """Mean and Student-t confidence interval of independent values.
+
+    Parameters
+    ----------
+    values : array-like of float
+        One value per repeat.
+    confidence : float, default=0.95
+
+    Returns
+    -------
+    mean, low, high : float
+        ``low`` and ``high`` are ``nan`` with fewer than two values; with no spread at all
+        they equal the mean.
+    """
+    values = np.asarray(values, dtype=float)
+    mean = float(values.mean())
+    if len(values) < 2:
+        return mean, float("nan"), float("nan")
+    half = float(stats.t.ppf(0.5 + confidence / 2, len(values) - 1)
+                 * values.std(ddof=1) / np.sqrt(len(values)))
+    return mean, mean - half, mean + half
+
+
+def summarise(runs):
+    """``study.csv``: per classifier, cell and metric, the mean over repeats and its interval.
+
+    Parameters
+    ----------
+    runs : DataFrame
+        One row per repeat, classifier and cell (``study_runs.csv``).
+
+    Returns
+    -------
+    table : DataFrame
+        Columns ``classifier, objective, n_train, noise, propositions, metric, mean, ci_low,
+        ci_high, n_runs``.
+    """
+    rows = []
+    for key, group in runs.groupby(["classifier", *KEYS], sort=False):
+        for metric in METRICS:
+            mean, low, high = t_interval(group[metric])
+            rows.append(dict(zip(["classifier", *KEYS], key), metric=metric, mean=mean,
+                             ci_low=low, ci_high=high, n_runs=len(group)))
+    return pd.DataFrame(rows)
+
+
+def paired_differences(runs, metric="f1"):
+    """``study_paired.csv``: each BSI row minus the best network, paired over repeats.
+
+    The best network of a cell (objective, size, noise, propositions) is the one with the
+    highest mean ``metric`` over the repeats; the difference is taken repeat by repeat on the
+    same missions, then averaged with a paired t-interval. The difference is *significant*
+    when its interval excludes 0.
+
+    Parameters
+    ----------
+    runs : DataFrame
+        ``study_runs.csv``.
+    metric : str, default="f1"
+
+    Returns
+    -------
+    table : DataFrame
+        Columns ``bsi, best_network, objective, n_train, noise, propositions, metric, mean,
+        ci_low, ci_high, n_runs, significant``.
+    """
+    rows = []
+    wide = runs.pivot_table(index=[*KEYS, "repeat"], columns="classifier", values=metric)
+    for key, group in wide.groupby(level=KEYS, sort=False):
+        best = group[list(NETWORKS)].mean().idxmax()
+        for bsi in (*BSI_ROWS, BSI_CV):
+            diff = group[bsi] - group[best]
+            mean, low, high = t_interval(diff)
+            rows.append(dict(bsi=bsi, best_network=best, **dict(zip(KEYS, key)), metric=metric,
+                             mean=mean, ci_low=low, ci_high=high, n_runs=len(diff),
+                             significant=bool(low > 0 or high < 0)))
+    return pd.DataFrame(rows)

@@ -1,0 +1,355 @@
+"""``bsi-lfe study``: BSI against the recurrent networks over training sizes, with 95 % intervals.
+
+The paper's protocol (``bsi-lfe compare``: 24 missions, 4-fold cross-validation) is one draw:
+it cannot say whether BSI beats the networks, at what data size, or by how much. The study
+repeats the comparison on independently simulated datasets, at several training sizes, label
+noise rates and proposition sets, scores every classifier on a large test set of fresh
+missions, and reports means with 95 % intervals and the paired differences BSI minus the best
+network. See :func:`study` and the README.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import numbers
+import os
+import time
+from pathlib import Path
+
+import pandas as pd
+from sklearn.utils.parallel import Parallel, delayed
+
+from lfe._study_cells import (
+    ROWS,
+    bsi_settings,
+    derive_seed,
+    draw_training_set,
+    network_settings,
+    run_cell,
+    search_grid,
+    simulate_repeat,
+)
+from lfe._study_report import plot_learning_curves, study_markdown
+from lfe._study_stats import paired_differences, summarise
+from lfe.annotate import MISSION_OBJECTIVES
+from lfe.extractor import PROPOSITION_SETS
+
+__all__ = ["DEFAULTS", "MAX_POOL", "QUICK", "add_arguments", "run", "study"]
+
+#: The default study: 5 sizes x 10 repeats x 2 noise rates x 2 proposition sets.
+DEFAULTS = dict(sizes=(6, 12, 18, 36, 72), repeats=10, test_size=200, noise=(0.0, 0.04),
+                propositions=("paper", "extended"))
+#: ``--quick``: a smoke test in about a minute (small networks, short MCMC runs).
+QUICK = dict(sizes=(4, 8), repeats=2, test_size=12, noise=(0.04,), propositions=("paper",))
+#: Largest training pool a repeat simulates (the largest allowed training size).
+MAX_POOL = 500
+_MAX_TEST = 5000
+
+
+def _check(sizes, repeats, test_size, noise, propositions, seed, n_jobs, out):
+    """Validate every argument before anything is simulated; return them normalised."""
+    def integer(value, name, low, high=None):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low \
+                or (high is not None and value > high):
+            bound = f"in [{low}, {high}]" if high is not None else f">= {low}"
+            raise ValueError(f"{name} must be an integer {bound}, got {value!r}")
+        return int(value)
+
+    sizes = list(sizes)
+    if not sizes:
+        raise ValueError("--sizes needs at least one training size")
+    for n in sizes:
+        if not isinstance(n, bool) and isinstance(n, numbers.Integral) and n > MAX_POOL:
+            raise ValueError(f"--sizes: {n} is above the training pool: a repeat simulates at "
+                             f"most {MAX_POOL} training missions")
+        integer(n, "every --sizes value", 2)
+    if len(set(sizes)) != len(sizes):
+        raise ValueError(f"--sizes has a repeated value: {sizes}")
+    repeats = integer(repeats, "--repeats", 1)
+    test_size = integer(test_size, "--test-size", 2, _MAX_TEST)
+    noise = list(noise)
+    if not noise:
+        raise ValueError("--noise needs at least one rate")
+    for rate in noise:
+        if isinstance(rate, bool) or not isinstance(rate, numbers.Real) \
+                or not math.isfinite(rate) or not 0.0 <= rate <= 0.5:
+            raise ValueError(f"every --noise rate must be a number in [0, 0.5] (a probability "
+                             f"of flipping a verdict), got {rate!r}")
+    if len(set(noise)) != len(noise):
+        raise ValueError(f"--noise has a repeated value: {noise}")
+    propositions = list(propositions)
+    unknown = [p for p in propositions if p not in PROPOSITION_SETS]
+    if unknown or not propositions:
+        raise ValueError(f"unknown proposition set(s) {unknown}; choose among "
+                         f"{sorted(PROPOSITION_SETS)}")
+    if len(set(propositions)) != len(propositions):
+        raise ValueError(f"--propositions has a repeated value: {propositions}")
+    seed = integer(seed, "--seed", 0, 2**32 - 1)
+    if n_jobs is not None and (isinstance(n_jobs, bool) or not isinstance(n_jobs, numbers.Integral)
+                               or n_jobs == 0):
+        raise ValueError(f"--n-jobs must be a non-zero integer, got {n_jobs!r}")
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"--out {out} is a file, not a directory")
+    return (sorted(int(n) for n in sizes), repeats, test_size, [float(r) for r in noise],
+            propositions, seed, out)
+
+
+def _cell_name(noise, propositions, n_train, repeat):
+    return f"{propositions}_noise{noise:g}_n{n_train}_r{repeat}.json"
+
+
+def _simulate(repeat, config, seeds):
+    """One repeat's missions (:func:`lfe._study_cells.simulate_repeat`)."""
+    return repeat, simulate_repeat(
+        n_pool=max(config["sizes"]), test_size=config["test_size"], noises=config["noise"],
+        propositions=config["propositions"], dataset_seed=seeds["dataset_seed"],
+        label_seed=seeds["label_seed"])
+
+
+def _slice(data, noise, propositions):
+    """The part of a repeat's data one cell reads (less to send to a worker)."""
+    return {"n_pool": data["n_pool"], "clean": data["clean"], "flight": data["flight"],
+            "labels": {noise: data["labels"][noise]}, "phases": {noise: data["phases"][noise]},
+            "props": {propositions: data["props"][propositions]},
+            "roles": {propositions: data["roles"][propositions]}}
+
+
+def _run_cell(data, repeat, noise, propositions, n_train, config, seeds):
+    """One cell: draw its training set, fit and score every row; ``(cell, rows)``."""
+    split_seed = derive_seed(config["seed"], repeat, 2, n_train)
+    model_seed = derive_seed(config["seed"], repeat, 3, n_train)
+    train = draw_training_set(data["clean"], data["n_pool"], n_train, split_seed)
+    settings = {"networks": config["networks"], "bsi": config["bsi"], "grid": config["grid"]}
+    start = time.perf_counter()
+    rows = run_cell(data, noise=noise, propositions=propositions, n_train=n_train, train=train,
+                    model_seed=model_seed, settings=settings)
+    cell = dict(repeat=repeat, noise=noise, propositions=propositions, n_train=n_train,
+                **seeds, split_seed=split_seed, model_seed=model_seed,
+                cell_s=time.perf_counter() - start)
+    return cell, rows
+
+
+def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=None, seed=0,
+          n_jobs=None, out="study", quick=False, verbose=1, command=None):
+    """Learning curves of BSI and the recurrent networks on simulated LFE missions.
+
+    Each repeat simulates its own missions (:func:`lfe.make_lfe_dataset`, its own seed): a
+    training pool of ``max(sizes)`` missions and ``test_size`` fresh test missions. For every
+    training size, noise rate and proposition set (a *cell*), a training set drawn from the
+    pool (stratified on the noise-free outcomes where possible) trains every row of the study
+    -- LSTM, Bi-LSTM, LSTM Coupled, Bi-LSTM Coupled (the fair protocol
+    :data:`baselines.FAIR_TRAINING`: early stopping picks the number of epochs on a validation
+    split, then a refit on every training mission), BSI with Prior 2 and Prior 3, BSI with
+    ``GridSearchCV``-chosen hyperparameters (inner cross-validation on the training set only),
+    the majority class, and the noise-free commander rule as a ceiling -- and the test set
+    scores them (weighted F1 and accuracy per objective).
+
+    The repeats are simulated first, then the cells run; each cell's results are written as
+    soon as it finishes (``out/cells/*.json``), so an interrupted run keeps them, and a rerun
+    with the same arguments and ``out`` resumes, simulating only the repeats with missing
+    cells and running only those cells. The cells go through
+    joblib, so ``with joblib.parallel_backend("dask"):`` spreads them over a dask cluster
+    with the same results. Every seed derives from ``seed`` and is recorded.
+
+    Parameters
+    ----------
+    sizes : sequence of int, default=None
+        Training sizes (6, 12, 18, 36, 72; 4, 8 with ``quick``); at most :data:`MAX_POOL`.
+    repeats : int, default=None
+        Independent datasets (10; 2 with ``quick``).
+    test_size : int, default=None
+        Test missions per repeat (200; 12 with ``quick``).
+    noise : sequence of float, default=None
+        Label-noise rates in [0, 0.5] (0 and 0.04; 0.04 with ``quick``).
+    propositions : sequence of str, default=None
+        Proposition sets (paper and extended; paper with ``quick``).
+    seed : int, default=0
+        Root of every seed.
+    n_jobs : int, default=None
+        joblib workers over the simulations and the cells (``None`` or 1: sequential; -1:
+        every core). The files do not depend on it.
+    out : str or Path, default="study"
+        Output directory.
+    quick : bool, default=False
+        Small defaults, small networks and short MCMC runs: a smoke test, not a result.
+    verbose : int, default=1
+        ``0`` silent; ``1`` a progress bar over the cells.
+    command : str, default=None
+        The command line recorded in ``study.md`` (built from the arguments when omitted).
+
+    Returns
+    -------
+    paths : dict of str to Path
+        ``study.csv``, ``study_paired.csv``, ``study_runs.csv``, ``study.md``,
+        ``config.json``, ``study_times.csv`` and one ``learning_curve_<MO>.png`` per
+        objective.
+    """
+    base = QUICK if quick else DEFAULTS
+    args = _check(base["sizes"] if sizes is None else sizes,
+                  base["repeats"] if repeats is None else repeats,
+                  base["test_size"] if test_size is None else test_size,
+                  base["noise"] if noise is None else noise,
+                  base["propositions"] if propositions is None else propositions,
+                  seed, n_jobs, out)
+    sizes, repeats, test_size, noise, propositions, seed, out = args
+    if isinstance(verbose, bool) or not isinstance(verbose, numbers.Integral) or verbose < 0:
+        raise ValueError(f"verbose must be an integer >= 0, got {verbose!r}")
+    if command is None:
+        command = (f"bsi-lfe study --sizes {','.join(map(str, sizes))} --repeats {repeats} "
+                   f"--test-size {test_size} --noise {','.join(f'{r:g}' for r in noise)} "
+                   f"--propositions {','.join(propositions)} --seed {seed}"
+                   + (" --quick" if quick else ""))
+    config = {"sizes": sizes, "repeats": repeats, "test_size": test_size, "noise": noise,
+              "propositions": propositions, "seed": seed, "quick": bool(quick),
+              "networks": network_settings(quick), "bsi": bsi_settings(quick),
+              "grid": search_grid(quick)}
+    cells_dir = out / "cells"
+    config_path = out / "config.json"
+    stored = json.dumps(config, sort_keys=True)
+    if config_path.exists():
+        if json.dumps(json.loads(config_path.read_text()), sort_keys=True) != stored:
+            raise ValueError(f"{out} holds a study with other arguments (see {config_path}); "
+                             "give another --out or delete it")
+    cells_dir.mkdir(parents=True, exist_ok=True)
+    config_path.write_text(json.dumps(config, indent=1, sort_keys=True) + "\n")
+
+    start = time.perf_counter()
+    seeds = {r: {"dataset_seed": derive_seed(seed, r, 0), "label_seed": derive_seed(seed, r, 1)}
+             for r in range(repeats)}
+    # repeat by repeat (an interrupted run keeps whole repeats), largest sets first
+    todo = [(r, nz, ps, n) for r in range(repeats) for n in reversed(sizes) for nz in noise
+            for ps in propositions if not (cells_dir / _cell_name(nz, ps, n, r)).exists()]
+    need = sorted({r for r, *_ in todo})
+    from tqdm.auto import tqdm
+
+    with tqdm(total=len(need) + len(todo), desc="bsi-lfe study", unit="task",
+              disable=not verbose) as bar:
+        # 1. simulate the repeats that still have cells to run
+        data = {}
+        for r, sim in Parallel(n_jobs=n_jobs, return_as="generator_unordered")(
+                delayed(_simulate)(r, config, seeds[r]) for r in need):
+            data[r] = sim
+            bar.update()
+        # 2. the cells, each written as soon as it finishes
+        outputs = Parallel(n_jobs=n_jobs, return_as="generator_unordered")(
+            delayed(_run_cell)(_slice(data[r], nz, ps), r, nz, ps, n, config, seeds[r])
+            for r, nz, ps, n in todo)
+        for cell, rows in outputs:
+            path = cells_dir / _cell_name(cell["noise"], cell["propositions"],
+                                          cell["n_train"], cell["repeat"])
+            tmp = path.with_suffix(".tmp")
+            tmp.write_text(json.dumps({"cell": cell, "rows": rows}) + "\n")
+            os.replace(tmp, path)  # a cell file is complete or absent
+            bar.update()
+        del data
+    return _write(out, config, command, time.perf_counter() - start)
+
+
+def _write(out, config, command, elapsed):
+    """Gather every cell file into the tables, figures and summary."""
+    records, times = [], []
+    for path in sorted((out / "cells").glob("*.json")):
+        stored = json.loads(path.read_text())
+        cell = stored["cell"]
+        times.append({k: cell[k] for k in ("repeat", "noise", "propositions", "n_train",
+                                            "cell_s")})
+        for row in stored["rows"]:
+            records.append({**{k: v for k, v in cell.items() if k != "cell_s"},
+                            **{k: v for k, v in row.items() if k != "fit_s"}})
+            times[-1][f"{row['classifier']} fit_s"] = row["fit_s"]
+    runs = pd.DataFrame(records)
+    order = {name: i for i, name in enumerate(ROWS)}
+    mo = {m: i for i, m in enumerate(MISSION_OBJECTIVES)}
+    ps_order = {p: i for i, p in enumerate(config["propositions"])}
+    runs = runs.sort_values(
+        ["propositions", "noise", "n_train", "repeat", "classifier", "objective"],
+        key=lambda s: s.map(ps_order) if s.name == "propositions" else s.map(order)
+        if s.name == "classifier" else s.map(mo) if s.name == "objective" else s,
+    ).reset_index(drop=True)
+    table = summarise(runs)
+    paired = paired_differences(runs)
+    paths = {"config.json": out / "config.json"}
+    for name, frame in (("study.csv", table), ("study_paired.csv", paired),
+                        ("study_runs.csv", runs)):
+        paths[name] = out / name
+        frame.to_csv(paths[name], index=False, float_format="%.6g")
+    paths["study_times.csv"] = out / "study_times.csv"
+    pd.DataFrame(times).to_csv(paths["study_times.csv"], index=False, float_format="%.3f")
+    paths["study.md"] = out / "study.md"
+    config = {**config, "command": command}
+    paths["study.md"].write_text(study_markdown(table, paired, config))
+    import matplotlib.pyplot as plt
+
+    for objective in MISSION_OBJECTIVES:
+        fig = plot_learning_curves(table, objective)
+        paths[f"learning_curve_{objective}.png"] = out / f"learning_curve_{objective}.png"
+        fig.savefig(paths[f"learning_curve_{objective}.png"], dpi=110,
+                    metadata={"Software": None})
+        plt.close(fig)
+    paths["elapsed"] = elapsed
+    return paths
+
+
+# ---------------------------------------------------------------------- command line
+def _list(kind):
+    def parse(text):
+        try:
+            return [kind(v) for v in text.split(",") if v.strip()]
+        except ValueError:
+            raise ValueError(f"cannot read {text!r} as a comma-separated list of "
+                             f"{kind.__name__}") from None
+    return parse
+
+
+def add_arguments(parser):
+    """Arguments of ``bsi-lfe study``."""
+    d, q = DEFAULTS, QUICK
+    parser.add_argument("--sizes", type=str, default=None, metavar="N,N,...",
+                        help=f"training sizes (default: {','.join(map(str, d['sizes']))}; "
+                             f"--quick: {','.join(map(str, q['sizes']))})")
+    parser.add_argument("--repeats", type=int, default=None,
+                        help=f"independent simulated datasets (default: {d['repeats']}; "
+                             f"--quick: {q['repeats']})")
+    parser.add_argument("--test-size", type=int, default=None,
+                        help=f"fresh test missions per repeat (default: {d['test_size']}; "
+                             f"--quick: {q['test_size']})")
+    parser.add_argument("--noise", type=str, default=None, metavar="P,P,...",
+                        help="label-noise rates, each verdict flipped with this probability "
+                             "(default: 0,0.04; --quick: 0.04)")
+    parser.add_argument("--propositions", type=str, default=None, metavar="SET,...",
+                        help="proposition sets (default: paper,extended; --quick: paper)")
+    parser.add_argument("--n-jobs", type=int, default=None,
+                        help="parallel workers (default: 1; -1: every core); the files do not "
+                             "depend on it")
+    parser.add_argument("--seed", type=int, default=0,
+                        help="root of every seed (default: 0)")
+    parser.add_argument("--out", default="study", metavar="DIR",
+                        help="output directory; a rerun with the same arguments resumes "
+                             "(default: study)")
+    parser.add_argument("--quick", action="store_true",
+                        help="small sizes, networks and MCMC runs: a smoke test, not a result")
+    parser.add_argument("--verbose", type=int, default=1, help="0: no progress bar")
+
+
+def run(args):
+    """Run the study, write its files to ``--out`` and print the paired differences."""
+    parsed = {
+        "sizes": None if args.sizes is None else _list(int)(args.sizes),
+        "noise": None if args.noise is None else _list(float)(args.noise),
+        "propositions": (None if args.propositions is None
+                         else [p.strip() for p in args.propositions.split(",") if p.strip()]),
+    }
+    paths = study(**parsed, repeats=args.repeats, test_size=args.test_size, seed=args.seed,
+                  n_jobs=args.n_jobs, out=args.out, quick=args.quick, verbose=args.verbose)
+    paired = pd.read_csv(paths["study_paired.csv"])
+    print("BSI minus the best network, weighted F1, mean [95 % paired t-interval] over repeats")
+    for _, r in paired.iterrows():
+        flag = " *" if r["significant"] else ""
+        print(f"  {r['bsi']:<19} {r['objective']} n={r['n_train']:<3} noise={r['noise']:<5g} "
+              f"{r['propositions']:<9} vs {r['best_network']:<16} {r['mean']:+.3f} "
+              f"[{r['ci_low']:+.3f}, {r['ci_high']:+.3f}]{flag}")
+    print("(* interval excludes 0)")
+    print(f"files written to {Path(args.out)} in {paths['elapsed']:.1f} s")
+    return 0

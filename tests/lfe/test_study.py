@@ -1,0 +1,159 @@
+"""``bsi-lfe study`` on --quick runs made smaller still (two tiny sizes, a small test set)."""
+
+import contextlib
+import io
+import json
+import shutil
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from lfe._study_cells import ROWS, derive_seed, draw_training_set
+from lfe._study_stats import t_interval
+from lfe.cli import main
+
+TINY = ["--quick", "--sizes", "4", "--test-size", "6", "--repeats", "2", "--verbose", "0"]
+TABLES = ("study.csv", "study_paired.csv", "study_runs.csv")
+
+
+def _run(argv):
+    printed, errors = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(printed), contextlib.redirect_stderr(errors):
+        status = main(["study", *argv])
+    return status, printed.getvalue(), errors.getvalue()
+
+
+@pytest.fixture(scope="module")
+def tiny_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("study") / "one"
+    status, printed, _ = _run([*TINY, "--out", str(out), "--n-jobs", "1"])
+    assert status == 0
+    return out, printed
+
+
+def _same_files(a, b):
+    for name in (*TABLES, "study.md", "config.json"):
+        assert (a / name).read_bytes() == (b / name).read_bytes(), name
+
+
+def test_files_and_columns(tiny_run):
+    out, printed = tiny_run
+    for name in (*TABLES, "study.md", "config.json", "study_times.csv",
+                 *(f"learning_curve_MO{k}.png" for k in (1, 2, 3))):
+        assert (out / name).is_file(), name
+    table = pd.read_csv(out / "study.csv")
+    assert {"classifier", "objective", "n_train", "noise", "propositions", "mean", "ci_low",
+            "ci_high", "n_runs"} <= set(table.columns)
+    assert set(table["classifier"]) == set(ROWS)
+    assert set(table["n_train"]) == {4} and set(table["metric"]) == {"f1", "accuracy"}
+    assert (table["n_runs"] == 2).all()
+    paired = pd.read_csv(out / "study_paired.csv")
+    assert {"bsi", "best_network", "objective", "n_train", "mean", "ci_low", "ci_high",
+            "n_runs", "significant"} <= set(paired.columns)
+    assert len(paired) == 3 * 1 * 3  # BSI rows x sizes x objectives
+    runs = pd.read_csv(out / "study_runs.csv")
+    for seed in ("dataset_seed", "label_seed", "split_seed", "model_seed"):
+        assert runs[seed].notna().all()
+    assert runs.groupby("repeat")["dataset_seed"].nunique().eq(1).all()
+    assert runs["dataset_seed"].nunique() == 2  # each repeat its own dataset
+    text = (out / "study.md").read_text()
+    assert "t-interval" in text or "Student-t" in text
+    assert "0.04" in text and "ceiling" in text
+    assert "BSI minus the best network" in printed
+
+
+def test_every_mean_inside_its_interval(tiny_run):
+    out, _ = tiny_run
+    for name in ("study.csv", "study_paired.csv"):
+        table = pd.read_csv(out / name)
+        assert (table["ci_low"] <= table["mean"] + 1e-12).all()
+        assert (table["mean"] <= table["ci_high"] + 1e-12).all()
+    table = pd.read_csv(out / "study.csv")
+    f1 = table[table["metric"] == "f1"]
+    assert f1["mean"].between(0, 1).all()
+    ceiling = f1[f1["classifier"] == "Noise-free rule (ceiling)"]
+    assert (ceiling["mean"] > 0.5).all()
+
+
+def test_n_jobs_2_writes_identical_files(tiny_run, tmp_path):
+    out, _ = tiny_run
+    status, _, _ = _run([*TINY, "--out", str(tmp_path), "--n-jobs", "2"])
+    assert status == 0
+    _same_files(out, tmp_path)
+
+
+def test_resume_runs_only_missing_cells(tiny_run, tmp_path):
+    out, _ = tiny_run
+    copy = tmp_path / "copy"
+    shutil.copytree(out, copy)
+    for name in (*TABLES, "study.md"):
+        (copy / name).unlink()
+    cells = sorted((copy / "cells").glob("*.json"))
+    assert len(cells) == 2
+    kept = {p.name: p.stat().st_mtime_ns for p in cells[1:]}
+    cells[0].unlink()
+    status, _, _ = _run([*TINY, "--out", str(copy)])
+    assert status == 0
+    _same_files(out, copy)
+    assert {p.name: p.stat().st_mtime_ns for p in cells[1:]} == kept  # not recomputed
+    # other arguments into the same directory: refused, nothing overwritten
+    status, _, err = _run([*TINY[:-2], "--repeats", "3", "--verbose", "0", "--out", str(copy)])
+    assert status == 2 and "other arguments" in err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--sizes", "3,600"], "above the training pool"),
+    (["--sizes", "1"], "--sizes"),
+    (["--noise", "-0.1"], "--noise"),
+    (["--noise", "0.7"], "--noise"),
+    (["--propositions", "paper,nope"], "unknown proposition set"),
+    (["--repeats", "0"], "--repeats"),
+    (["--test-size", "1"], "--test-size"),
+    (["--n-jobs", "0"], "--n-jobs"),
+    (["--sizes", "3,x"], "comma-separated"),
+])
+def test_bad_arguments_rejected_before_simulation(argv, message, tmp_path, monkeypatch):
+    import lfe._study_cells
+
+    def boom(**kwargs):
+        raise AssertionError("simulated despite a bad argument")
+
+    monkeypatch.setattr(lfe._study_cells, "simulate_repeat", boom)
+    monkeypatch.setattr("lfe.study.simulate_repeat", boom)
+    status, _, err = _run(["--quick", "--verbose", "0", "--out", str(tmp_path / "o"), *argv])
+    assert status == 2
+    assert message in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_t_interval_and_seeds():
+    mean, low, high = t_interval([0.5, 0.7, 0.6])
+    assert mean == pytest.approx(0.6)
+    assert high - mean == pytest.approx(4.302653 * 0.1 / np.sqrt(3), rel=1e-5)
+    assert np.isnan(t_interval([0.4])[1])
+    assert t_interval([0.3, 0.3]) == (0.3, 0.3, 0.3)
+    assert derive_seed(0, 1, 2) == derive_seed(0, 1, 2) != derive_seed(0, 2, 1)
+    clean = np.array([[1, 0, 1]] * 6 + [[0, 1, 1]] * 6)
+    train = draw_training_set(clean, 12, 4, seed=0)
+    assert len(train) == 4 and clean[train, 0].sum() == 2  # stratified
+    assert list(draw_training_set(clean, 12, 12, seed=0)) == list(range(12))
+
+
+def test_dask_local_cluster_matches_local(tiny_run, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    joblib = pytest.importorskip("joblib")
+    from lfe.study import study
+
+    out, _ = tiny_run
+    config = json.loads((out / "config.json").read_text())
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None, silence_logs=40) as cluster, \
+            distributed.Client(cluster) as client:
+        with joblib.parallel_backend("dask"):
+            study(sizes=config["sizes"], repeats=config["repeats"],
+                  test_size=config["test_size"], quick=True, n_jobs=-1, out=tmp_path,
+                  verbose=0)
+        ran = client.run(lambda: "lfe._study_cells" in __import__("sys").modules)
+    _same_files(out, tmp_path)
+    assert len(ran) == 2 and any(ran.values())
