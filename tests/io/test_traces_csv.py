@@ -112,5 +112,5 @@ def test_writer_errors():
         traces_to_frame(X, feature_names=["a", "b"])
     with pytest.raises(ValueError, match="pass the destination as path_or_buffer"):
         write_traces_csv(X, "out.csv")
-    with pytest.raises(ValueError, match="demonstration 0 has value 2"):
+    with pytest.raises(ValueError, match="demonstration 0, step 0, proposition 0 has value 2"):
         traces_to_frame([np.full((1, 1), 2)])
