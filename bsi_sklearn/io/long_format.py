@@ -60,6 +60,10 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
     def row_name(pos):
         return f"line {pos + 2}" if csv else f"row {_show(df.index[pos])}"
 
+    def value_at(pos, prop):
+        return (f"{where}, {row_name(pos)}: demonstration {_show(df[demo_col].iat[pos])}, "
+                f"step {_show(df[time_col].iat[pos])}, proposition {prop!r}")
+
     for col in (demo_col, time_col):
         if col not in df.columns:
             raise ValueError(f"{where}: no {col!r} column; columns are {list(df.columns)}")
@@ -89,13 +93,13 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
                     except (TypeError, ValueError):
                         good = False
                     if not good:
-                        raise ValueError(f"{where}, {row_name(pos)}: proposition {c!r} has "
-                                         f"value {_show(v)}; values must be 0 or 1")
+                        raise ValueError(f"{value_at(pos, c)} has value {_show(v)}; "
+                                         "values must be 0 or 1")
     bad = ~np.isin(arr, (0, 1))
     if bad.any():
         pos, k = map(int, np.argwhere(bad)[0])
-        raise ValueError(f"{where}, {row_name(pos)}: proposition {props[k]!r} has value "
-                         f"{_show(arr[pos, k])}; values must be 0 or 1")
+        raise ValueError(f"{value_at(pos, props[k])} has value {_show(arr[pos, k])}; values "
+                         "must be 0 or 1")
     arr = arr.astype(bool)
     t_raw = df[time_col].to_numpy()
     try:
