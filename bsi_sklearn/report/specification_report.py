@@ -14,7 +14,12 @@ from bsi_sklearn.report.document import (
     render_html_fragment,
     render_markdown,
 )
-from bsi_sklearn.report.wording import _short_label, _sort_key, clause_specification
+from bsi_sklearn.report.wording import (
+    _short_label,
+    _sort_key,
+    clause_specification,
+    unicode_ltl,
+)
 
 __all__ = ["SpecificationReport"]
 
@@ -170,7 +175,7 @@ class SpecificationReport:
                      f"when it satisfies all of them. Inferred with the {info['prior']} prior "
                      f"and the {info['likelihood']} likelihood ({info['method']} inference).")
         doc.add("pre", self.ltl)
-        doc.add("math", self.ltl_latex)
+        doc.add("formula", unicode_ltl(self.specification))
         if not len(self.clauses):
             doc.add("p", "The MAP specification is 'true': it accepts every demonstration.")
             return
