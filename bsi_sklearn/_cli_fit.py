@@ -189,7 +189,10 @@ def run(args):
                             inference=args.inference, n_samples=args.n_samples,
                             random_state=args.seed, **_roles(args, names, path))
         y = np.ones(len(X), dtype=int) if y is None else np.asarray(y)
-        clf.fit(X, y)
+        try:
+            clf.fit(X, y)
+        except ValueError as exc:
+            raise ValueError(f"{path}: {exc}") from None
         print(f"== {path}: {len(X)} demonstrations ({int(y.sum())} acceptable), "
               f"{clf.n_features_in_} propositions, {clf.inference_} inference")
         if target is not None:

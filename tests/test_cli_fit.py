@@ -73,3 +73,12 @@ def test_help_documents_every_option_and_the_csv_format(capsys):
     # Every option line is followed by its help text (no bare option).
     blocks = re.split(r"\n  (?=-)", text.split("options:")[1])
     assert all(len(b.split()) > 3 for b in blocks[1:]), blocks
+
+
+def test_errors_while_fitting_name_the_file(tmp_path, capsys):
+    path = tmp_path / "only_bad.csv"
+    write_traces_csv([np.array([[1, 0], [0, 1]])], [0], path, feature_names=["a", "b"])
+    assert main(["fit", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"bsi fit: error: {path}: ") and "only unacceptable" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["only_bad.csv"]

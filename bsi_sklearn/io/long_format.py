@@ -8,6 +8,7 @@ import os
 import numpy as np
 import pandas as pd
 
+from bsi_sklearn.io._atomic import write_atomic
 from bsi_sklearn.traces import check_traces
 
 __all__ = ["traces_from_frame", "traces_to_frame", "read_traces_csv", "write_traces_csv"]
@@ -275,4 +276,7 @@ def write_traces_csv(X, y, path_or_buffer=None, *, feature_names=None, demo_col=
         raise ValueError("y must be labels or None; pass the destination as path_or_buffer")
     frame = traces_to_frame(X, y, feature_names=feature_names, demo_col=demo_col,
                             time_col=time_col, label_col=label_col)
+    if isinstance(path_or_buffer, (str, os.PathLike)):
+        write_atomic(path_or_buffer, frame.to_csv(index=False))
+        return None
     return frame.to_csv(path_or_buffer, index=False)

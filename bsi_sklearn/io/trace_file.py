@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from bsi_sklearn.io._atomic import write_atomic
 from bsi_sklearn.ltl import Formula, parse_ltl
 from bsi_sklearn.traces import check_traces
 
@@ -453,5 +454,4 @@ def write_trace_file(path, X, y, *, operators=_DEFAULT_OPERATORS, depth=None, ta
     if hasattr(path, "write"):
         path.write(text)
     else:
-        with open(os.fspath(path), "w", encoding="utf-8") as fh:
-            fh.write(text)
+        write_atomic(os.fspath(path), text)

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
+from bsi_sklearn.io._atomic import write_atomic
 from bsi_sklearn.report import figures
 from bsi_sklearn.report.document import (
     Code,
@@ -294,9 +295,9 @@ class SpecificationReport:
         directory.mkdir(parents=True, exist_ok=True)
         doc, pngs = self._document()
         for name, data in pngs.items():
-            (directory / f"{name}.png").write_bytes(data)
+            write_atomic(directory / f"{name}.png", data)
         path = directory / "report.md"
-        path.write_text(render_markdown(doc, {n: f"{n}.png" for n in pngs}), encoding="utf-8")
+        write_atomic(path, render_markdown(doc, {n: f"{n}.png" for n in pngs}))
         return path
 
     def html(self):
@@ -309,7 +310,7 @@ class SpecificationReport:
         path = Path(path)
         if path.parent != Path(""):
             path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(self.html(), encoding="utf-8")
+        write_atomic(path, self.html())
         return path
 
     def _repr_html_(self):
