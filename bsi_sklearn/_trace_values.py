@@ -10,7 +10,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["NonNumericTraceError", "Place", "frame_names", "ragged_error", "to_bool", "to_float"]
+__all__ = [
+    "NonNumericTraceError",
+    "Place",
+    "frame_names",
+    "ragged_error",
+    "ragged_rows_error",
+    "to_bool",
+    "to_float",
+]
 
 
 class NonNumericTraceError(TypeError, ValueError):
@@ -153,3 +161,13 @@ def ragged_error(item, where, unit):
         return ValueError(f"{where} is ragged: its values are nested to different depths")
     return ValueError(f"{where} is ragged: step {t} has {lengths[t]} {unit}s, step 0 has "
                       f"{lengths[0]}")
+
+
+def ragged_rows_error(rows, estimator_name, item, unit):
+    """A ValueError for a list of lists (the 2-D format) whose rows differ in length."""
+    lengths = [len(r) if isinstance(r, (list, tuple)) else -1 for r in rows]
+    k = next((i for i, n in enumerate(lengths) if n != lengths[0]), 0)
+    what = (f"has {lengths[k]} {unit}s, row 0 has {lengths[0]}" if lengths[k] >= 0
+            else "is not a list of numbers")
+    return ValueError(f"{estimator_name} got a list of lists (scikit-learn's 2-D format, every "
+                      f"row a {item} of length one) whose row {k} {what}")

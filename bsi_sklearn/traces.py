@@ -13,6 +13,7 @@ from bsi_sklearn._trace_values import (
     Place,
     frame_names,
     ragged_error,
+    ragged_rows_error,
     to_bool,
     to_float,
 )
@@ -225,9 +226,10 @@ def check_traces(X, *, binarize=None, estimator_name="estimator", numeric=False,
                 arr = np.asarray(X)
             except ValueError:
                 arr = None
-            if arr is not None and arr.ndim == 2 and arr.dtype != object:
+            if arr is not None and arr.ndim == 2:
                 return check_traces(arr, binarize=binarize, estimator_name=estimator_name,
                                     numeric=numeric, words=words)
+            raise ragged_rows_error(X, estimator_name, words.item, words.unit)
         return _stack_list(X, convert, binarize, words)
     if hasattr(X, "__array__") or isinstance(X, np.ndarray):
         arr = np.asarray(X)

@@ -58,7 +58,8 @@ def test_check_traces_succeeds_or_names_the_demonstration(X, binarize):
         message = str(exc)
         assert message
         # A problem with one item names it; otherwise the message is about the whole list.
-        assert re.search(r"demonstration \d+|at least one demonstration", message), message
+        assert re.search(r"demonstration \d+|row \d+|at least one demonstration|"
+                         r"demonstrations have no propositions", message), message
         return
     assert isinstance(traces, Traces)
     assert set(np.unique(traces.data).tolist()) <= {0, 1}

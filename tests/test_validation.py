@@ -36,6 +36,8 @@ def test_formats_agree():
         (np.ones((2, 2, 2, 2)), "4 dimension"),
         ([np.array([["a", "b"]])], "demonstration 0, step 0, proposition 0 has the non-numeric"),
         ([[[0, 1], [1]]], "demonstration 0 is ragged: step 1 has 1 propositions, step 0 has 2"),
+        ([[0, 1], [1]], r"list of lists \(scikit-learn's 2-D format, every row a demonstration "
+                        r"of length one\) whose row 1 has 1 propositions, row 0 has 2"),
         (np.array([[0, 1], [3, 1]]), "demonstration 1, step 0, proposition 0 has value 3"),
         ("abc", "demonstrations must be"),
     ],
