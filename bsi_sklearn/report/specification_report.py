@@ -56,7 +56,7 @@ class SpecificationReport:
         Transitive reduction of the MAP orders (the arrows of the DAG figure).
     inference : dict
         How the posterior was obtained: ``method``, ``prior``, ``likelihood``,
-        ``dropped_mass``, ``rhat`` (MCMC only).
+        ``dropped_mass``, ``rhat`` and ``max_missed_mass`` (MCMC only).
     demo_names : list of str or None
         One name per demonstration (``None`` without ``X``).
     clause_states : pandas.DataFrame or None
@@ -202,6 +202,9 @@ class SpecificationReport:
             text += f" Posterior mass left out of the list: {info['dropped_mass']:.2g}."
         if info.get("rhat") is not None:
             text += f" MCMC split-R-hat of the log posterior: {info['rhat']:.3f}."
+        if info.get("max_missed_mass") is not None:
+            text += (" Posterior mass the least thorough MCMC chain never visited: "
+                     f"{info['max_missed_mass']:.3f} (above 0.05 the chains disagree).")
         doc.add("p", text)
         doc.add("table", ["rank", "probability", "difference from the MAP", "specification"],
                 [[str(r), f"{p:.4f}", Code(diff) if diff else "(MAP)", Code(ltl)]

@@ -305,3 +305,14 @@ def test_layered_layout():
     assert layers == {"a": 0, "e": 0, "b": 1, "c": 1, "d": 2}
     assert sorted(p[1] for v, p in pos.items() if layers[v] == 1) == [-0.5, 0.5]
     assert len(set(pos.values())) == 5
+
+
+def test_mcmc_report_states_the_chains_agreement():
+    clf = BSIClassifier(global_candidates=["safe"], subtasks=["a", "b"],
+                        conditions={"a": "a_ok"}, inference="mcmc", n_samples=2000,
+                        random_state=0).fit(X, Y)
+    rep = explain(clf, X, Y)
+    missed = clf.mcmc_diagnostics_["max_missed_mass"]
+    assert rep.inference["max_missed_mass"] == pytest.approx(missed) and missed < 0.05
+    assert (f"Posterior mass the least thorough MCMC chain never visited: {missed:.3f}"
+            in rep.markdown())
