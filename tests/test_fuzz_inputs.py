@@ -8,8 +8,6 @@ example counts are small so that the whole file runs in seconds.
 
 import io
 import re
-import tempfile
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -76,7 +74,14 @@ def test_check_traces_on_a_single_object(X):
         assert str(exc)
 
 
-TMP = Path(tempfile.mkdtemp(prefix="bsi-fuzz-"))
+
+
+@pytest.fixture(scope="module")
+def fuzz_dir(tmp_path_factory):
+    """One folder for the files written by the examples (module scope: hypothesis reuses it)."""
+    return tmp_path_factory.mktemp("fuzz")
+
+
 VALID_TRACE = "1,0;1,1\n0,1\n---\n0,0;1,0\n---\nG,F,!\n---\n1\n---\nG(x0)\n"
 VALID_CSV = "demo_id,t,a,b,label\n0,0,1,0,1\n0,1,1,1,1\n1,0,0,1,0\n1,1,0,0,0\n"
 
@@ -112,8 +117,8 @@ CSV_TEXT = st.one_of(mutated(VALID_CSV, list("01,\n x2.-\"t")),
 
 @FAST
 @given(TRACE_TEXT)
-def test_trace_reader_names_file_and_line(text):
-    path = TMP / "fuzz.trace"
+def test_trace_reader_names_file_and_line(fuzz_dir, text):
+    path = fuzz_dir / "fuzz.trace"
     path.write_text(text, encoding="utf-8")
     try:
         tf = read_trace_file(path, formulas=None)
@@ -139,9 +144,9 @@ def test_csv_reader_names_the_file(text):
 @settings(max_examples=15, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.too_slow])
 @given(st.one_of(CSV_TEXT.map(lambda t: ("csv", t)), TRACE_TEXT.map(lambda t: ("trace", t))))
-def test_bsi_fit_exits_2_naming_the_file(case):
+def test_bsi_fit_exits_2_naming_the_file(fuzz_dir, case):
     suffix, text = case
-    path = TMP / f"cli.{suffix}"
+    path = fuzz_dir / f"cli.{suffix}"
     path.write_text(text, encoding="utf-8")
     err = io.StringIO()
     with pytest.MonkeyPatch.context() as mp:
