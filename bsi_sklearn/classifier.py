@@ -243,8 +243,11 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         ----------
         X : list of array-like or DataFrame, or ndarray
             Demonstrations (see :func:`bsi_sklearn.traces.check_traces`): a list of
-            ``(T_i, n_props)`` boolean traces or DataFrames, a 3-D array
-            ``(n_demos, T, n_props)``, or a 2-D array whose rows are traces of length one.
+            ``(T_i, n_props)`` boolean traces or DataFrames (``[df]`` for one), a 3-D array
+            ``(n_demos, T, n_props)``, a long-format DataFrame with a ``demo_id`` column, or a
+            2-D array whose rows are traces of length one. A single DataFrame without
+            ``demo_id`` and a list of 1-D arrays are rejected with a ``ValueError`` that says
+            what to pass instead.
         y : array-like of shape (n_demos,), default=None
             1 (acceptable) or 0 (unacceptable). ``None`` or all ones: learn from positives only.
 
