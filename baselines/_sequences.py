@@ -113,7 +113,8 @@ def check_sequences(X, *, estimator_name="estimator"):
     >>> seqs.n_sequences, seqs.n_features, seqs.lengths.tolist()
     (2, 2, [3, 5])
     """
-    t = check_traces(X, estimator_name=estimator_name, numeric=True, words=_SEQUENCE_WORDS)
+    t = check_traces(X, estimator_name=estimator_name, numeric=True, words=_SEQUENCE_WORDS,
+                     frame_as_rows=True)
     return Sequences(t.data, t.offsets, t.feature_names)
 
 

@@ -1,5 +1,7 @@
 """``bsi fit FILE...``: fit BSI on trace files and print the MAP specification and posterior."""
 
+import argparse
+import re
 from numbers import Integral
 
 import numpy as np
@@ -8,20 +10,122 @@ from bsi_sklearn.classifier import BSIClassifier
 from bsi_sklearn.likelihood import LIKELIHOODS
 from bsi_sklearn.param_validation import Interval, check_options
 from bsi_sklearn.priors import PRIORS
+from bsi_sklearn.roles import resolve_roles
 
-__all__ = ["add_arguments", "run"]
+__all__ = ["add_arguments", "run", "parse_conditions"]
+
+_DESCRIPTION = """\
+Fit BSI on each FILE (one model per file) and print the MAP specification, the training
+accuracy and the most probable specifications.
+
+Input files:
+  *.trace  samples2LTL / Scarlet: positive traces, '---', negative traces, '---', operators
+           [, '---', depth, '---', target | '---', alphabet]. One trace a line, time steps
+           separated by ';', the 0/1 propositions of a step by ',' (e.g. 1,0;1,1).
+  *.csv    long format, one row per time step of a demonstration:
+             demo_id,t,<proposition>...[,label]
+           demo_id names the demonstration, t counts its steps 0,1,2,... (consecutive),
+           every other column is a 0/1 proposition, and the optional label (constant within a
+           demonstration) is 1 for acceptable, 0 for unacceptable; without it every
+           demonstration is acceptable. Example:
+             demo_id,t,safe,picked,placed,label
+             0,0,1,0,0,1
+             0,1,1,1,0,1
+             0,2,1,1,1,1
+
+Roles: by default every proposition is a global candidate and a subtask, which makes the
+support huge and fills the answer with trivial clauses; say which propositions play which role
+with --globals, --subtasks and --conditions (names, or column indices counted from 0; give
+the FILEs first, since --globals and --subtasks take every name that follows them).
+A bad file or option exits with status 2 and a message naming the file, line or option."""
+
+_EXAMPLE = """\
+example:
+  bsi fit demos.csv --globals safe --subtasks picked placed --conditions placed=picked"""
+
+
+def parse_conditions(tokens):
+    """``["w=pi,w2=pi2", ...]`` -> ``{"w": "pi", "w2": "pi2"}`` (order kept).
+
+    Parameters
+    ----------
+    tokens : list of str
+        Pairs ``subtask=condition``, separated by commas or given as several tokens.
+
+    Returns
+    -------
+    conditions : dict
+        Subtask -> condition, both still names or index strings.
+
+    Raises
+    ------
+    ValueError
+        For a pair without ``=``, an empty side or a subtask given twice.
+
+    Examples
+    --------
+    >>> parse_conditions(["placed=picked,2=0"])
+    {'placed': 'picked', '2': '0'}
+    >>> parse_conditions(["placed"])
+    Traceback (most recent call last):
+    ...
+    ValueError: --conditions: 'placed' is not a pair subtask=condition (e.g. placed=picked)
+    """
+    out = {}
+    for token in tokens:
+        for pair in (p.strip() for p in token.split(",")):
+            if not pair:
+                continue
+            w, eq, pi = (s.strip() for s in pair.partition("="))
+            if not eq or not w or not pi:
+                raise ValueError(f"--conditions: {pair!r} is not a pair subtask=condition "
+                                 "(e.g. placed=picked)")
+            if w in out:
+                raise ValueError(f"--conditions: subtask {w!r} is given twice")
+            out[w] = pi
+    return out
+
+
+def _conditions_type(text):
+    try:
+        parse_conditions([text])
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc).removeprefix("--conditions: ")) from None
+    return text
 
 
 def add_arguments(parser):
-    """Arguments of ``bsi fit``."""
+    """Arguments of ``bsi fit`` (and its description, with the input formats)."""
+    parser.description = _DESCRIPTION
+    parser.epilog = _EXAMPLE
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
     parser.add_argument("files", nargs="+", metavar="FILE",
                         help=".trace files (samples2LTL / Scarlet) or long-format CSV files")
-    parser.add_argument("--prior", choices=PRIORS, default="sets_of_chains")
-    parser.add_argument("--likelihood", choices=LIKELIHOODS, default="cb")
-    parser.add_argument("--inference", choices=["auto", "exact", "mcmc"], default="auto")
-    parser.add_argument("--n-samples", type=int, default=10_000)
-    parser.add_argument("--top", type=int, default=5, help="posterior entries to print")
-    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--globals", nargs="*", metavar="PROP", default=None,
+                        help="propositions that may be required to hold always, G(p) "
+                             "(default: all; give none for no G clauses)")
+    parser.add_argument("--subtasks", nargs="*", metavar="PROP", default=None,
+                        help="subtask-completion propositions, F(w) and ordering clauses "
+                             "(default: all; give none for no subtasks)")
+    parser.add_argument("--conditions", nargs="+", metavar="W=PI", default=None,
+                        type=_conditions_type,
+                        help="condition of a subtask, read at t = 0: subtask=condition pairs "
+                             "separated by commas or spaces (default: no conditions)")
+    parser.add_argument("--prior", choices=PRIORS, default="sets_of_chains",
+                        help="prior over the order of subtasks: one chain, sets of chains or "
+                             "a forest (default: %(default)s)")
+    parser.add_argument("--likelihood", choices=LIKELIHOODS, default="cb",
+                        help="complexity-based (cb, the size principle) or "
+                             "complexity-independent (ci) likelihood (default: %(default)s)")
+    parser.add_argument("--inference", choices=["auto", "exact", "mcmc"], default="auto",
+                        help="exact enumeration, MCMC, or auto: exact when the support is "
+                             "small enough (default: %(default)s)")
+    parser.add_argument("--n-samples", type=int, default=10_000,
+                        help="MCMC samples per chain (default: %(default)s)")
+    parser.add_argument("--top", type=int, default=5,
+                        help="posterior entries to print (default: %(default)s)")
+    parser.add_argument("--seed", type=int, default=0,
+                        help="random seed of the MCMC chains (default: %(default)s)")
 
 
 _OPTION_CONSTRAINTS = {
@@ -29,6 +133,9 @@ _OPTION_CONSTRAINTS = {
     "top": [Interval(Integral, 1, None, closed="left")],
     "seed": [Interval(Integral, 0, 2**32 - 1, closed="both")],
 }
+
+_OPTION_OF = {"global_candidates": "--globals", "subtasks": "--subtasks",
+              "conditions": "--conditions"}
 
 
 def _load(path):
@@ -40,16 +147,52 @@ def _load(path):
     return io.load_trace_file(path)
 
 
+def _proposition(token, names):
+    """A name when it is one of ``names``, else a column index when it is an integer."""
+    if token in names or not re.fullmatch(r"\d+", token):
+        return token
+    return int(token)
+
+
+def _roles(args, names, path):
+    """The role options resolved against one file's propositions (as estimator parameters)."""
+    def props(tokens):
+        return None if tokens is None else [_proposition(t, names) for t in tokens]
+
+    conditions = None
+    if args.conditions is not None:
+        conditions = {_proposition(w, names): _proposition(pi, names)
+                      for w, pi in parse_conditions(args.conditions).items()}
+    roles = dict(global_candidates=props(args.globals), subtasks=props(args.subtasks),
+                 conditions=conditions)
+    try:
+        resolve_roles(*roles.values(), len(names), names)
+    except ValueError as exc:
+        message = str(exc)
+        for param, option in _OPTION_OF.items():
+            if message.startswith(param):
+                message = option + message[len(param):]
+                break
+        raise ValueError(f"{path}: {message}") from None
+    return roles
+
+
 def run(args):
     """Fit on every file (one model per file) and print the results."""
     check_options(args, _OPTION_CONSTRAINTS)
+    if args.conditions is not None:
+        parse_conditions(args.conditions)
     for path in args.files:
         X, y, target = _load(path)
+        names = [str(c) for c in X[0].columns]
         clf = BSIClassifier(prior=args.prior, likelihood=args.likelihood,
                             inference=args.inference, n_samples=args.n_samples,
-                            random_state=args.seed)
+                            random_state=args.seed, **_roles(args, names, path))
         y = np.ones(len(X), dtype=int) if y is None else np.asarray(y)
-        clf.fit(X, y)
+        try:
+            clf.fit(X, y)
+        except ValueError as exc:
+            raise ValueError(f"{path}: {exc}") from None
         print(f"== {path}: {len(X)} demonstrations ({int(y.sum())} acceptable), "
               f"{clf.n_features_in_} propositions, {clf.inference_} inference")
         if target is not None:

@@ -12,7 +12,7 @@ from sklearn.utils.parallel import Parallel, delayed
 from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn.clauses import clause_truth
-from bsi_sklearn.diagnostics import split_rhat
+from bsi_sklearn.diagnostics import missed_mass, split_rhat
 from bsi_sklearn.exact import exact_posterior
 from bsi_sklearn.likelihood import LIKELIHOODS
 from bsi_sklearn.mcmc import (
@@ -36,7 +36,9 @@ from bsi_sklearn.traces import check_consistent_traces, check_labels, check_trac
 __all__ = ["BSIClassifier"]
 
 _INFERENCE = ("auto", "exact", "mcmc")
-_RHAT_WARN = 1.05
+# A chain whose own reweighted posterior misses more than this much of the reported posterior
+# mass (the total variation between the two) means the chains have not found the same mass.
+_MISSED_WARN = 0.05
 
 
 class BSIClassifier(ClassifierMixin, BaseEstimator):
@@ -123,8 +125,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     mcmc_diagnostics_ : dict or None
         For MCMC: ``acceptance_rate`` (fraction of steps that changed the state, per chain and
         mean), ``rhat`` (split-R-hat of the log posterior across chains), ``n_visited``,
-        ``sample_frequencies`` (frequency of each posterior specification among the samples).
-        ``None`` after exact inference.
+        ``sample_frequencies`` (frequency of each posterior specification among the samples),
+        ``missed_mass_per_chain`` (the reported posterior mass each chain never visited: the
+        total variation between that chain's own reweighted posterior and the reported one)
+        and ``max_missed_mass``, their maximum. ``None`` after exact inference.
 
     See Also
     --------
@@ -135,6 +139,13 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     The MCMC sampler discovers the posterior's support; the probabilities it reports are the
     exact posterior restricted to the specifications its chains visited, renormalised, which is
     far closer to the exact posterior than sample frequencies (kept in ``mcmc_diagnostics_``).
+    A ``ConvergenceWarning`` is raised when the chains disagree on what they report: some chain
+    never visited more than 5% of the reported posterior mass (``max_missed_mass``). Raw
+    log-posterior traces may wander (their split-R-hat is kept as ``rhat``) while the reported
+    posterior is right; with one chain there is nothing to compare and no warning. With the
+    default roles (every proposition a global candidate and a subtask) and a support too large
+    to enumerate, a ``UserWarning`` suggests ``global_candidates``, ``subtasks`` and
+    ``conditions``.
 
     References
     ----------
@@ -232,8 +243,11 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         ----------
         X : list of array-like or DataFrame, or ndarray
             Demonstrations (see :func:`bsi_sklearn.traces.check_traces`): a list of
-            ``(T_i, n_props)`` boolean traces or DataFrames, a 3-D array
-            ``(n_demos, T, n_props)``, or a 2-D array whose rows are traces of length one.
+            ``(T_i, n_props)`` boolean traces or DataFrames (``[df]`` for one), a 3-D array
+            ``(n_demos, T, n_props)``, a long-format DataFrame with a ``demo_id`` column, or a
+            2-D array whose rows are traces of length one. A single DataFrame without
+            ``demo_id`` and a list of 1-D arrays are rejected with a ``ValueError`` that says
+            what to pass instead.
         y : array-like of shape (n_demos,), default=None
             1 (acceptable) or 0 (unacceptable). ``None`` or all ones: learn from positives only.
 
@@ -262,6 +276,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
                 f"subtasks, prior={self.prior!r}), above max_exact_hypotheses="
                 f"{self.max_exact_hypotheses:,}; raise max_exact_hypotheses or use 'mcmc'"
             )
+        if inference == "mcmc":
+            self._warn_default_roles(traces.n_props, n_hyp)
         if inference == "exact":
             self.posterior_, self.mcmc_diagnostics_ = self._fit_exact(truth, y01, roles, model)
         else:
@@ -270,14 +286,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
             self.posterior_, self.mcmc_diagnostics_ = self._fit_mcmc(
                 truth, y01, roles, model, seeds
             )
-            if self.mcmc_diagnostics_["rhat"] > _RHAT_WARN:
-                warnings.warn(
-                    f"MCMC chains disagree: split-R-hat of the log posterior is "
-                    f"{self.mcmc_diagnostics_['rhat']:.3f} > {_RHAT_WARN}; increase n_samples "
-                    "or n_chains",
-                    ConvergenceWarning,
-                    stacklevel=2,
-                )
+            self._warn_disagreement(n_hyp)
         self.classes_ = classes
         self.n_features_in_ = traces.n_props
         if traces.feature_names is not None:
@@ -290,6 +299,41 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         self.map_specification_ = self.posterior_.specification(0)
         self.n_unique_specifications_ = len(self.posterior_)
         return self
+
+    def _warn_default_roles(self, n_props, n_hyp):
+        """Say once that default roles make the support too large to enumerate."""
+        if (self.global_candidates, self.subtasks, self.conditions) != (None, None, None):
+            return
+        # The message does not depend on the data beyond its size, so Python's default warning
+        # filter shows it once per process and problem size, not once per fold.
+        warnings.warn(
+            f"With the default roles all {n_props} propositions are global candidates and "
+            f"subtasks: the support has {n_hyp:.3g} hypotheses, too many to enumerate "
+            f"(max_exact_hypotheses={self.max_exact_hypotheses:,}), so MCMC samples it, and "
+            "the most probable specifications fill with trivial clauses. Say which propositions "
+            "play which role with global_candidates=, subtasks= and conditions= (a dataset's "
+            "Bunch has them: BSIClassifier(**data.roles)).",
+            UserWarning,
+            stacklevel=3,
+        )
+
+    def _warn_disagreement(self, n_hyp):
+        """ConvergenceWarning when some chain misses posterior mass the others found."""
+        diag = self.mcmc_diagnostics_
+        worst = diag["max_missed_mass"]
+        if not worst > _MISSED_WARN:
+            return
+        chain = int(np.argmax(diag["missed_mass_per_chain"]))
+        warnings.warn(
+            f"MCMC chains disagree: chain {chain} never visited specifications holding "
+            f"{worst:.1%} of the reported posterior mass (> {_MISSED_WARN:.0%}; "
+            "mcmc_diagnostics_['missed_mass_per_chain']), so the reported posterior is "
+            f"unreliable. Increase n_samples (now {self.n_samples:,}) or n_chains (now "
+            f"{self.n_chains}), or restrict the roles (global_candidates, subtasks, conditions) "
+            f"to shrink the support ({n_hyp:.3g} hypotheses).",
+            ConvergenceWarning,
+            stacklevel=3,
+        )
 
     def _fit_exact(self, truth, y01, roles, model):
         res = exact_posterior(truth, y01, model, tol=float(self.tol))
@@ -325,7 +369,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         probs /= probs.sum()
         post = Posterior(uniq[:, n_g + n:], uniq[:, :n_g].astype(bool),
                          uniq[:, n_g:n_g + n].astype(bool), probs, roles)
+        missed = missed_mass([r[0] for r in results], uniq, probs)
         diagnostics = {
+            "missed_mass_per_chain": missed,
+            "max_missed_mass": float(missed.max()),
             "rhat": split_rhat(traces) if traces.shape[1] >= 4 else float("nan"),
             "acceptance_rate": float(moves.mean()),
             "acceptance_rate_per_chain": moves,

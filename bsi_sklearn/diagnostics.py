@@ -1,10 +1,10 @@
-"""Convergence and agreement diagnostics: split-R-hat across chains, total variation."""
+"""Convergence diagnostics: split-R-hat, the mass each chain missed, total variation."""
 
 import math
 
 import numpy as np
 
-__all__ = ["split_rhat", "total_variation"]
+__all__ = ["split_rhat", "missed_mass", "total_variation"]
 
 
 def split_rhat(traces):
@@ -47,6 +47,50 @@ def split_rhat(traces):
         return 1.0 if between == 0 else float("inf")
     var_plus = (half - 1) / half * within + between / half
     return float(np.sqrt(var_plus / within))
+
+
+def missed_mass(chain_states, states, probabilities):
+    """Posterior mass each chain never visited.
+
+    The reported MCMC posterior is the exact posterior restricted to the states all chains
+    visited; a chain's own posterior is the same restricted to the states it visited. The total
+    variation between the two is the reported mass outside the chain's visited set, which this
+    returns per chain. Chains that each found the states carrying the mass give ~0, however
+    their raw log-posterior traces wander; a chain stuck away from mass the others found gives
+    that mass.
+
+    Parameters
+    ----------
+    chain_states : sequence of ndarray of shape (n_rows_c, n_cols)
+        The states each chain visited (rows, repeats allowed).
+    states : ndarray of shape (n_states, n_cols)
+        The unique states of the reported posterior (every row of every chain is one of them).
+    probabilities : ndarray of shape (n_states,)
+        Their reported probabilities.
+
+    Returns
+    -------
+    missed : ndarray of shape (n_chains,)
+        ``1 - (mass of the states the chain visited)``, in [0, 1].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> states = np.array([[0, 1], [1, 1], [1, 0]])
+    >>> probs = np.array([0.7, 0.2, 0.1])
+    >>> missed_mass([states[[0, 1]], states[[0, 1, 2, 0]]], states, probs).round(3).tolist()
+    [0.1, 0.0]
+    """
+    states = np.ascontiguousarray(states)
+    index = {row.tobytes(): i for i, row in enumerate(states)}
+    probabilities = np.asarray(probabilities, dtype=float)
+    out = np.empty(len(chain_states))
+    for c, rows in enumerate(chain_states):
+        rows = np.ascontiguousarray(np.asarray(rows, dtype=states.dtype))
+        seen = np.zeros(len(states), dtype=bool)
+        seen[[index[row.tobytes()] for row in rows]] = True
+        out[c] = min(1.0, max(0.0, 1.0 - math.fsum(probabilities[seen])))
+    return out
 
 
 def total_variation(p, q):

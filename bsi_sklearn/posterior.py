@@ -201,6 +201,26 @@ class Posterior:
         -------
         pandas.Series
             Indexed by clause keys ``("G", p)``, ``("F", w)``, ``("U", a, b)``.
+
+        Notes
+        -----
+        An order key reads in the order of events, not of the formula: ``("U", a, b)`` means
+        *a precedes b*, the clause ``(!b U a)`` (b does not happen before a does), so the
+        subtasks appear in the key in the reverse of their order in the formula's text. The
+        same keys are used by :meth:`Specification.clauses` and the reports.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from bsi_sklearn import BSIClassifier
+        >>> X = [np.array([[0, 0], [1, 0], [1, 1]])]
+        >>> clf = BSIClassifier(global_candidates=[], subtasks=[0, 1], random_state=0).fit(X)
+        >>> marginals = clf.posterior_.clause_marginals()
+        >>> key = ("U", 0, 1)  # 0 precedes 1: the clause (!1 U 0)
+        >>> bool(marginals[key] > marginals[("U", 1, 0)])
+        True
+        >>> [c for c in clf.map_specification_.clause_strings() if "U" in c]
+        ['(!1 U 0)']
         """
         return pd.Series(
             self._marginals[self._clause_slots()],

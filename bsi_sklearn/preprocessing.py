@@ -109,7 +109,8 @@ class NegationAugmenter(TransformerMixin, BaseEstimator, auto_wrap_output_keys=N
         """
         validate_params(self.get_params(deep=False), self._parameter_constraints,
                         type(self).__name__)
-        traces = check_traces(X, binarize=self.binarize, estimator_name=type(self).__name__)
+        traces = check_traces(X, binarize=self.binarize, estimator_name=type(self).__name__,
+                              frame_as_rows=True)
         names = traces.feature_names
         self.n_features_in_ = traces.n_props
         if names is not None:
@@ -169,7 +170,8 @@ class NegationAugmenter(TransformerMixin, BaseEstimator, auto_wrap_output_keys=N
             See Notes.
         """
         check_is_fitted(self, "negated_")
-        traces = check_traces(X, binarize=self.binarize, estimator_name=type(self).__name__)
+        traces = check_traces(X, binarize=self.binarize, estimator_name=type(self).__name__,
+                              frame_as_rows=True)
         check_consistent_traces(traces, self.n_features_in_,
                                 getattr(self, "feature_names_in_", None), type(self).__name__)
         data = traces.data.astype(bool)

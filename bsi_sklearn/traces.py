@@ -8,6 +8,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bsi_sklearn._trace_values import (
+    NonNumericTraceError,
+    Place,
+    frame_names,
+    ragged_error,
+    ragged_rows_error,
+    to_bool,
+    to_float,
+)
+
 __all__ = [
     "Traces",
     "Wording",
@@ -17,10 +27,6 @@ __all__ = [
     "check_consistent_traces",
     "check_labels",
 ]
-
-
-class NonNumericTraceError(TypeError, ValueError):
-    """A trace holds values that are not numbers (both a TypeError and a ValueError)."""
 
 
 @dataclass(frozen=True)
@@ -124,73 +130,26 @@ class Wording:
 _TRACE_WORDING = Wording()
 
 
-def _frame_names(frame, where):
-    cols = list(frame.columns)
-    str_cols = [isinstance(c, str) for c in cols]
-    if all(str_cols) and cols:
-        if len(set(cols)) != len(cols):
-            raise ValueError(f"{where} has duplicate column names")
-        return np.asarray(cols, dtype=object)
-    if any(str_cols):
-        raise ValueError(
-            f"{where} mixes string and non-string column names; use strings for all columns"
-        )
-    return None
-
-
-def _as_numbers(arr, where):
-    """Values as a real array (bool kept), or raise naming ``where``."""
-    if arr.dtype == bool:
-        return arr
-    if arr.dtype.kind == "c":
-        raise ValueError(f"{where}: Complex data not supported")
-    if arr.dtype.kind not in "biuf":
-        try:
-            arr = arr.astype(np.float64)
-        except (TypeError, ValueError) as exc:
-            raise NonNumericTraceError(
-                f"{where} has non-numeric values (dtype {arr.dtype}): {exc}"
-            ) from None
-    if arr.dtype.kind == "f":
-        bad = ~np.isfinite(arr)
-        if bad.any():
-            t, p = map(int, np.argwhere(bad)[0])
-            raise ValueError(f"{where} has a NaN or infinite value at step {t}, column {p}")
-    return arr
-
-
-def _to_bool(arr, where, binarize):
-    """Turn one demonstration's values into uint8 0/1, or raise naming ``where``."""
-    arr = _as_numbers(arr, where)
-    if arr.dtype == bool:
-        return arr.astype(np.uint8)
-    if binarize is not None:
-        return (arr > binarize).astype(np.uint8)
-    bad = (arr != 0) & (arr != 1)
-    if bad.any():
-        t, p = map(int, np.argwhere(bad)[0])
-        raise ValueError(
-            f"{where} has value {arr[t, p].item()!r} at step {t}, proposition {p}; traces must "
-            "be 0/1 or boolean (set binarize=<threshold> to threshold numeric data)"
-        )
-    return arr.astype(np.uint8)
-
-
-def _to_float(arr, where, binarize=None):
-    """Turn one sequence's values into finite float64 (numeric sequences, not traces)."""
-    return np.asarray(_as_numbers(arr, where), dtype=np.float64)
-
-
 def check_traces(X, *, binarize=None, estimator_name="estimator", numeric=False,
-                 words=_TRACE_WORDING):
+                 words=_TRACE_WORDING, frame_as_rows=False):
     """Validate demonstrations and stack them for the kernels.
 
     Parameters
     ----------
-    X : list of array-like or DataFrame, 3-D array or 2-D array
-        A list (or tuple) of ``(T_i, n_props)`` traces, a list of
-        DataFrames, a 3-D array ``(n_demos, T, n_props)`` or a 2-D array ``(n_demos, n_props)``
-        whose rows are traces of length one (a single DataFrame is read the same way).
+    X : list of 2-D array-like or DataFrame, 3-D array, 2-D array or long-format DataFrame
+        The accepted formats, and nothing else:
+
+        - a list (or tuple) of ``(T_i, n_props)`` arrays or DataFrames, one per
+          demonstration (rows are time steps; lengths may differ);
+        - a 3-D array ``(n_demos, T, n_props)``;
+        - a 2-D array ``(n_demos, n_props)`` or a list of lists of numbers (scikit-learn's
+          format): every row is a demonstration of length one;
+        - a long-format DataFrame with a ``demo_id`` column (and optionally ``t``), one row
+          per time step (see :func:`bsi_sklearn.io.traces_from_frame`).
+
+        A single DataFrame without ``demo_id`` is rejected (pass ``[df]`` for one
+        demonstration), and so is a list of 1-D arrays (reshape each with
+        ``x.reshape(-1, 1)`` for one proposition over time).
     binarize : float or None, default=None
         When set, values ``> binarize`` become true; otherwise values must be 0/1 or boolean.
     estimator_name : str
@@ -200,17 +159,41 @@ def check_traces(X, *, binarize=None, estimator_name="estimator", numeric=False,
         of ``baselines`` share this validation).
     words : Wording, default=Wording()
         Names of the items and columns in messages.
+    frame_as_rows : bool, default=False
+        Read a single DataFrame without ``demo_id`` as the 2-D format (rows are items of
+        length one) instead of rejecting it (the numeric sequences of ``baselines``).
 
     Returns
     -------
     traces : Traces
+
+    Raises
+    ------
+    ValueError
+        Naming the demonstration, the step and the proposition (by column name when there is
+        one) of the first bad value, or saying which format was expected.
+
+    Examples
+    --------
+    >>> import numpy as np, pandas as pd
+    >>> df = pd.DataFrame({"safe": [1, 1, 0], "done": [0, 1, 1]})
+    >>> check_traces([df]).lengths.tolist()
+    [3]
+    >>> check_traces(df)
+    Traceback (most recent call last):
+    ...
+    ValueError: estimator got a single DataFrame without a 'demo_id' column...
+    >>> check_traces([np.array([0, 1, 1])])
+    Traceback (most recent call last):
+    ...
+    ValueError: demonstration 0 is a 1-D array of shape (3,)...
     """
     if binarize is not None and (
         not isinstance(binarize, numbers.Real) or isinstance(binarize, bool)
         or not np.isfinite(binarize)
     ):
         raise ValueError(f"binarize must be None or a finite number, got {binarize!r}")
-    convert = _to_float if numeric else _to_bool
+    convert = to_float if numeric else to_bool
     items = words.item + "s"
     if X is None:
         raise ValueError(f"{estimator_name} expects {items}, got None")
@@ -221,20 +204,32 @@ def check_traces(X, *, binarize=None, estimator_name="estimator", numeric=False,
         )
     names = None
     if is_frame(X):
-        names = _frame_names(X, "the DataFrame")
+        if "demo_id" in X.columns:
+            return _long_frame(X, binarize, estimator_name, numeric, words)
+        if not frame_as_rows:
+            raise ValueError(
+                f"{estimator_name} got a single DataFrame without a 'demo_id' column "
+                f"({X.shape[0]} rows, columns {list(X.columns)[:8]}). Pass [df] if it is one "
+                f"{words.item} (rows are time steps), a list of DataFrames for several, or a "
+                "long-format frame with a 'demo_id' column (optional 't') whose rows are the "
+                f"steps of all {items}"
+            )
+        names = frame_names(X, "the DataFrame")
         X = X.to_numpy()
     if isinstance(X, (list, tuple)):
         if len(X) == 0:
             raise ValueError(f"{estimator_name} needs at least one {words.item}, got 0")
-        if not is_frame(X[0]) and np.ndim(X[0]) == 1:
-            # Nested lists of scalars: the 2-D format (each row a trace of length one).
+        first = X[0]
+        if isinstance(first, (list, tuple)) and all(np.ndim(v) == 0 for v in first):
+            # Nested lists of scalars: scikit-learn's 2-D format (each row a trace of length one).
             try:
                 arr = np.asarray(X)
             except ValueError:
                 arr = None
-            if arr is not None and arr.ndim == 2 and arr.dtype != object:
+            if arr is not None and arr.ndim == 2:
                 return check_traces(arr, binarize=binarize, estimator_name=estimator_name,
                                     numeric=numeric, words=words)
+            raise ragged_rows_error(X, estimator_name, words.item, words.unit)
         return _stack_list(X, convert, binarize, words)
     if hasattr(X, "__array__") or isinstance(X, np.ndarray):
         arr = np.asarray(X)
@@ -260,7 +255,8 @@ def check_traces(X, *, binarize=None, estimator_name="estimator", numeric=False,
                 f"{items} have no {words.unit}s: found array with 0 feature(s) "
                 f"(shape={arr.shape}) while a minimum of 1 is required."
             )
-        return _stack_rows(convert(arr, "X", binarize), names, words)
+        rows = convert(arr, Place(words.item, words.unit, None, names), binarize)
+        return _stack_rows(rows, names, words)
     hint = (" Reshape your data: X.reshape(1, -1) for one trace of length one, or wrap a "
             "(T, n_props) trace in a list." if arr.ndim == 1 else "")
     raise ValueError(
@@ -268,6 +264,22 @@ def check_traces(X, *, binarize=None, estimator_name="estimator", numeric=False,
         f"or a 2-D array (n_{items}, n_{words.unit}s); got an array with {arr.ndim} "
         f"dimension(s).{hint}"
     )
+
+
+def _long_frame(frame, binarize, estimator_name, numeric, words):
+    """A long-format frame (``demo_id``, optional ``t``) split into demonstrations."""
+    from bsi_sklearn.io.long_format import traces_from_frame
+
+    if "label" in frame.columns:
+        raise ValueError(
+            f"{estimator_name} got a long-format frame with a 'label' column; split it first: "
+            "X, y = bsi_sklearn.io.traces_from_frame(df), then pass X (and y)"
+        )
+    if "t" not in frame.columns:
+        frame = frame.assign(t=frame.groupby("demo_id", sort=False).cumcount())
+    parts, _ = traces_from_frame(frame, label_col=None)
+    return check_traces(parts, binarize=binarize, estimator_name=estimator_name,
+                        numeric=numeric, words=words)
 
 
 def _stack_rows(rows, names, words):
@@ -281,7 +293,7 @@ def _stack_list(items, convert, binarize, words):
     for i, item in enumerate(items):
         where = f"{words.item} {i}"
         if is_frame(item):
-            item_names = _frame_names(item, where)
+            item_names = frame_names(item, where)
             if i == 0:
                 names = item_names
             elif (names is None) != (item_names is None) or (
@@ -297,10 +309,17 @@ def _stack_list(items, convert, binarize, words):
                 raise ValueError(f"{where} is not a DataFrame, but {words.item} 0 is")
             try:
                 arr = np.asarray(item)
-            except ValueError as exc:
-                raise ValueError(f"{where} is ragged: {exc}") from None
-        if arr.dtype == object and arr.ndim == 1:
-            raise ValueError(f"{where} is ragged: its time steps have different lengths")
+            except ValueError:
+                raise ragged_error(item, where, unit) from None
+        if arr.dtype == object and arr.ndim == 1 and len(arr) and np.ndim(arr[0]) > 0:
+            raise ragged_error(item, where, unit)
+        if arr.ndim == 1:
+            raise ValueError(
+                f"{where} is a 1-D array of shape {arr.shape}; a {words.item} is a 2-D array "
+                f"(T, n_{unit}s) whose rows are time steps. For one {unit} over time use "
+                f"x.reshape(-1, 1); for {words.item}s of length one pass a 2-D array "
+                f"(n_{words.item}s, n_{unit}s)"
+            )
         if arr.ndim != 2:
             raise ValueError(
                 f"{where} must be a 2-D array (T, n_{unit}s), got {arr.ndim} dimension(s) "
@@ -317,7 +336,8 @@ def _stack_list(items, convert, binarize, words):
             raise ValueError(
                 f"{where} has {arr.shape[1]} {unit}s, but {words.item} 0 has {n_props}"
             )
-        arrays.append(convert(arr, where, binarize))
+        place = Place(words.item, unit, i, names)
+        arrays.append(convert(arr, place, binarize))
     lengths = np.array([a.shape[0] for a in arrays], dtype=np.int64)
     offsets = np.zeros(len(arrays) + 1, dtype=np.int64)
     np.cumsum(lengths, out=offsets[1:])

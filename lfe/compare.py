@@ -533,7 +533,12 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
         from tqdm.auto import tqdm
 
         outputs = tqdm(outputs, total=len(tasks), desc="bsi-lfe compare", unit="fit")
-    outputs = list(outputs)
+    with warnings.catch_warnings():
+        # loky restarts a worker whose memory grew and resubmits its jobs, with this warning;
+        # nothing is lost (the tables do not depend on n_jobs), so the user is not told.
+        warnings.filterwarnings("ignore", message="A worker stopped while some jobs were given",
+                                category=UserWarning)
+        outputs = list(outputs)
 
     names = [*CLASSIFIERS, MAJORITY]
     pred = {name: np.full(labels.shape, -1, dtype=np.int64) for name in names}

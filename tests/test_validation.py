@@ -29,11 +29,16 @@ def test_formats_agree():
         (np.zeros((0, 3)), "at least one demonstration"),
         ([np.ones((2, 2)), np.ones((0, 2))], "demonstration 1 has zero length"),
         ([np.ones((2, 2)), np.ones((2, 3))], "demonstration 1 has 3 propositions"),
-        ([np.array([[0, 1], [np.nan, 1]])], "demonstration 0 has a NaN"),
-        ([np.array([[0, 2]])], "demonstration 0 has value 2"),
-        ([np.ones((2, 2)), np.ones(3)], "demonstration 1 must be a 2-D"),
+        ([np.array([[0, 1], [np.nan, 1]])], "demonstration 0, step 1, proposition 0 is nan"),
+        ([np.array([[0, 2]])], "demonstration 0, step 0, proposition 1 has value 2"),
+        ([np.ones((2, 2)), np.ones(3)], r"demonstration 1 is a 1-D array .*reshape\(-1, 1\)"),
+        ([np.ones((2, 2)), np.ones((2, 2, 1))], "demonstration 1 must be a 2-D"),
         (np.ones((2, 2, 2, 2)), "4 dimension"),
-        ([np.array([["a", "b"]])], "non-numeric"),
+        ([np.array([["a", "b"]])], "demonstration 0, step 0, proposition 0 has the non-numeric"),
+        ([[[0, 1], [1]]], "demonstration 0 is ragged: step 1 has 1 propositions, step 0 has 2"),
+        ([[0, 1], [1]], r"list of lists \(scikit-learn's 2-D format, every row a demonstration "
+                        r"of length one\) whose row 1 has 1 propositions, row 0 has 2"),
+        (np.array([[0, 1], [3, 1]]), "demonstration 1, step 0, proposition 0 has value 3"),
         ("abc", "demonstrations must be"),
     ],
 )
@@ -114,12 +119,58 @@ def test_predict_checks_propositions():
         BSIClassifier(inference="exact", max_exact_hypotheses=10).fit([np.ones((2, 3))])
 
 
-def test_single_dataframe_is_2d_format():
-    t = check_traces(pd.DataFrame([[1, 0], [0, 1]], columns=["p", "q"]))
-    assert t.n_demos == 2 and list(t.feature_names) == ["p", "q"]
-    with pytest.raises(ValueError, match="0 sample"):
-        check_traces(pd.DataFrame(np.zeros((0, 2)), columns=["p", "q"]))
-    with pytest.raises(ValueError, match="0 feature"):
-        check_traces(pd.DataFrame(np.zeros((2, 0))))
+def test_single_dataframe_is_rejected_unless_long_format():
+    df = pd.DataFrame([[1, 0], [0, 1], [1, 1]], columns=["p", "q"])
+    with pytest.raises(ValueError, match=r"single DataFrame without a 'demo_id'.*Pass \[df\]"):
+        check_traces(df)
+    clf = BSIClassifier(random_state=0).fit([df])
+    with pytest.raises(ValueError, match=r"Pass \[df\] if it is one demonstration"):
+        clf.predict(df)
+    # fit(df, y) with one label per row was silently read as length-one traces.
+    with pytest.raises(ValueError, match="single DataFrame"):
+        BSIClassifier().fit(df, [1, 0, 1])
+    assert clf.predict([df]).shape == (1,)
+    # A long-format frame (demo_id, optional t) is split into demonstrations.
+    long = pd.DataFrame({"demo_id": [7, 7, 3], "t": [1, 0, 0], "p": [0, 1, 1], "q": [1, 0, 0]})
+    t = check_traces(long)
+    assert t.n_demos == 2 and t.lengths.tolist() == [2, 1] and list(t.feature_names) == ["p", "q"]
+    assert t.trace(0).tolist() == [[True, False], [False, True]]
+    no_t = check_traces(long.drop(columns="t"))
+    assert no_t.trace(0).tolist() == [[False, True], [True, False]]
+    with pytest.raises(ValueError, match="'label' column; split it first"):
+        check_traces(long.assign(label=1))
+    # The 2-D format of scikit-learn stays: arrays and nested lists of numbers.
+    assert check_traces(np.array([[1, 0], [0, 1]])).lengths.tolist() == [1, 1]
+    assert check_traces([[1, 0], [0, 1]]).lengths.tolist() == [1, 1]
     numeric = check_traces([np.array([[0.5, 2.0]])], numeric=True)
     assert numeric.data.dtype == np.float64 and numeric.data.tolist() == [[0.5, 2.0]]
+    rows = check_traces(df, frame_as_rows=True)
+    assert rows.n_demos == 3 and list(rows.feature_names) == ["p", "q"]
+
+
+def test_list_of_1d_arrays_is_rejected_with_a_reshape_hint():
+    X = [np.array([0, 1, 1]), np.array([1, 1, 0])]
+    with pytest.raises(ValueError, match=r"demonstration 0 is a 1-D array of shape \(3,\).*"
+                                         r"x\.reshape\(-1, 1\)"):
+        check_traces(X)
+    with pytest.raises(ValueError, match="1-D array"):
+        check_traces([pd.Series([0, 1])])
+    assert check_traces([x.reshape(-1, 1) for x in X]).lengths.tolist() == [3, 3]
+
+
+def test_messages_name_the_column_demonstration_and_step():
+    good = pd.DataFrame({"safe": [1, 1], "mode": [0, 1]})
+    nan = pd.DataFrame({"safe": [1.0, np.nan], "mode": [0, 1]})
+    with pytest.raises(ValueError, match="demonstration 1, step 1, proposition 'safe' is nan"):
+        check_traces([good, nan])
+    text = pd.DataFrame({"safe": [1, 1], "mode": ["no", "yes"]})
+    with pytest.raises(ValueError, match="demonstration 0, step 0, proposition 'mode' has the "
+                                         "non-numeric value 'no'"):
+        check_traces([text])
+    two = pd.DataFrame({"safe": [1, 2], "mode": [0, 1]})
+    with pytest.raises(ValueError, match="demonstration 1, step 1, proposition 'safe' has val"):
+        check_traces([good, two])
+    with pytest.raises(ValueError, match="demonstration 2, step 0, proposition 1 has value 5"):
+        check_traces(np.array([[0, 1], [1, 0], [1, 5]]))
+    with pytest.raises(ValueError, match="duplicate column names"):
+        check_traces([pd.DataFrame([[1, 0]], columns=["a", "a"])])

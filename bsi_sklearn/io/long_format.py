@@ -8,6 +8,7 @@ import os
 import numpy as np
 import pandas as pd
 
+from bsi_sklearn.io._atomic import write_atomic
 from bsi_sklearn.traces import check_traces
 
 __all__ = ["traces_from_frame", "traces_to_frame", "read_traces_csv", "write_traces_csv"]
@@ -60,6 +61,10 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
     def row_name(pos):
         return f"line {pos + 2}" if csv else f"row {_show(df.index[pos])}"
 
+    def value_at(pos, prop):
+        return (f"{where}, {row_name(pos)}: demonstration {_show(df[demo_col].iat[pos])}, "
+                f"step {_show(df[time_col].iat[pos])}, proposition {prop!r}")
+
     for col in (demo_col, time_col):
         if col not in df.columns:
             raise ValueError(f"{where}: no {col!r} column; columns are {list(df.columns)}")
@@ -89,13 +94,13 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
                     except (TypeError, ValueError):
                         good = False
                     if not good:
-                        raise ValueError(f"{where}, {row_name(pos)}: proposition {c!r} has "
-                                         f"value {_show(v)}; values must be 0 or 1")
+                        raise ValueError(f"{value_at(pos, c)} has value {_show(v)}; "
+                                         "values must be 0 or 1")
     bad = ~np.isin(arr, (0, 1))
     if bad.any():
         pos, k = map(int, np.argwhere(bad)[0])
-        raise ValueError(f"{where}, {row_name(pos)}: proposition {props[k]!r} has value "
-                         f"{_show(arr[pos, k])}; values must be 0 or 1")
+        raise ValueError(f"{value_at(pos, props[k])} has value {_show(arr[pos, k])}; values "
+                         "must be 0 or 1")
     arr = arr.astype(bool)
     t_raw = df[time_col].to_numpy()
     try:
@@ -271,4 +276,7 @@ def write_traces_csv(X, y, path_or_buffer=None, *, feature_names=None, demo_col=
         raise ValueError("y must be labels or None; pass the destination as path_or_buffer")
     frame = traces_to_frame(X, y, feature_names=feature_names, demo_col=demo_col,
                             time_col=time_col, label_col=label_col)
+    if isinstance(path_or_buffer, (str, os.PathLike)):
+        write_atomic(path_or_buffer, frame.to_csv(index=False))
+        return None
     return frame.to_csv(path_or_buffer, index=False)

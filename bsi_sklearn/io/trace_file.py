@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from bsi_sklearn.io._atomic import write_atomic
 from bsi_sklearn.ltl import Formula, parse_ltl
 from bsi_sklearn.traces import check_traces
 
@@ -108,6 +109,23 @@ def _split_sections(lines):
     return sections, blame
 
 
+_EXPECTED = ("expected time steps separated by ';' and the 0/1 propositions of a step by ',' "
+             "(e.g. '1,0;1,1')")
+
+
+def _check_separators(lines, lineno, stripped):
+    """Raise when a trace line that does not parse uses separators other than ',' and ';'."""
+    odd = sorted(set(stripped) - set("01,; \t"))
+    if odd:
+        shown = stripped if len(stripped) <= 40 else stripped[:37] + "..."
+        raise lines.error(lineno, f"{shown!r} is not a trace: unexpected character(s) "
+                                  f"{''.join(odd)!r}; {_EXPECTED}")
+    spaced = re.search(r"[01][ \t]+[01]", stripped)
+    if spaced:
+        raise lines.error(lineno, f"values separated by whitespace ({spaced.group()!r}); "
+                                  f"{_EXPECTED}")
+
+
 _WELL_FORMED = re.compile(r"[01](?:,[01])*(?:;[01](?:,[01])*)*")
 
 
@@ -139,12 +157,15 @@ def _parse_trace(lines, lineno, text, n_props):
         if n_props is None:
             n_props = len(values)
         elif len(values) != n_props:
+            _check_separators(lines, lineno, stripped)
             raise lines.error(lineno, f"time step {s} has {len(values)} propositions, "
                                       f"expected {n_props}")
         row = []
         for p, v in enumerate(values):
             v = v.strip()
             if v not in ("0", "1"):
+                if len(v) > 1:
+                    _check_separators(lines, lineno, stripped)
                 raise lines.error(lineno, f"time step {s}, proposition {p} has value {v!r}; "
                                           "values must be 0 or 1")
             row.append(v == "1")
@@ -433,5 +454,4 @@ def write_trace_file(path, X, y, *, operators=_DEFAULT_OPERATORS, depth=None, ta
     if hasattr(path, "write"):
         path.write(text)
     else:
-        with open(os.fspath(path), "w", encoding="utf-8") as fh:
-            fh.write(text)
+        write_atomic(os.fspath(path), text)

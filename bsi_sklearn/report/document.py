@@ -19,7 +19,8 @@ class Code(NamedTuple):
 class Document:
     """A tiny document model rendered to Markdown and to HTML (one source, two outputs).
 
-    Blocks: ``("h", level, text)``, ``("p", inline)``, ``("pre", text)``, ``("math", latex)``,
+    Blocks: ``("h", level, text)``, ``("p", inline)``, ``("pre", text)``, ``("formula", text)``
+    (a formula in Unicode symbols, shown as display text: no LaTeX, nothing to fetch),
     ``("ul", [inline, ...])``, ``("table", header, rows)``, ``("figure", name, caption)``.
     Inline content is a str, a :class:`Code` or a list of both.
 
@@ -96,8 +97,8 @@ def render_markdown(doc, figure_files):
         elif kind == "pre":
             fence = "````" if "```" in block[1] else "```"
             out.append(f"{fence}text\n{block[1]}\n{fence}")
-        elif kind == "math":
-            out.append(f"$$\n{block[1]}\n$$")
+        elif kind == "formula":
+            out.append(f"> **{_md_text(block[1])}**")
         elif kind == "ul":
             out.append("\n".join(f"- {_md_inline(item)}" for item in block[1]))
         elif kind == "table":
@@ -125,6 +126,8 @@ _CSS = """
 .bsi-report figure { margin: 1em 0; }
 .bsi-report img { max-width: 100%; }
 .bsi-report figcaption { font-style: italic; color: #555; }
+.bsi-report .formula { font-family: 'Cambria Math', 'STIX Two Math', 'DejaVu Serif', serif;
+  font-size: 1.15em; margin: 0.8em 1.5em; }
 """
 
 
@@ -139,8 +142,8 @@ def _render_html_body(doc, pngs):
             out.append(f"<p>{_html_inline(block[1])}</p>")
         elif kind == "pre":
             out.append(f"<pre><code>{html.escape(block[1])}</code></pre>")
-        elif kind == "math":
-            out.append(f'<pre><code class="language-latex">{html.escape(block[1])}</code></pre>')
+        elif kind == "formula":
+            out.append(f'<p class="formula">{html.escape(block[1])}</p>')
         elif kind == "ul":
             items = "".join(f"<li>{_html_inline(item)}</li>" for item in block[1])
             out.append(f"<ul>{items}</ul>")

@@ -123,6 +123,8 @@ def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=Non
         "likelihood": classifier.likelihood,
         "dropped_mass": float(posterior.dropped_mass),
         "rhat": None if not diagnostics else float(diagnostics["rhat"]),
+        "max_missed_mass": (None if not diagnostics or "max_missed_mass" not in diagnostics
+                            else float(diagnostics["max_missed_mass"])),
     }
     fields = dict(
         title=title, specification=spec, ltl=spec.to_ltl(), ltl_latex=spec.to_ltl(latex=True),

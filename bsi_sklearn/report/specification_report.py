@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
+from bsi_sklearn.io._atomic import write_atomic
 from bsi_sklearn.report import figures
 from bsi_sklearn.report.document import (
     Code,
@@ -14,7 +15,12 @@ from bsi_sklearn.report.document import (
     render_html_fragment,
     render_markdown,
 )
-from bsi_sklearn.report.wording import _short_label, _sort_key, clause_specification
+from bsi_sklearn.report.wording import (
+    _short_label,
+    _sort_key,
+    clause_specification,
+    unicode_ltl,
+)
 
 __all__ = ["SpecificationReport"]
 
@@ -50,7 +56,7 @@ class SpecificationReport:
         Transitive reduction of the MAP orders (the arrows of the DAG figure).
     inference : dict
         How the posterior was obtained: ``method``, ``prior``, ``likelihood``,
-        ``dropped_mass``, ``rhat`` (MCMC only).
+        ``dropped_mass``, ``rhat`` and ``max_missed_mass`` (MCMC only).
     demo_names : list of str or None
         One name per demonstration (``None`` without ``X``).
     clause_states : pandas.DataFrame or None
@@ -170,7 +176,7 @@ class SpecificationReport:
                      f"when it satisfies all of them. Inferred with the {info['prior']} prior "
                      f"and the {info['likelihood']} likelihood ({info['method']} inference).")
         doc.add("pre", self.ltl)
-        doc.add("math", self.ltl_latex)
+        doc.add("formula", unicode_ltl(self.specification))
         if not len(self.clauses):
             doc.add("p", "The MAP specification is 'true': it accepts every demonstration.")
             return
@@ -196,6 +202,9 @@ class SpecificationReport:
             text += f" Posterior mass left out of the list: {info['dropped_mass']:.2g}."
         if info.get("rhat") is not None:
             text += f" MCMC split-R-hat of the log posterior: {info['rhat']:.3f}."
+        if info.get("max_missed_mass") is not None:
+            text += (" Posterior mass the least thorough MCMC chain never visited: "
+                     f"{info['max_missed_mass']:.3f} (above 0.05 the chains disagree).")
         doc.add("p", text)
         doc.add("table", ["rank", "probability", "difference from the MAP", "specification"],
                 [[str(r), f"{p:.4f}", Code(diff) if diff else "(MAP)", Code(ltl)]
@@ -289,9 +298,9 @@ class SpecificationReport:
         directory.mkdir(parents=True, exist_ok=True)
         doc, pngs = self._document()
         for name, data in pngs.items():
-            (directory / f"{name}.png").write_bytes(data)
+            write_atomic(directory / f"{name}.png", data)
         path = directory / "report.md"
-        path.write_text(render_markdown(doc, {n: f"{n}.png" for n in pngs}), encoding="utf-8")
+        write_atomic(path, render_markdown(doc, {n: f"{n}.png" for n in pngs}))
         return path
 
     def html(self):
@@ -304,7 +313,7 @@ class SpecificationReport:
         path = Path(path)
         if path.parent != Path(""):
             path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(self.html(), encoding="utf-8")
+        write_atomic(path, self.html())
         return path
 
     def _repr_html_(self):

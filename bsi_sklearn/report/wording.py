@@ -11,6 +11,7 @@ __all__ = [
     "clause_specification",
     "describe_specification",
     "ordered_clauses",
+    "unicode_ltl",
     "violated_clauses",
 ]
 
@@ -42,6 +43,44 @@ def ordered_clauses(specification):
         + [("U", a, b) for a, b in sorted(spec.orders,
                                           key=lambda o: (_sort_key(o[0]), _sort_key(o[1])))]
     )
+
+
+def unicode_ltl(specification):
+    """The specification in temporal-logic symbols, as plain Unicode text.
+
+    ``□`` is *always* (G), ``◇`` *eventually* (F), ``U`` *until*, ``¬`` *not*, ``→``
+    *implies*, ``∧`` *and*; the empty specification is ``⊤``. Reports show formulas this way:
+    readable in any viewer, with no LaTeX and nothing fetched from the network.
+
+    Parameters
+    ----------
+    specification : Specification
+
+    Returns
+    -------
+    text : str
+
+    Examples
+    --------
+    >>> from bsi_sklearn import Specification
+    >>> spec = Specification(globals=["safe"], eventuals=["a", "b"], orders=[("a", "b")],
+    ...                      conditions={"a": "a_ok"})
+    >>> print(unicode_ltl(spec))
+    □(safe) ∧ (a_ok → ◇(a)) ∧ ◇(b) ∧ (a_ok → (¬b U a))
+    >>> unicode_ltl(Specification())
+    '⊤'
+    """
+    spec = _check_spec(specification)
+    cond = spec.conditions
+    parts = []
+    for key in ordered_clauses(spec):
+        if key[0] == "G":
+            parts.append(f"□({key[1]})")
+            continue
+        subtask = key[1]
+        body = f"◇({subtask})" if key[0] == "F" else f"(¬{key[2]} U {subtask})"
+        parts.append(f"({cond[subtask]} → {body})" if subtask in cond else body)
+    return " ∧ ".join(parts) if parts else "⊤"
 
 
 def clause_specification(clause, conditions=None):

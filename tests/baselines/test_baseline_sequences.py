@@ -49,11 +49,12 @@ def test_three_d_and_two_d_layouts():
 @pytest.mark.parametrize(
     "X, match",
     [
-        ([np.zeros((2, 2)), np.array([[0.0, np.nan]])], "sequence 1 has a NaN"),
+        ([np.zeros((2, 2)), np.array([[0.0, np.nan]])], "sequence 1, step 0, feature 1 is nan"),
         ([np.zeros((2, 2)), np.zeros((0, 2))], "sequence 1 has zero length"),
         ([np.zeros((2, 2)), np.zeros((2, 3))], "sequence 1 has 3 features"),
         ([np.zeros((2, 2)), np.zeros((2, 2, 2))], "sequence 1 must be a 2-D array"),
-        ([np.zeros((2, 2)), np.array([["a", "b"]])], "sequence 1 has non-numeric"),
+        ([np.zeros((2, 2)), np.array([["a", "b"]])], (
+            "sequence 1, step 0, feature 0 has the non-numeric value 'a'")),
         ([], "at least one sequence"),
         (np.zeros(3), "Reshape your data"),
         (None, "got None"),

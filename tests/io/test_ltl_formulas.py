@@ -149,7 +149,7 @@ def test_evaluate_errors_name_the_proposition():
         parse_ltl("F(a)").evaluate([np.ones((2, 2))])
     with pytest.raises(ValueError, match="feature_names has 1 entries"):
         parse_ltl("F(a)").evaluate([np.ones((2, 2))], feature_names=["a"])
-    with pytest.raises(ValueError, match="demonstration 1 has value 2"):
+    with pytest.raises(ValueError, match="demonstration 1, step 0, proposition 0 has value 2"):
         parse_ltl("F(a)").evaluate([np.ones((2, 1)), np.full((2, 1), 2)], feature_names=["a"])
 
 

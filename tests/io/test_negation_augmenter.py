@@ -106,7 +106,7 @@ def test_errors():
         aug.transform([x.rename(columns={"a": "z"}) for x in X])
     with pytest.raises(ValueError, match="expecting 3 features"):
         aug.transform([np.zeros((2, 2))])
-    with pytest.raises(ValueError, match="demonstration 1 has value 3"):
+    with pytest.raises(ValueError, match="demonstration 1, step 0, proposition 0 has value 3"):
         aug.transform([np.zeros((2, 3)), np.full((1, 3), 3)])
 
 

@@ -108,6 +108,12 @@ def test_accepts_crlf_final_newline_and_empty_negatives(tmp_path):
     ("1,0\n---\n0,0\n---\nG\n---\na,a", 7, "empty or repeated"),
     ("1,0\n---\n0,0\n---\nG\nF", 6, "operators section must hold exactly one line"),
     ("1,0::1\n---\n0,0\n---\nG", 1, "lasso"),
+    ("1,0\n---\nhello world\n---\nG", 3,
+     r"'hello world' is not a trace: unexpected character\(s\) 'dehlorw'; expected time steps "
+     r"separated by ';' and the 0/1 propositions of a step by ','"),
+    ("1,0;1,1\n1 0;1 1\n---\n---\nG", 2, r"values separated by whitespace \('1 0'\); expected"),
+    ("1,0\n1|0\n---\n---\nG", 2, r"unexpected character\(s\) '\|'; expected time steps"),
+    ("1\n0|1\n---\n---\nG", 2, r"unexpected character\(s\) '\|'"),
     ("1,0\n---\n0,0\n---\n---\n1", 5, "operators section must hold exactly one line, found 0"),
     ("1,0\n---\n0,0\n---\nG\n---\n1\n---\n", 8, "target formula section must hold"),
     ("1,0\n---\n0,0\n---\nG\n---\na\n---\nF(a)", 8, "unexpected section after the"),

@@ -73,9 +73,12 @@ def test_reader_sorts_time_and_keeps_demo_order():
 
 
 @pytest.mark.parametrize("csv, message", [
-    ("demo_id,t,a\n0,0,1\n0,1,2\n", r"line 3: proposition 'a' has value 2"),
-    ("demo_id,t,a\n0,0,1\n0,1,x\n", r"line 3: proposition 'a' has value 'x'"),
-    ("demo_id,t,a\n0,0,1\n0,1,\n", r"line 3: proposition 'a' has value nan"),
+    ("demo_id,t,a\n0,0,1\n0,1,2\n", r"line 3: demonstration 0, step 1, "
+     r"proposition 'a' has value 2"),
+    ("demo_id,t,a\n0,0,1\n0,1,x\n", r"line 3: demonstration 0, step 1, "
+     r"proposition 'a' has value 'x'"),
+    ("demo_id,t,a\n0,0,1\n0,1,\n", r"line 3: demonstration 0, step 1, "
+     r"proposition 'a' has value nan"),
     ("demo_id,t,a\n0,0,1\n0,0,1\n", r"line 3: demonstration 0 has time step 0 twice"),
     ("demo_id,t,a\n0,0,1\n0,2,1\n", r"line 3: demonstration 0 jumps from time 0 to 2"),
     ("demo_id,t,a\n0,0,1\n0,0.5,1\n", r"line 3: time 0.5 is not an integer"),
@@ -96,7 +99,8 @@ def test_csv_errors_name_the_line(csv, message):
 
 def test_frame_errors_name_the_row():
     df = pd.DataFrame({"demo_id": [0, 0], "t": [0, 1], "a": [1, 3]}, index=[10, 11])
-    with pytest.raises(ValueError, match=r"frame, row 11: proposition 'a' has value 3"):
+    with pytest.raises(ValueError, match=r"frame, row 11: demonstration 0, step 1, "
+                                         r"proposition 'a' has value 3"):
         traces_from_frame(df)
     with pytest.raises(ValueError, match="expected a pandas DataFrame"):
         traces_from_frame(df.to_numpy())
@@ -112,5 +116,5 @@ def test_writer_errors():
         traces_to_frame(X, feature_names=["a", "b"])
     with pytest.raises(ValueError, match="pass the destination as path_or_buffer"):
         write_traces_csv(X, "out.csv")
-    with pytest.raises(ValueError, match="demonstration 0 has value 2"):
+    with pytest.raises(ValueError, match="demonstration 0, step 0, proposition 0 has value 2"):
         traces_to_frame([np.full((1, 1), 2)])

@@ -195,6 +195,10 @@ def test_html_well_formed_and_complete(report, tmp_path):
         assert src.startswith("data:image/png;base64,")
         check_png(base64.b64decode(src.split(",", 1)[1]))
     assert "http://" not in text and "https://" not in text  # self-contained
+    formula = [el for el in root.iter("p") if el.get("class") == "formula"]
+    assert ["".join(el.itertext()) for el in formula] == [
+        "□(safe) ∧ (a_ok → ◇(a)) ∧ ◇(b) ∧ (a_ok → (¬b U a))"]
+    assert "\\mathbf" not in text and "language-latex" not in text
 
 
 def test_html_escapes_descriptions(clf, tmp_path):
@@ -219,7 +223,9 @@ def test_markdown_and_figures(report, tmp_path):
         assert f"`{ltl}`" in md
         assert sentence in md
     assert "```text\nG(safe) & (a_ok -> F(a)) & F(b) & (a_ok -> (!b U a))\n```" in md
-    assert "$$\n" + report.ltl_latex + "\n$$" in md
+    # The formula in temporal-logic symbols, no raw LaTeX (readable in any viewer, offline).
+    assert "> **□(safe) ∧ (a\\_ok → ◇(a)) ∧ ◇(b) ∧ (a\\_ok → (¬b U a))**" in md
+    assert "\\mathbf" not in md and "$$" not in md
     linked = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", md)
     assert sorted(linked) == ["clause_marginals.png", "confusion_matrix.png", "order_dag.png",
                               "satisfaction.png"]
@@ -299,3 +305,14 @@ def test_layered_layout():
     assert layers == {"a": 0, "e": 0, "b": 1, "c": 1, "d": 2}
     assert sorted(p[1] for v, p in pos.items() if layers[v] == 1) == [-0.5, 0.5]
     assert len(set(pos.values())) == 5
+
+
+def test_mcmc_report_states_the_chains_agreement():
+    clf = BSIClassifier(global_candidates=["safe"], subtasks=["a", "b"],
+                        conditions={"a": "a_ok"}, inference="mcmc", n_samples=2000,
+                        random_state=0).fit(X, Y)
+    rep = explain(clf, X, Y)
+    missed = clf.mcmc_diagnostics_["max_missed_mass"]
+    assert rep.inference["max_missed_mass"] == pytest.approx(missed) and missed < 0.05
+    assert (f"Posterior mass the least thorough MCMC chain never visited: {missed:.3f}"
+            in rep.markdown())

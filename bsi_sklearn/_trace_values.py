@@ -1,0 +1,173 @@
+"""The values of one demonstration: conversion to 0/1 (or floats) and messages that say where.
+
+Private helpers of :mod:`bsi_sklearn.traces`. Every message names the demonstration, the step
+and the proposition: by its DataFrame column name when there is one, by its index otherwise.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = [
+    "NonNumericTraceError",
+    "Place",
+    "frame_names",
+    "ragged_error",
+    "ragged_rows_error",
+    "to_bool",
+    "to_float",
+]
+
+
+class NonNumericTraceError(TypeError, ValueError):
+    """A trace holds values that are not numbers (both a TypeError and a ValueError)."""
+
+
+@dataclass(frozen=True)
+class Place:
+    """Where a block of values comes from, for messages.
+
+    Attributes
+    ----------
+    item : str
+        ``"demonstration"`` (or ``"sequence"``).
+    unit : str
+        ``"proposition"`` (or ``"feature"``).
+    index : int or None
+        The demonstration of the block; ``None`` when the block is a 2-D array whose rows are
+        demonstrations of length one.
+    names : sequence of str or None
+        Column names, when the input carried them.
+
+    Examples
+    --------
+    >>> Place("demonstration", "proposition", 2, ["safe", "done"]).at(4, 1)
+    "demonstration 2, step 4, proposition 'done'"
+    >>> Place("demonstration", "proposition", None, None).at(4, 1)
+    'demonstration 4, step 0, proposition 1'
+    """
+
+    item: str
+    unit: str
+    index: int | None
+    names: object = None
+
+    def column(self, p):
+        """The proposition ``p``: its name, or its index when the input had no names."""
+        if self.names is not None:
+            return f"{self.unit} {str(self.names[p])!r}"
+        return f"{self.unit} {p}"
+
+    def at(self, t, p):
+        """``"demonstration i, step t, proposition 'name'"``."""
+        if self.index is None:  # rows are demonstrations of length one
+            return f"{self.item} {t}, step 0, {self.column(p)}"
+        return f"{self.item} {self.index}, step {t}, {self.column(p)}"
+
+    def __str__(self):
+        return f"{self.item} {self.index}" if self.index is not None else "X"
+
+
+def frame_names(frame, where):
+    """String column names of a DataFrame (``None`` when none are strings), or raise."""
+    cols = list(frame.columns)
+    str_cols = [isinstance(c, str) for c in cols]
+    if all(str_cols) and cols:
+        if len(set(cols)) != len(cols):
+            dup = sorted({c for c in cols if cols.count(c) > 1})
+            raise ValueError(f"{where} has duplicate column names {dup}")
+        return np.asarray(cols, dtype=object)
+    if any(str_cols):
+        raise ValueError(
+            f"{where} mixes string and non-string column names; use strings for all columns"
+        )
+    return None
+
+
+def _show(value):
+    return repr(value.item() if isinstance(value, np.generic) else value)
+
+
+def _first_non_number(arr):
+    """``(t, p, value, error)`` of the first value ``float`` cannot read."""
+    for (t, p), value in np.ndenumerate(arr):
+        try:
+            float(value)
+        except (TypeError, ValueError) as exc:
+            return t, p, value, exc
+    return None
+
+
+def _as_numbers(arr, place):
+    """Values as a real array (bool kept), or raise naming the place."""
+    if arr.dtype == bool:
+        return arr
+    if arr.dtype.kind == "c":
+        raise ValueError(f"{place}: Complex data not supported")
+    if arr.dtype.kind not in "biuf":
+        try:
+            arr = arr.astype(np.float64)
+        except (TypeError, ValueError) as exc:
+            found = _first_non_number(arr)
+            if found is None:
+                raise NonNumericTraceError(
+                    f"{place} has non-numeric values (dtype {arr.dtype}): {exc}"
+                ) from None
+            t, p, value, err = found
+            raise NonNumericTraceError(
+                f"{place.at(t, p)} has the non-numeric value {_show(value)} ({err})"
+            ) from None
+    if arr.dtype.kind == "f":
+        bad = ~np.isfinite(arr)
+        if bad.any():
+            t, p = map(int, np.argwhere(bad)[0])
+            raise ValueError(f"{place.at(t, p)} is {_show(arr[t, p])}: a NaN or infinite "
+                             "value; every step needs a finite value")
+    return arr
+
+
+def to_bool(arr, place, binarize):
+    """Turn one demonstration's values into uint8 0/1, or raise naming the place."""
+    arr = _as_numbers(arr, place)
+    if arr.dtype == bool:
+        return arr.astype(np.uint8)
+    if binarize is not None:
+        return (arr > binarize).astype(np.uint8)
+    bad = (arr != 0) & (arr != 1)
+    if bad.any():
+        t, p = map(int, np.argwhere(bad)[0])
+        raise ValueError(
+            f"{place.at(t, p)} has value {arr[t, p].item()!r}; traces must be 0/1 or boolean "
+            "(set binarize=<threshold> to threshold numeric data)"
+        )
+    return arr.astype(np.uint8)
+
+
+def to_float(arr, place, binarize=None):
+    """Turn one sequence's values into finite float64 (numeric sequences, not traces)."""
+    return np.asarray(_as_numbers(arr, place), dtype=np.float64)
+
+
+def ragged_error(item, where, unit):
+    """A ValueError saying which step of a nested list has a different length."""
+    try:
+        lengths = [len(step) for step in item]
+    except TypeError:
+        return ValueError(f"{where} is ragged: it mixes time steps and single values")
+    t = next((i for i, n in enumerate(lengths) if n != lengths[0]), None)
+    if t is None:
+        return ValueError(f"{where} is ragged: its values are nested to different depths")
+    return ValueError(f"{where} is ragged: step {t} has {lengths[t]} {unit}s, step 0 has "
+                      f"{lengths[0]}")
+
+
+def ragged_rows_error(rows, estimator_name, item, unit):
+    """A ValueError for a list of lists (the 2-D format) whose rows differ in length."""
+    lengths = [len(r) if isinstance(r, (list, tuple)) else -1 for r in rows]
+    k = next((i for i, n in enumerate(lengths) if n != lengths[0]), 0)
+    what = (f"has {lengths[k]} {unit}s, row 0 has {lengths[0]}" if lengths[k] >= 0
+            else "is not a list of numbers")
+    return ValueError(f"{estimator_name} got a list of lists (scikit-learn's 2-D format, every "
+                      f"row a {item} of length one) whose row {k} {what}")

@@ -1,0 +1,84 @@
+"""``bsi fit``: roles by name or index, help for every option, errors with exit status 2."""
+
+import re
+
+import numpy as np
+import pytest
+
+from bsi_sklearn.cli import main
+from bsi_sklearn.io import write_traces_csv
+
+NAMES = ["safe", "picked", "placed"]
+
+
+@pytest.fixture
+def csv_file(tmp_path):
+    good = [np.array([[1, 0, 0], [1, 1, 0], [1, 1, 1]]),
+            np.array([[1, 0, 0], [1, 0, 0], [1, 1, 0], [1, 1, 1]])]
+    bad = [np.array([[1, 0, 0], [1, 0, 1], [1, 1, 1]])]
+    path = tmp_path / "demos.csv"
+    write_traces_csv(good + bad, [1, 1, 0], path, feature_names=NAMES)
+    return path
+
+
+@pytest.mark.parametrize("roles", [
+    ["--globals", "safe", "--subtasks", "picked", "placed"],
+    ["--globals", "0", "--subtasks", "1", "2"],
+])
+def test_roles_by_name_or_index(csv_file, roles, capsys):
+    assert main(["fit", str(csv_file), *roles]) == 0
+    out = capsys.readouterr().out
+    assert "MAP        : G(safe) & F(picked) & F(placed) & (!placed U picked)" in out
+    assert "exact inference" in out
+
+
+def test_conditions_and_empty_roles(csv_file, capsys):
+    argv = ["fit", str(csv_file), "--globals", "--subtasks", "picked", "placed",
+            "--conditions", "placed=safe,picked=safe"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "(safe -> F(placed))" in out and "G(" not in out.split("MAP")[1].splitlines()[0]
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--globals", "speed"], "demos.csv: --globals: unknown proposition 'speed'; known "
+                             "propositions are ['safe', 'picked', 'placed']"),
+    (["--subtasks", "7"], "--subtasks: proposition index 7 is out of range for 3"),
+    (["--subtasks", "picked", "--conditions", "placed=safe"],
+     "--conditions: 'placed' is not one of the subtasks"),
+    (["--conditions", "picked=nope"], "--conditions['picked']: unknown proposition 'nope'"),
+    (["--globals", "safe", "safe"], "--globals: proposition 'safe' is listed more than once"),
+])
+def test_bad_roles_exit_2_naming_the_option(csv_file, argv, message, capsys):
+    assert main(["fit", str(csv_file), *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("bsi fit: error: ") and message in err
+
+
+def test_malformed_conditions_are_usage_errors(csv_file, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["fit", str(csv_file), "--conditions", "placed"])
+    assert exc.value.code == 2
+    assert "'placed' is not a pair subtask=condition" in capsys.readouterr().err
+
+
+def test_help_documents_every_option_and_the_csv_format(capsys):
+    with pytest.raises(SystemExit):
+        main(["fit", "--help"])
+    text = capsys.readouterr().out
+    assert "demo_id,t,<proposition>...[,label]" in text
+    options = re.findall(r"^  (--[a-z-]+)", text, flags=re.M)
+    assert set(options) >= {"--globals", "--subtasks", "--conditions", "--prior",
+                            "--likelihood", "--inference", "--n-samples", "--top", "--seed"}
+    # Every option line is followed by its help text (no bare option).
+    blocks = re.split(r"\n  (?=-)", text.split("options:")[1])
+    assert all(len(b.split()) > 3 for b in blocks[1:]), blocks
+
+
+def test_errors_while_fitting_name_the_file(tmp_path, capsys):
+    path = tmp_path / "only_bad.csv"
+    write_traces_csv([np.array([[1, 0], [0, 1]])], [0], path, feature_names=["a", "b"])
+    assert main(["fit", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"bsi fit: error: {path}: ") and "only unacceptable" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["only_bad.csv"]
