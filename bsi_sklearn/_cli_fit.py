@@ -1,6 +1,7 @@
 """``bsi fit FILE...``: fit BSI on trace files and print the MAP specification and posterior."""
 
 from numbers import Integral
+from pathlib import Path
 
 import numpy as np
 
@@ -22,6 +23,9 @@ def add_arguments(parser):
     parser.add_argument("--n-samples", type=int, default=10_000)
     parser.add_argument("--top", type=int, default=5, help="posterior entries to print")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--save", default=None, metavar="JSON",
+                        help="write the posterior as JSON (Posterior.to_json); with several "
+                             "FILEs, each one's stem is added: posterior_<stem>.json")
 
 
 _OPTION_CONSTRAINTS = {
@@ -58,4 +62,10 @@ def run(args):
         print(f"accuracy   : {clf.score(X, y):.3f} (training set)")
         frame = clf.posterior_.to_frame(k=args.top)[["probability", "ltl"]]
         print(frame.to_string(formatters={"probability": "{:.4f}".format}))
+        if args.save is not None:
+            out = Path(args.save)
+            if len(args.files) > 1:
+                out = out.with_name(f"{out.stem}_{Path(path).stem}{out.suffix}")
+            clf.posterior_.to_json(out)
+            print(f"saved      : {out}")
     return 0
