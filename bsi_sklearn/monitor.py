@@ -149,6 +149,7 @@ class PosteriorMonitor:
         self.binarize = binarize
         roles = posterior.roles
         self.names = list(roles.names)
+        self._shape = (len(self.names),)
         self._position = {name: i for i, name in enumerate(self.names)}
         self._g_idx, self._s_idx = roles.global_idx, roles.subtask_idx
         self._c_idx = roles.condition_idx
@@ -221,15 +222,20 @@ class PosteriorMonitor:
                 f"the trace was closed by finish() after {self.n_steps} steps; call reset() "
                 "to monitor a new trace"
             )
-        if (type(step) is np.ndarray and step.ndim == 1 and step.dtype.kind in "biuf"
-                and step.shape[0] == len(self.names) and self.binarize is None):
+        if (type(step) is np.ndarray and step.shape == self._shape and self.binarize is None
+                and step.dtype.kind in "biuf"):
             row = step  # the fast path: one row of a trace, checked by the kernel
         else:
             row = self._check_step(step)
-        n_changed = _step(row, self.n_steps, self._state, self._layout, self._changed)
+        t = self.n_steps
+        n_changed = _step(row, t, self._state, self._layout, self._changed)
+        if n_changed == 0:  # nothing changed: the masses stand
+            self.n_steps = t + 1
+            self.verdict = Verdict(t, *self._floats, (), False)
+            return self.verdict
         if n_changed < 0:
             self._raise_bad(row, -n_changed - 1)
-        return self._conclude(n_changed, self.n_steps, closed=False)
+        return self._conclude(n_changed, t, closed=False)
 
     def finish(self):
         """Close the trace: its last state repeats forever, so no specification stays open.
