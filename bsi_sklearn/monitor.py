@@ -159,17 +159,13 @@ class PosteriorMonitor:
         self._masks = posterior._masks  # (n_specs, n_words) clause masks, same package
         self._probs = np.ascontiguousarray(posterior.probabilities, dtype=np.float64)
         n_g, n = roles.n_globals, roles.n_subtasks
-        self._n_slots = n_g + n + n * n
-        used = np.zeros(self._n_slots, dtype=np.uint8)
+        n_slots = n_g + n + n * n
         bits = np.unpackbits(self._masks.view(np.uint8), axis=1, bitorder="little")
-        used[:] = bits[:, : self._n_slots].any(axis=0)
-        self._used = used
-        keys = posterior.clause_keys()
+        self._used = bits[:, :n_slots].any(axis=0)  # clauses of at least one specification
         slots = posterior._clause_slots()
-        self._keys = dict(zip(slots, keys))
-        marg = posterior.clause_marginals().to_numpy()
-        self._marginal = dict(zip(slots, marg.tolist()))
-        self._changed = np.empty(self._n_slots, dtype=np.int64)
+        self._keys = dict(zip(slots, posterior.clause_keys()))
+        self._marginal = dict(zip(slots, posterior.clause_marginals().to_numpy().tolist()))
+        self._changed = np.empty(n_slots, dtype=np.int64)
         self._p = np.zeros(3)
         self._words = np.zeros((2, self._masks.shape[1]), dtype=np.uint64)  # open, violated
         self._state0 = _initial_state(n_g, n)
@@ -264,7 +260,6 @@ class PosteriorMonitor:
             ``"open"``, ``"satisfied"`` or ``"violated"``, indexed by clause key.
         """
         import pandas as pd
-
         slots = [s for s in self._keys if self._used[s]]
         return pd.Series([_STATE_NAMES[self._state[s]] for s in slots],
                          index=pd.Index([self._keys[s] for s in slots], tupleize_cols=False,
@@ -272,12 +267,11 @@ class PosteriorMonitor:
 
     # ------------------------------------------------------------------ internals
     def _conclude(self, n_changed, step, closed):
+        events = ()
         if n_changed:
             _pack_states(self._state, self._words)
             _masses(self._masks, self._probs, self._words, self._p)
             self._floats = tuple(self._p.tolist())
-        events = ()
-        if n_changed:
             events = tuple(
                 ClauseEvent(self._keys[s], _STATE_NAMES[self._state[s]], self._marginal[s])
                 for s in self._changed[:n_changed].tolist() if self._used[s]
