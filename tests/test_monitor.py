@@ -250,3 +250,42 @@ def test_integer_proposition_names_without_frames():
     mon = clf.monitor()
     assert mon.names == [0, 1, 2]
     assert mon.update({0: 1, 1: 0, 2: 0}) == clf.monitor().update([1, 0, 0])
+
+
+def test_bsi_monitor_writes_tables_and_plots(tmp_path, capsys):
+    from bsi_sklearn.cli import main
+    from bsi_sklearn.io import write_traces_csv
+    from bsi_sklearn.monitor_figure import monitor_frame
+
+    clf = CLASSIFIERS["plain"]
+    clf.posterior_.to_json(tmp_path / "posterior.json")
+    X = [pd.DataFrame([[1, 0, 0, 1], [1, 1, 0, 1], [0, 1, 1, 1]], columns=NAMES),
+         pd.DataFrame([[1, 1, 1, 0]], columns=NAMES)]
+    write_traces_csv(X, None, tmp_path / "demos.csv")
+    assert main(["monitor", str(tmp_path / "posterior.json"), str(tmp_path / "demos.csv"),
+                 "--out", str(tmp_path / "out")]) == 0
+    printed = capsys.readouterr().out
+    assert "demos.csv [0]: 3 steps, P(satisfied) at the end" in printed
+    for i, trace in enumerate(X):
+        table = pd.read_csv(tmp_path / "out" / f"demos_{i}_monitor.csv", keep_default_na=False)
+        expected = monitor_frame(clf.posterior_, trace)
+        np.testing.assert_allclose(table[["p_satisfied", "p_violated", "p_open"]],
+                                   expected[["p_satisfied", "p_violated", "p_open"]])
+        assert table["events"].tolist() == expected["events"].tolist()
+        assert table["p_satisfied"].iloc[-1] == pytest.approx(
+            clf.predict_proba([trace])[0, 1], abs=1e-15)
+        assert (tmp_path / "out" / f"demos_{i}_monitor.png").stat().st_size > 1000
+
+
+def test_monitor_frame_marks_events_and_closes():
+    from bsi_sklearn.monitor_figure import monitor_frame, plot_monitor
+
+    post = POSTERIORS["plain"]
+    trace = np.array([[1, 0, 0, 1], [1, 1, 0, 1], [0, 1, 1, 1]])
+    frame = monitor_frame(post, trace)
+    assert frame["closed"].tolist() == [False, False, False, True]
+    assert frame["p_open"].iloc[-1] == 0.0
+    assert "G(safe) violated" in frame["events"].iloc[2]
+    assert plot_monitor(frame, title="t").get_title() == "t"
+    with pytest.raises(ValueError, match="no steps"):
+        monitor_frame(post, np.zeros((0, 4)))
