@@ -89,6 +89,22 @@ def run(cfg):
     return sec
 
 
+def example_figure(path):
+    """The README picture: a new demonstration monitored under a posterior of few data."""
+    from bsi_sklearn.datasets import make_poi_threat_demos
+    from bsi_sklearn.monitor_figure import monitor_frame, plot_monitor
+
+    data = make_poi_threat_demos(2, n_demos=8, n_negative=8, random_state=3)
+    train = [0, 1, 8]
+    clf = BSIClassifier(**data.roles, random_state=0).fit(
+        [data.traces[i] for i in train], data.labels[train])
+    frame = monitor_frame(clf.posterior_, data.traces[10])  # visits POIs out of order
+    ax = plot_monitor(frame, title="Scenario 2, fitted on 2 good and 1 bad demonstrations: a "
+                                   "new one that visits POIs out of order")
+    ax.figure.savefig(path, dpi=90)
+    return frame
+
+
 def main(argv=None):
     """Run the section alone and write ``RESULTS_monitor.md`` next to this file."""
     quick = "--quick" in (sys.argv[1:] if argv is None else argv)
@@ -106,6 +122,7 @@ def main(argv=None):
     out = Path(__file__).resolve().parent / "RESULTS_monitor.md"
     if not quick:
         out.write_text(text + "\n")
+        example_figure(out.parent / "figures" / "monitor_example.png")
     print(text)
     return 0
 
