@@ -228,6 +228,12 @@ class Specification:
         ------
         ImportError
             When flloat is not installed (``pip install 'bsi-sklearn[automata]'``).
+
+        Notes
+        -----
+        flloat's construction grows quickly with the number of clauses: about a second for
+        four clauses, several for six, minutes for a dozen. Monitor large specifications with
+        :meth:`BSIClassifier.monitor` instead.
         """
         from bsi_sklearn.automaton import SpecificationAutomaton
 
