@@ -41,6 +41,8 @@ BENCHMARKS = {
     "exact": ("bench_exact", "exact enumeration time vs number of hypotheses"),
     "accuracy": ("bench_accuracy", "MCMC posterior vs exact enumeration (total variation)"),
     "predict": ("bench_predict", "predict_proba throughput"),
+    "monitor": ("bench_monitor", "runtime monitoring: PosteriorMonitor.update and "
+                                 "monitor_proba steps per second"),
     "memory": ("bench_memory", "peak memory of a fit (fresh process per size)"),
     "first_call": ("bench_first_call", "first fit in a fresh process: cached and cold "
                                        "numba compilation"),

@@ -3,6 +3,7 @@
 import argparse
 import re
 from numbers import Integral
+from pathlib import Path
 
 import numpy as np
 
@@ -126,6 +127,9 @@ def add_arguments(parser):
                         help="posterior entries to print (default: %(default)s)")
     parser.add_argument("--seed", type=int, default=0,
                         help="random seed of the MCMC chains (default: %(default)s)")
+    parser.add_argument("--save", default=None, metavar="JSON",
+                        help="write the posterior as JSON (Posterior.to_json); with several "
+                             "FILEs, each one's stem is added: posterior_<stem>.json")
 
 
 _OPTION_CONSTRAINTS = {
@@ -201,4 +205,10 @@ def run(args):
         print(f"accuracy   : {clf.score(X, y):.3f} (training set)")
         frame = clf.posterior_.to_frame(k=args.top)[["probability", "ltl"]]
         print(frame.to_string(formatters={"probability": "{:.4f}".format}))
+        if args.save is not None:
+            out = Path(args.save)
+            if len(args.files) > 1:
+                out = out.with_name(f"{out.stem}_{Path(path).stem}{out.suffix}")
+            clf.posterior_.to_json(out)
+            print(f"saved      : {out}")
     return 0

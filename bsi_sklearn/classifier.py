@@ -431,3 +431,37 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         """
         proba = self.predict_proba(X)
         return self.classes_[(proba[:, 1] >= 0.5).astype(int)]
+
+    # ------------------------------------------------------------------ monitoring
+    def monitor(self):
+        """A runtime monitor of a growing trace under the fitted posterior.
+
+        Returns
+        -------
+        monitor : bsi_sklearn.monitor.PosteriorMonitor
+            Feed it one step at a time (``monitor.update(step)``); each step's verdict gives
+            the posterior mass of the specifications already satisfied, already violated and
+            still open. ``monitor.finish()`` closes the trace.
+        """
+        from bsi_sklearn.monitor import PosteriorMonitor
+
+        check_is_fitted(self)
+        return PosteriorMonitor(self.posterior_, binarize=self.binarize)
+
+    def monitor_proba(self, X):
+        """Three-valued verdicts over time of every demonstration (see :meth:`monitor`).
+
+        Parameters
+        ----------
+        X : demonstrations, in any format accepted by :meth:`fit`.
+
+        Returns
+        -------
+        verdicts : list of ndarray of shape (T_i, 3)
+            Row ``t`` is ``(p_satisfied, p_violated, p_open)`` after steps ``0..t`` of a trace
+            still running; :meth:`predict_proba` gives the verdict of the closed trace.
+        """
+        from bsi_sklearn.monitor import monitor_traces
+
+        traces = self._validated(X)
+        return monitor_traces(self.posterior_, traces)

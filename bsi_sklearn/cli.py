@@ -1,4 +1,4 @@
-"""The ``bsi`` command line: ``fit`` and ``reproduce`` subcommands.
+"""The ``bsi`` command line: ``fit``, ``monitor`` and ``reproduce`` subcommands.
 
 Each subcommand lives in its own module exposing ``add_arguments(parser)`` and ``run(args)``;
 this file only wires them, importing a module when its subcommand runs.
@@ -14,6 +14,8 @@ __all__ = ["main"]
 # name -> (module, help)
 SUBCOMMANDS = {
     "fit": ("bsi_sklearn._cli_fit", "fit BSI on trace files and print the posterior"),
+    "monitor": ("bsi_sklearn._cli_monitor",
+                "replay demonstrations against a saved posterior: verdicts over time, plots"),
     "reproduce": ("bsi_sklearn.experiments.reproduce",
                   "reproduce the paper's synthetic-domain or dinner-table experiments"),
 }

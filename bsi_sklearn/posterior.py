@@ -1,6 +1,8 @@
 """`Posterior`: a categorical distribution over unique canonical specifications."""
 
+import json
 import numbers
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -8,10 +10,15 @@ from numba import njit
 
 from bsi_sklearn.clauses import clause_truth, pack_rows
 from bsi_sklearn.param_validation import Interval, validate_params
+from bsi_sklearn.roles import Roles
 from bsi_sklearn.specification import Specification
 from bsi_sklearn.traces import Traces, check_traces
 
-__all__ = ["Posterior"]
+__all__ = ["Posterior", "SCHEMA", "SCHEMA_VERSION"]
+
+#: Name and version of the JSON form of a posterior (:meth:`Posterior.to_json`).
+SCHEMA = "bsi-sklearn/posterior"
+SCHEMA_VERSION = 1
 
 
 @njit(cache=True, nogil=True)
@@ -269,6 +276,139 @@ class Posterior:
             )
         return pack_rows(clause_truth(traces, self.roles))
 
+    # ------------------------------------------------------------------ JSON
+    def to_json(self, path=None):
+        """The posterior as JSON: names, roles, specifications, probabilities, marginals.
+
+        Parameters
+        ----------
+        path : str or path-like, default=None
+            File to write; the text is returned either way.
+
+        Returns
+        -------
+        text : str
+            An object with ``schema`` (``"bsi-sklearn/posterior"``), ``version``, ``names``
+            (the proposition identifiers), ``roles`` (global candidates, subtasks,
+            ``[subtask, condition]`` pairs), ``specifications`` (``globals``, ``eventuals``,
+            ``orders`` as ``[a, b]`` pairs, and the ``ltl`` text), ``probabilities``,
+            ``clause_marginals`` (``[clause key, probability]``) and ``dropped_mass``.
+            Floats are written exactly, so :meth:`from_json` gives identical predictions.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from bsi_sklearn import BSIClassifier, Posterior
+        >>> X = [np.array([[1, 0, 0], [1, 1, 0], [1, 1, 1]])]
+        >>> post = BSIClassifier(subtasks=[1, 2], random_state=0).fit(X).posterior_
+        >>> again = Posterior.from_json(post.to_json())
+        >>> bool((again.predict_proba(X) == post.predict_proba(X)).all())
+        True
+        """
+        r = self.roles
+        plain = _plain
+        doc = {
+            "schema": SCHEMA,
+            "version": SCHEMA_VERSION,
+            "names": [plain(n) for n in r.names],
+            "roles": {
+                "global_candidates": [plain(n) for n in r.global_names()],
+                "subtasks": [plain(n) for n in r.subtask_names()],
+                "conditions": [[plain(w), plain(c)] for w, c in r.condition_names().items()],
+            },
+            "specifications": [
+                {"globals": sorted((plain(p) for p in s.globals), key=_json_key),
+                 "eventuals": sorted((plain(w) for w in s.eventuals), key=_json_key),
+                 "orders": sorted(([plain(a), plain(b)] for a, b in s.orders),
+                                  key=lambda o: (_json_key(o[0]), _json_key(o[1]))),
+                 "ltl": s.to_ltl()}
+                for s in self.specifications
+            ],
+            "probabilities": self.probabilities.tolist(),
+            "clause_marginals": [[[plain(x) for x in key], float(v)]
+                                 for key, v in zip(self.clause_keys(),
+                                                   self._marginals[self._clause_slots()])],
+            "dropped_mass": self.dropped_mass,
+        }
+        text = json.dumps(doc, indent=1)
+        if path is not None:
+            Path(path).write_text(text + "\n", encoding="utf-8")
+        return text
+
+    @classmethod
+    def from_json(cls, source):
+        """Read a posterior written by :meth:`to_json`.
+
+        Parameters
+        ----------
+        source : str or path-like
+            The JSON text, or the path of a file holding it.
+
+        Returns
+        -------
+        posterior : Posterior
+
+        Raises
+        ------
+        ValueError
+            When the text is not a posterior of this schema and version, or is inconsistent
+            (an unknown proposition, orders that are not a forest, probabilities that do not
+            match the specifications).
+        """
+        if isinstance(source, Path) or (isinstance(source, str)
+                                        and not source.lstrip().startswith("{")):
+            source = Path(source).read_text(encoding="utf-8")
+        try:
+            doc = json.loads(source)
+        except json.JSONDecodeError as exc:
+            raise ValueError(f"Posterior.from_json: not JSON ({exc})") from None
+        if not isinstance(doc, dict) or doc.get("schema") != SCHEMA:
+            got = doc.get("schema") if isinstance(doc, dict) else type(doc).__name__
+            raise ValueError(f"Posterior.from_json: expected schema {SCHEMA!r}, got {got!r}")
+        if doc.get("version") != SCHEMA_VERSION:
+            raise ValueError(
+                f"Posterior.from_json: schema version {doc.get('version')!r} is not supported; "
+                f"this bsi-sklearn reads version {SCHEMA_VERSION}"
+            )
+        names = list(doc["names"])
+        roles_doc = doc["roles"]
+
+        def index(ident, where):
+            if ident not in names:
+                raise ValueError(f"Posterior.from_json: {where} names unknown proposition "
+                                 f"{ident!r}")
+            return names.index(ident)
+
+        g = [index(p, "roles.global_candidates") for p in roles_doc["global_candidates"]]
+        s = [index(w, "roles.subtasks") for w in roles_doc["subtasks"]]
+        cond = np.full(len(s), -1, dtype=np.int64)
+        for w, c in roles_doc["conditions"]:
+            cond[s.index(index(w, "roles.conditions"))] = index(c, "roles.conditions")
+        roles = Roles(np.asarray(g, dtype=np.int64), np.asarray(s, dtype=np.int64), cond, names)
+        specs = doc["specifications"]
+        probs = np.asarray(doc["probabilities"], dtype=float)
+        if len(probs) != len(specs) or len(specs) == 0:
+            raise ValueError(f"Posterior.from_json: {len(specs)} specifications but "
+                             f"{len(probs)} probabilities")
+        g_names, s_names = roles.global_names(), roles.subtask_names()
+        structures = np.full((len(specs), len(s)), -1, dtype=np.int64)
+        tau = np.zeros((len(specs), len(g)), dtype=bool)
+        w1 = np.zeros((len(specs), len(s)), dtype=bool)
+        for h, spec in enumerate(specs):
+            where = f"specification {h}"
+            for p in spec["globals"]:
+                tau[h, _position(g_names, p, where)] = True
+            for w in spec["eventuals"]:
+                w1[h, _position(s_names, w, where)] = True
+            structures[h] = _forest([(_position(s_names, a, where), _position(s_names, b, where))
+                                     for a, b in spec["orders"]], len(s), where)
+        keys = [tuple(k) for k, _ in doc["clause_marginals"]]
+        post = cls(structures, tau, w1, probs, roles, dropped_mass=doc["dropped_mass"])
+        if keys != post.clause_keys():
+            raise ValueError("Posterior.from_json: clause_marginals do not follow the roles")
+        post._marginals[post._clause_slots()] = [v for _, v in doc["clause_marginals"]]
+        return post
+
     # ------------------------------------------------------------------ internals
     def _build_spec(self, i):
         if self._specs is not None:
@@ -288,3 +428,37 @@ class Posterior:
             orders=orders,
             conditions=r.condition_names(),
         )
+
+
+def _plain(ident):
+    """A proposition identifier as a JSON value (numpy scalars to Python)."""
+    return ident.item() if isinstance(ident, np.generic) else ident
+
+
+def _json_key(x):
+    return (type(x).__name__, x)
+
+
+def _position(names, ident, where):
+    if ident not in names:
+        raise ValueError(f"Posterior.from_json: {where} names {ident!r}, which is not a "
+                         "candidate of its clause kind")
+    return names.index(ident)
+
+
+def _forest(pairs, n, where):
+    """Parent array of the forest whose ancestor->descendant pairs are ``pairs``."""
+    ancestors = [set() for _ in range(n)]
+    for a, b in pairs:
+        ancestors[b].add(a)
+    parent = np.full(n, -1, dtype=np.int64)
+    for v in range(n):
+        # In a forest the ancestors of v form a chain: its parent has one ancestor fewer.
+        closest = [a for a in ancestors[v] if len(ancestors[a]) == len(ancestors[v]) - 1]
+        if ancestors[v] and (len(closest) != 1 or ancestors[closest[0]] | {closest[0]}
+                             != ancestors[v]):
+            raise ValueError(f"Posterior.from_json: the orders of {where} are not a forest "
+                             "(every ancestor -> descendant pair)")
+        if closest:
+            parent[v] = closest[0]
+    return parent

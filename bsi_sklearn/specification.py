@@ -206,6 +206,39 @@ class Specification:
     def __str__(self):
         return self.to_ltl()
 
+    def to_ltlf(self, dialect="spot", atoms=None):
+        """The formula as text for Spot (``"spot"``) or LTLf2DFA / flloat (``"ltlf2dfa"``).
+
+        See :func:`bsi_sklearn.automaton.to_ltlf`; on this template the text means the same
+        under LTLf (the finite trace) and LTL (the last state repeating forever).
+        """
+        from bsi_sklearn.automaton import to_ltlf
+
+        return to_ltlf(self, dialect=dialect, atoms=atoms)
+
+    def to_automaton(self):
+        """A DFA (built with flloat) accepting exactly the traces that satisfy the formula.
+
+        Returns
+        -------
+        automaton : bsi_sklearn.automaton.SpecificationAutomaton
+            ``automaton.accepts(trace)`` equals :meth:`satisfied_by`.
+
+        Raises
+        ------
+        ImportError
+            When flloat is not installed (``pip install 'bsi-sklearn[automata]'``).
+
+        Notes
+        -----
+        flloat's construction grows quickly with the number of clauses: about a second for
+        four clauses, several for six, minutes for a dozen. Monitor large specifications with
+        :meth:`BSIClassifier.monitor` instead.
+        """
+        from bsi_sklearn.automaton import SpecificationAutomaton
+
+        return SpecificationAutomaton(self)
+
     def satisfied_by(self, trace, feature_names=None):
         """Evaluate the formula at t=0 on a finite trace (last state repeats forever).
 

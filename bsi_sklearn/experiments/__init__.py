@@ -4,7 +4,8 @@
 dinner table) fit :class:`~bsi_sklearn.BSIClassifier` over a grid of training-set sizes and
 random draws, compare the posteriors with the ground truth, and write tables (CSV, Markdown)
 and figures (PNG) that put the paper's claims beside the measured values. The command line
-is ``bsi reproduce synthetic|dinner``.
+is ``bsi reproduce synthetic|dinner``; ``bsi reproduce active``
+(:mod:`bsi_sklearn.experiments.active`) compares active-learning query strategies.
 """
 
 from bsi_sklearn.experiments.dinner import run_dinner

@@ -1,4 +1,4 @@
-"""``bsi reproduce synthetic|dinner``: the paper's experiments from the command line."""
+"""``bsi reproduce synthetic|dinner|active``: the experiments from the command line."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from bsi_sklearn.param_validation import NONZERO_INTEGER, Interval, option_type
 
 __all__ = ["add_arguments", "run"]
 
-EXPERIMENTS = ("synthetic", "dinner")
+EXPERIMENTS = ("synthetic", "dinner", "active")
 
 _positive_int = option_type(int, [Interval(Integral, 1, None, closed="left")])
 _n_jobs = option_type(int, [NONZERO_INTEGER])
@@ -19,7 +19,8 @@ _n_jobs = option_type(int, [NONZERO_INTEGER])
 def add_arguments(parser):
     """Add the ``reproduce`` arguments to ``parser``."""
     parser.add_argument("experiment", choices=EXPERIMENTS,
-                        help="synthetic: POI/threat Scenarios 1-3; dinner: the dinner table")
+                        help="synthetic: POI/threat Scenarios 1-3; dinner: the dinner table; "
+                             "active: entropy sampling vs random queries (Scenario 1)")
     parser.add_argument("--out", default=None,
                         help="output folder (default: ./bsi_reproduce/<experiment>)")
     parser.add_argument("--quick", action="store_true",
@@ -28,8 +29,8 @@ def add_arguments(parser):
     parser.add_argument("--n-jobs", type=_n_jobs, default=-1,
                         help="fits run in this many threads (default: -1, all cores; not 0)")
     parser.add_argument("--repeats", type=_positive_int, default=None,
-                        help="random draws of the training set per size (default: the "
-                             "experiment's)")
+                        help="random draws of the training set per size; active: seeds "
+                             "(default: the experiment's)")
     parser.add_argument("--sizes", type=_positive_int, nargs="+", default=None,
                         help="training-set sizes (default: the experiment's)")
     parser.add_argument("--no-supervised", action="store_true",
@@ -48,6 +49,12 @@ def run(args):
 
     out = args.out if args.out is not None else f"bsi_reproduce/{args.experiment}"
     kwargs = {}
+    if args.experiment == "active":
+        from bsi_sklearn.experiments.active import run_active
+
+        result = run_active(out, quick=args.quick, n_seeds=args.repeats,
+                            random_state=args.seed, verbose=args.verbose)
+        return _print(args, result, out)
     if args.experiment == "synthetic":
         runner = run_synthetic
         kwargs["alternative_priors"] = not args.no_alt_priors
@@ -56,6 +63,10 @@ def run(args):
     result = runner(out, quick=args.quick, sizes=args.sizes, n_repeats=args.repeats,
                     supervised=not args.no_supervised, n_jobs=args.n_jobs,
                     random_state=args.seed, verbose=args.verbose, **kwargs)
+    return _print(args, result, out)
+
+
+def _print(args, result, out):
     if args.verbose:
         claims = result.claims[["id", "measured", "status"]]
         with pd.option_context("display.max_colwidth", 90, "display.width", 160):

@@ -1,0 +1,111 @@
+"""Posterior.to_json / from_json: a portable posterior with identical predictions."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from bsi_sklearn import BSIClassifier, Posterior
+from bsi_sklearn.posterior import SCHEMA, SCHEMA_VERSION
+
+NAMES = ["safe", "a", "b", "c_ok"]
+
+
+def _data(seed=0, n=8, frames=True):
+    rng = np.random.default_rng(seed)
+    X = [rng.integers(0, 2, size=(int(rng.integers(2, 6)), 4)) for _ in range(n)]
+    y = np.array([1, 1, 0, 1, 1, 0, 1, 1][:n])
+    if frames:
+        X = [pd.DataFrame(x, columns=NAMES) for x in X]
+    return X, y
+
+
+@pytest.mark.parametrize("kwargs, frames", [
+    (dict(global_candidates=["safe"], subtasks=["a", "b", "c_ok"],
+          conditions={"a": "c_ok"}, prior="forest", likelihood="ci"), True),
+    (dict(prior="linear_chain", inference="mcmc", n_samples=300, burn_in=10, n_chains=2,
+          p_eventual=0.5), False),
+])
+def test_round_trip_gives_identical_predictions(kwargs, frames, tmp_path):
+    X, y = _data(frames=frames)
+    clf = BSIClassifier(random_state=0, **kwargs).fit(X, y)
+    post = clf.posterior_
+    text = post.to_json(tmp_path / "posterior.json")
+    for source in (text, tmp_path / "posterior.json", str(tmp_path / "posterior.json")):
+        again = Posterior.from_json(source)
+        np.testing.assert_array_equal(again.predict_proba(X), post.predict_proba(X))
+        np.testing.assert_array_equal(again.probabilities, post.probabilities)
+        assert again.specifications == post.specifications
+        pd.testing.assert_series_equal(again.clause_marginals(), post.clause_marginals())
+        assert again.dropped_mass == post.dropped_mass
+        assert again.roles.names == list(post.roles.names)
+    doc = json.loads(text)
+    assert doc["schema"] == SCHEMA and doc["version"] == SCHEMA_VERSION
+    assert doc["specifications"][0]["ltl"] == clf.map_specification_.to_ltl()
+    assert set(doc) == {"schema", "version", "names", "roles", "specifications",
+                        "probabilities", "clause_marginals", "dropped_mass"}
+
+
+def test_monitor_of_a_loaded_posterior_agrees():
+    from bsi_sklearn.monitor import PosteriorMonitor
+
+    X, y = _data()
+    clf = BSIClassifier(random_state=0).fit(X, y)
+    again = Posterior.from_json(clf.posterior_.to_json())
+    a, b = clf.monitor(), PosteriorMonitor(again)
+    for row in X[0].to_numpy():
+        assert a.update(row) == b.update(row)
+
+
+def _doc():
+    X, y = _data()
+    return json.loads(BSIClassifier(random_state=0).fit(X, y).posterior_.to_json())
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda d: d.update(schema="something/else"), "expected schema 'bsi-sklearn/posterior', "
+                                                  "got 'something/else'"),
+    (lambda d: d.update(version=2), "schema version 2 is not supported; this bsi-sklearn "
+                                    "reads version 1"),
+    (lambda d: d["roles"]["subtasks"].append("zz"), "roles.subtasks names unknown "
+                                                    "proposition 'zz'"),
+    (lambda d: d["probabilities"].pop(), "specifications but"),
+    (lambda d: d["specifications"][0]["globals"].append("nope"), "specification 0 names "
+                                                                 "'nope'"),
+    (lambda d: d["specifications"][0].update(orders=[["a", "b"], ["c_ok", "b"]]),
+     "orders of specification 0 are not a forest"),
+    (lambda d: d["clause_marginals"].pop(), "clause_marginals do not follow the roles"),
+])
+def test_bad_documents_say_what_is_wrong(edit, message):
+    doc = _doc()
+    edit(doc)
+    with pytest.raises(ValueError, match=message):
+        Posterior.from_json(json.dumps(doc))
+
+
+def test_not_json_or_not_an_object():
+    with pytest.raises(ValueError, match="not JSON"):
+        Posterior.from_json("{nope")
+    with pytest.raises(ValueError, match="expected schema"):
+        Posterior.from_json("{}")
+
+
+def test_bsi_fit_save_writes_a_posterior(tmp_path, capsys):
+    from bsi_sklearn.cli import main
+    from bsi_sklearn.io import read_traces_csv, write_traces_csv
+
+    X, y = _data()
+    for name in ("one", "two"):
+        write_traces_csv(X, y, tmp_path / f"{name}.csv")
+    out = tmp_path / "posterior.json"
+    assert main(["fit", str(tmp_path / "one.csv"), "--save", str(out)]) == 0
+    assert f"saved      : {out}" in capsys.readouterr().out
+    Xr, yr = read_traces_csv(tmp_path / "one.csv")
+    clf = BSIClassifier(random_state=0).fit(Xr, yr)
+    np.testing.assert_array_equal(Posterior.from_json(out).predict_proba(Xr),
+                                  clf.predict_proba(Xr))
+    assert main(["fit", str(tmp_path / "one.csv"), str(tmp_path / "two.csv"),
+                 "--save", str(out)]) == 0
+    assert (tmp_path / "posterior_one.json").exists()
+    assert (tmp_path / "posterior_two.json").exists()
