@@ -357,8 +357,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
             delayed(run_chain)(int(seed), demos, model, int(self.n_samples), int(self.burn_in))
             for seed in seeds_iter
         )
-        uniq, counts = unique_states(np.concatenate([r[0] for r in results], axis=0),
-                                     np.concatenate([r[1] for r in results]))
+        uniq, counts, row_state = unique_states(
+            np.concatenate([r[0] for r in results], axis=0),
+            np.concatenate([r[1] for r in results]), return_inverse=True)
         traces = np.stack([r[2] for r in results])
         moves = np.array([r[3] for r in results])
         scores = score_states(uniq, demos, model)
@@ -369,7 +370,11 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         probs /= probs.sum()
         post = Posterior(uniq[:, n_g + n:], uniq[:, :n_g].astype(bool),
                          uniq[:, n_g:n_g + n].astype(bool), probs, roles)
-        missed = missed_mass([r[0] for r in results], uniq, probs)
+        # Each chain's recorded rows, as positions in the sorted posterior.
+        position = np.empty(len(order), dtype=np.int64)
+        position[order] = np.arange(len(order))
+        ends = np.cumsum([len(r[0]) for r in results])
+        missed = missed_mass(np.split(position[row_state], ends[:-1]), probs)
         diagnostics = {
             "missed_mass_per_chain": missed,
             "max_missed_mass": float(missed.max()),

@@ -49,7 +49,7 @@ def split_rhat(traces):
     return float(np.sqrt(var_plus / within))
 
 
-def missed_mass(chain_states, states, probabilities):
+def missed_mass(chain_visits, probabilities):
     """Posterior mass each chain never visited.
 
     The reported MCMC posterior is the exact posterior restricted to the states all chains
@@ -61,12 +61,11 @@ def missed_mass(chain_states, states, probabilities):
 
     Parameters
     ----------
-    chain_states : sequence of ndarray of shape (n_rows_c, n_cols)
-        The states each chain visited (rows, repeats allowed).
-    states : ndarray of shape (n_states, n_cols)
-        The unique states of the reported posterior (every row of every chain is one of them).
+    chain_visits : sequence of array-like of int
+        For each chain, the indices (into ``probabilities``) of the states it visited;
+        repeats allowed.
     probabilities : ndarray of shape (n_states,)
-        Their reported probabilities.
+        The reported probabilities of the posterior's states.
 
     Returns
     -------
@@ -76,19 +75,15 @@ def missed_mass(chain_states, states, probabilities):
     Examples
     --------
     >>> import numpy as np
-    >>> states = np.array([[0, 1], [1, 1], [1, 0]])
     >>> probs = np.array([0.7, 0.2, 0.1])
-    >>> missed_mass([states[[0, 1]], states[[0, 1, 2, 0]]], states, probs).round(3).tolist()
+    >>> missed_mass([[0, 1], [0, 1, 2, 0]], probs).round(3).tolist()
     [0.1, 0.0]
     """
-    states = np.ascontiguousarray(states)
-    index = {row.tobytes(): i for i, row in enumerate(states)}
     probabilities = np.asarray(probabilities, dtype=float)
-    out = np.empty(len(chain_states))
-    for c, rows in enumerate(chain_states):
-        rows = np.ascontiguousarray(np.asarray(rows, dtype=states.dtype))
-        seen = np.zeros(len(states), dtype=bool)
-        seen[[index[row.tobytes()] for row in rows]] = True
+    out = np.empty(len(chain_visits))
+    for c, visits in enumerate(chain_visits):
+        seen = np.zeros(len(probabilities), dtype=bool)
+        seen[np.asarray(visits, dtype=np.int64)] = True
         out[c] = min(1.0, max(0.0, 1.0 - math.fsum(probabilities[seen])))
     return out
 

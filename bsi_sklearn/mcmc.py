@@ -67,11 +67,15 @@ class ChainBuffers(NamedTuple):
     old_parent: np.ndarray
 
 
-def unique_states(states, counts):
-    """Unique state rows (sorted canonically) and the number of samples of each."""
+def unique_states(states, counts, return_inverse=False):
+    """Unique state rows (sorted canonically) and the number of samples of each.
+
+    With ``return_inverse``, also the index of every input row among the unique rows.
+    """
     if len(states) == 0 or states.shape[1] == 0:
         # Zero-width rows (empty template): every sample is the same hypothesis.
-        return states[:1], np.array([int(np.sum(counts))], dtype=np.int64)[: len(states[:1])]
+        out = states[:1], np.array([int(np.sum(counts))], dtype=np.int64)[: len(states[:1])]
+        return (*out, np.zeros(len(states), dtype=np.int64)) if return_inverse else out
     # Rows of small ints: shift to non-negative and pack into one integer key when they fit.
     shifted = states.astype(np.int64) + 1
     bits = max(int(shifted.max()).bit_length(), 1)
@@ -81,8 +85,10 @@ def unique_states(states, counts):
         _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
     else:
         _, first, inverse = np.unique(states, axis=0, return_index=True, return_inverse=True)
-    total = np.bincount(inverse.ravel(), weights=counts, minlength=len(first))
-    return states[first], total.astype(np.int64)
+    inverse = inverse.ravel()
+    total = np.bincount(inverse, weights=counts, minlength=len(first))
+    out = states[first], total.astype(np.int64)
+    return (*out, inverse) if return_inverse else out
 
 
 def deduplicate_demos(truth, y01):
