@@ -22,6 +22,7 @@ from sklearn.model_selection import GridSearchCV, KFold, StratifiedKFold, train_
 from baselines import FAIR_TRAINING, PAPER_BASELINES
 from bsi_sklearn.classifier import BSIClassifier
 from lfe.annotate import MISSION_OBJECTIVES, annotate_scenarios
+from lfe.compare import _weighted_f1  # the comparison's scorer, shared within lfe
 from lfe.dataset import make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
 
@@ -159,16 +160,6 @@ def draw_training_set(clean, n_pool, n_train, seed):
             continue
         return np.sort(train)
     raise AssertionError("an unstratified split cannot fail")  # pragma: no cover
-
-
-def _weighted_f1(y_true, y_pred):
-    """``f1_score(average="weighted", zero_division=0)`` of 0/1 labels."""
-    total = 0.0
-    for label in np.unique(y_true):
-        tp = np.sum((y_true == label) & (y_pred == label))
-        denom = np.sum(y_true == label) + np.sum(y_pred == label)
-        total += np.sum(y_true == label) * (2.0 * tp / denom if denom else 0.0)
-    return float(total / len(y_true))
 
 
 def _fit_bsi(X, y, roles, params, seed, prior):
