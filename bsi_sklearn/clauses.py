@@ -8,13 +8,16 @@ Clause layout for ``n_g`` global candidates and ``n`` subtasks (``n_clauses = n_
 """
 
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.extending import intrinsic
 
 __all__ = [
     "clause_index_order",
     "n_clauses",
     "clause_truth",
     "pack_rows",
+    "popcount",
+    "popcounts",
 ]
 
 
@@ -101,4 +104,22 @@ def pack_rows(bits):
         for c in range(n_cols):
             if bits[r, c]:
                 out[r, c >> 6] |= np.uint64(1) << np.uint64(c & 63)
+    return out
+
+
+@intrinsic
+def popcount(typingctx, x):
+    """Number of set bits of a uint64 (LLVM's ctpop: the hardware popcount), in numba code."""
+    def codegen(context, builder, signature, args):
+        return builder.ctpop(args[0])
+    return types.uint64(types.uint64), codegen
+
+
+@njit(cache=True, nogil=True)
+def popcounts(bits, mask):
+    """Number of set bits of ``bits[i] & mask`` for every row ``i`` of packed words."""
+    out = np.zeros(bits.shape[0], dtype=np.int64)
+    for i in range(bits.shape[0]):
+        for w in range(bits.shape[1]):
+            out[i] += popcount(bits[i, w] & mask[w])
     return out

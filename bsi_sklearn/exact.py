@@ -1,167 +1,47 @@
-"""Exact posterior by enumeration of the prior's support (globals x eventuals x orders).
+"""Exact posterior by enumeration of the prior's support, over groups of parts.
 
 A hypothesis' likelihood depends only on how many acceptable and unacceptable demonstrations it
-satisfies and on its number of conjuncts, so each part keeps a bitset of the demonstrations it
-satisfies and a hypothesis costs one AND and a popcount per 64 demonstrations. The enumeration
-streams: a first pass computes the normaliser, a second accumulates clause marginals and keeps
-the most probable hypotheses covering all but ``tol`` of the mass.
+satisfies and on its number of conjuncts, so order structures, and pairs of (global subset,
+eventual subset), that satisfy the same demonstrations with the same number of conjuncts are
+interchangeable: their prior weights are summed into groups (:mod:`bsi_sklearn.exact_parts`)
+and the enumeration runs over pairs of groups. A first pass computes the normaliser, building
+per pair of groups only a histogram over (satisfied positives, satisfied negatives); a second
+pass gives every group its posterior mass and finds the pairs of groups that may hold a
+hypothesis above the keep threshold; a last walk over the order structures splits the masses
+into clause marginals and expands the kept hypotheses. The result is the posterior of the
+ungrouped enumeration (:mod:`bsi_sklearn.exact_ungrouped`, the reference it is tested against)
+up to rounding.
 """
 
 import math
-from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
 from bsi_sklearn.clauses import pack_rows
-from bsi_sklearn.likelihood import log_likelihood
-from bsi_sklearn.priors import log_prior_structure, log_prior_subset, support_structures
+from bsi_sklearn.exact_kernels import (
+    Expansion,
+    StructureSide,
+    SubsetSide,
+    group_masses,
+    likelihood_tables,
+    log_evidence,
+    walk_structures,
+)
+from bsi_sklearn.clauses import popcounts
+from bsi_sklearn.exact_parts import PartTable, Pruning, group_structures, group_subsets
+from bsi_sklearn.exact_parts import subset_table
+from bsi_sklearn.exact_ungrouped import LabelMasks, structure_tables, ungrouped_kernel
+from bsi_sklearn.priors import PRIORS, count_hypotheses, support_structures
 
 __all__ = ["exact_posterior", "ExactResult"]
 
+#: Pairs of groups whose total mass is bounded below exp(_MARGIN) of the evidence are skipped
+#: (and never when ``tol`` is 0).
+_MARGIN = math.log(1e-17)
 
-class PartTable(NamedTuple):
-    """One part of the hypotheses (order structures, global subsets or eventual subsets)."""
-
-    bits: np.ndarray   # (n_items, n_words) uint64: the demonstrations each item satisfies
-    size: np.ndarray   # (n_items,) int64: its number of conjuncts
-    lp: np.ndarray     # (n_items,) float64: its log prior
-
-
-class LabelMasks(NamedTuple):
-    """Which demonstrations are acceptable / unacceptable, as bitsets, and how many."""
-
-    pos: np.ndarray    # (n_words,) uint64
-    neg: np.ndarray    # (n_words,) uint64
-    n_pos: float
-    n_neg: float
-
-
-@njit(cache=True, nogil=True)
-def _popcount64(x):
-    x = x - ((x >> np.uint64(1)) & np.uint64(0x5555555555555555))
-    x = (x & np.uint64(0x3333333333333333)) + ((x >> np.uint64(2)) & np.uint64(0x3333333333333333))
-    x = (x + (x >> np.uint64(4))) & np.uint64(0x0F0F0F0F0F0F0F0F)
-    return int((x * np.uint64(0x0101010101010101)) >> np.uint64(56))
-
-
-@njit(cache=True, nogil=True)
-def _subset_tables(clause_bits, first_clause, n_items, p, full):
-    # For every subset mask of n_items clauses: demo bitset (AND), size, log prior.
-    n_sub = 1 << n_items
-    n_words = clause_bits.shape[1]
-    bits = np.empty((n_sub, n_words), dtype=np.uint64)
-    size = np.zeros(n_sub, dtype=np.int64)
-    lp = np.empty(n_sub)
-    bits[0, :] = full
-    for m in range(1, n_sub):
-        low = 0
-        while not (m >> low) & 1:
-            low += 1
-        prev = m & (m - 1)
-        for w in range(n_words):
-            bits[m, w] = bits[prev, w] & clause_bits[first_clause + low, w]
-        size[m] = size[prev] + 1
-    for m in range(n_sub):
-        lp[m] = log_prior_subset(size[m], n_items, p)
-    return PartTable(bits, size, lp)
-
-
-@njit(cache=True, nogil=True)
-def _structure_tables(structures, clause_bits, full, model):
-    n_s = structures.shape[0]
-    n_words = clause_bits.shape[1]
-    bits = np.empty((n_s, n_words), dtype=np.uint64)
-    size = np.zeros(n_s, dtype=np.int64)
-    lp = np.empty(n_s)
-    n = model.n
-    base = model.n_g + n
-    for s in range(n_s):
-        parent = structures[s]
-        bits[s, :] = full
-        for v in range(n):
-            a = parent[v]
-            while a >= 0:
-                c = base + a * n + v
-                for w in range(n_words):
-                    bits[s, w] &= clause_bits[c, w]
-                size[s] += 1
-                a = parent[a]
-        lp[s] = log_prior_structure(parent, model)
-    return PartTable(bits, size, lp)
-
-
-@njit(cache=True, nogil=True)
-def _hyp_logpost(s, t, e, parts_s, parts_t, parts_e, labels, model):
-    pos_sat = 0
-    neg_sat = 0
-    for w in range(labels.pos.shape[0]):
-        sat = parts_s.bits[s, w] & parts_t.bits[t, w] & parts_e.bits[e, w]
-        pos_sat += _popcount64(sat & labels.pos[w])
-        neg_sat += _popcount64(sat & labels.neg[w])
-    n_conj = parts_s.size[s] + parts_t.size[t] + parts_e.size[e]
-    return parts_s.lp[s] + parts_t.lp[t] + parts_e.lp[e] + log_likelihood(
-        float(pos_sat), float(neg_sat), labels.n_pos, labels.n_neg, n_conj, model.log_eps,
-        model.likelihood
-    )
-
-
-@njit(cache=True, nogil=True)
-def _exact_kernel(parts_s, parts_t, parts_e, labels, model, log_keep):
-    s_lp = parts_s.lp
-    n_s, n_t, n_e = s_lp.shape[0], parts_t.lp.shape[0], parts_e.lp.shape[0]
-    # Pass 1: log normaliser with a running maximum.
-    mx = -np.inf
-    acc = 0.0
-    for s in range(n_s):
-        if s_lp[s] == -np.inf:
-            continue
-        for t in range(n_t):
-            for e in range(n_e):
-                lp = _hyp_logpost(s, t, e, parts_s, parts_t, parts_e, labels, model)
-                if lp == -np.inf:
-                    continue
-                if lp > mx:
-                    acc = acc * math.exp(mx - lp) + 1.0
-                    mx = lp
-                else:
-                    acc += math.exp(lp - mx)
-    log_z = mx + math.log(acc)
-    # Pass 2: per-part marginal masses, and the hypotheses above the keep threshold.
-    mass_s = np.zeros(n_s)
-    mass_t = np.zeros(n_t)
-    mass_e = np.zeros(n_e)
-    cap = 1024
-    keep_idx = np.empty((cap, 3), dtype=np.int64)
-    keep_lp = np.empty(cap)
-    k = 0
-    for s in range(n_s):
-        if s_lp[s] == -np.inf:
-            continue
-        for t in range(n_t):
-            for e in range(n_e):
-                lp = _hyp_logpost(s, t, e, parts_s, parts_t, parts_e, labels, model) - log_z
-                if lp == -np.inf:
-                    continue
-                p = math.exp(lp)
-                mass_s[s] += p
-                mass_t[t] += p
-                mass_e[e] += p
-                if lp >= log_keep:
-                    if k == cap:
-                        cap *= 2
-                        new_idx = np.empty((cap, 3), dtype=np.int64)
-                        new_idx[:k] = keep_idx[:k]
-                        keep_idx = new_idx
-                        new_lp = np.empty(cap)
-                        new_lp[:k] = keep_lp[:k]
-                        keep_lp = new_lp
-                    keep_idx[k, 0] = s
-                    keep_idx[k, 1] = t
-                    keep_idx[k, 2] = e
-                    keep_lp[k] = lp
-                    k += 1
-    return log_z, keep_idx[:k], keep_lp[:k], mass_s, mass_t, mass_e
+#: Largest (satisfied positives x satisfied negatives) histogram of the first pass; above it
+#: every pair of groups pays a log and an exp instead.
+_MAX_CELLS = 1 << 22
 
 
 class ExactResult:
@@ -183,52 +63,135 @@ def _mask_bits(masks, n_items):
     return ((masks[:, None] >> np.arange(n_items)) & 1).astype(bool)
 
 
-def exact_posterior(truth, y01, model, tol=1e-9):
-    """Enumerate the support and return the posterior.
+def _subset_marginals(subsets, mass_h, n_items, which):
+    # Split each subset-pair group's mass over its pairs of groups, then over their members.
+    g = subsets.groups
+    with np.errstate(divide="ignore"):
+        h_lw = np.log(g.weight) + g.ref
+    part = subsets.t_groups if which == "t" else subsets.e_groups
+    start, items = ((subsets.t_start, subsets.t_items) if which == "t"
+                    else (subsets.e_start, subsets.e_items))
+    item_lp = subsets.t_lp if which == "t" else subsets.e_lp
+    mass_part = np.zeros(len(part.size))
+    for h in np.flatnonzero(mass_h):
+        for q in range(subsets.pair_start[h], subsets.pair_start[h + 1]):
+            gt, ge = subsets.pair_t[q], subsets.pair_e[q]
+            lw = (np.log(subsets.t_groups.weight[gt]) + subsets.t_groups.ref
+                  + np.log(subsets.e_groups.weight[ge]) + subsets.e_groups.ref)
+            mass_part[gt if which == "t" else ge] += mass_h[h] * np.exp(lw - h_lw[h])
+    marg = np.zeros(n_items)
+    for gp in np.flatnonzero(mass_part):
+        members = items[start[gp]:start[gp + 1]]
+        share = mass_part[gp] * np.exp(item_lp[members] - part.ref) / part.weight[gp]
+        marg += (_mask_bits(members, n_items) * share[:, None]).sum(axis=0)
+    return marg
 
-    Parameters
-    ----------
-    truth : ndarray (n_demos, n_clauses) uint8
-        Clause truth matrix (:func:`bsi_sklearn.clauses.clause_truth`).
-    y01 : ndarray (n_demos,)
-        Labels in {0, 1}.
-    model : Model
-        The model bundle (:func:`bsi_sklearn.model.make_model`).
-    tol : float
-        Posterior mass the result may drop (the least probable hypotheses).
 
-    Returns
-    -------
-    ExactResult
-    """
+def _structure_side(sg, pos):
+    # Sorted by size class, then by decreasing satisfied positives (the passes' early exits).
+    n_pos = popcounts(sg.bits, pos)
+    order = np.lexsort((-n_pos, sg.size))
+    rank = np.empty(len(order), dtype=np.int64)
+    rank[order] = np.arange(len(order))
+    size = sg.size[order]
+    cls_size, cls_first = np.unique(size, return_index=True)
+    side = StructureSide(np.ascontiguousarray(sg.bits[order]), sg.weight[order], sg.best[order],
+                         n_pos[order], np.append(cls_first, len(size)).astype(np.int64),
+                         cls_size.astype(np.int64))
+    return side, rank
+
+
+def _subset_side(hg, labels):
+    with np.errstate(divide="ignore"):
+        lw = np.log(hg.weight) + hg.ref
+    pos = np.ascontiguousarray(hg.bits & labels.pos)
+    n_pos = popcounts(pos, labels.pos)
+    order = np.argsort(-n_pos, kind="stable")
+    side = SubsetSide(np.ascontiguousarray(pos[order]),
+                      np.ascontiguousarray((hg.bits & labels.neg)[order]), hg.size[order],
+                      lw[order], hg.best[order], n_pos[order])
+    return side, order
+
+
+def _evidence(full, model, rule, hs, lik, margin):
+    # Group the structures the rule keeps; log evidence over them (absolute) and what the
+    # later passes need.
+    table, sg = group_structures(full, model, rule)
+    ss, rank = _structure_side(sg, rule.pos)
+    if not ss.weight.sum() > 0.0:
+        return table, sg, ss, rank, -np.inf, 0.0
+    prior_total = math.log(ss.weight.sum()) + np.logaddexp.reduce(hs.lw)
+    log_z_rel = log_evidence(ss, hs, lik, margin - prior_total,
+                             rule.cut - sg.ref + margin - prior_total)
+    return table, sg, ss, rank, log_z_rel, margin - prior_total
+
+
+def _grouped(clause_bits, full, labels, model, log_keep):
+    subsets = group_subsets(clause_bits, full, model)
+    hs, h_order = _subset_side(subsets.groups, labels)
+    max_conj = model.n_g + model.n + model.n * (model.n - 1) // 2
+    lik = likelihood_tables(int(labels.n_pos), int(labels.n_neg), max_conj, model)
+    # What is skipped holds at most exp(margin) of the evidence, and no kept hypothesis.
+    margin = min(_MARGIN, log_keep)
+    bound = lik.bound.max(axis=0)  # over every number of conjuncts
+    n_pos = int(labels.n_pos)
+    h_total = float(np.logaddexp.reduce(hs.lw))
+    cut = -np.inf
+    if margin > -np.inf and n_pos > 0:
+        # A lower bound of the evidence from the structures whose orders every acceptable
+        # demonstration satisfies; then every structure that could add more than exp(margin)
+        # of it.
+        rule = Pruning(clause_bits, labels.pos, bound, -np.inf, n_pos)
+        _, sg1, _, _, log_z1, _ = _evidence(full, model, rule, hs, lik, margin)
+        if log_z1 > -np.inf:
+            cut = log_z1 + sg1.ref + margin - h_total
+    rule = Pruning(clause_bits, labels.pos, bound, cut, 0)
+    table, sg, ss, rank, log_z_rel, offset = _evidence(full, model, rule, hs, lik, margin)
+    log_z = log_z_rel + sg.ref
+    keep = log_keep + log_z
+    cut_pairs = log_z_rel + offset
+    cand, cand_ll = np.empty((4096, 2), dtype=np.int64), np.empty(4096)
+    mass_s, mass_h, n_cand = group_masses(ss, hs, lik, log_z_rel, keep, cut_pairs, cand,
+                                          cand_ll)
+    if n_cand > len(cand):  # rare: run again with room for every candidate
+        cand, cand_ll = np.empty((n_cand, 2), dtype=np.int64), np.empty(n_cand)
+        mass_s, mass_h, n_cand = group_masses(ss, hs, lik, log_z_rel, keep, cut_pairs, cand,
+                                              cand_ll)
+    cand, cand_ll = cand[:n_cand], cand_ll[:n_cand]
+    mass_h = mass_h[np.argsort(h_order)]  # back to the groups' own order
+    by_g = np.argsort(cand[:, 0], kind="stable")
+    ex = Expansion(rank, mass_s, sg.ref,
+                   np.searchsorted(cand[by_g, 0], np.arange(len(mass_s) + 1)).astype(np.int64),
+                   np.ascontiguousarray(h_order[cand[by_g, 1]]),
+                   np.ascontiguousarray(cand_ll[by_g]), keep)
+    room = 4096
+    while True:
+        par = np.empty((room, model.n), dtype=np.int64)
+        idx, lp = np.empty((room, 3), dtype=np.int64), np.empty(room)
+        marg_o, n_out = walk_structures(full, model, rule, table, ss, ex, subsets, par, idx, lp)
+        if n_out <= room:
+            break
+        room = n_out  # rare: walk again with room for every kept hypothesis
+    par, idx, lp = par[:n_out], idx[:n_out], lp[:n_out] - log_z
+    kept = lp >= log_keep
+    par, idx, lp = par[kept], idx[kept], lp[kept]
+    order = np.lexsort((idx[:, 2], idx[:, 1], idx[:, 0], -lp))
+    marg = np.concatenate([_subset_marginals(subsets, mass_h, model.n_g, "t"),
+                           _subset_marginals(subsets, mass_h, model.n, "e"), marg_o])
+    return log_z, par[order], idx[order, 1], idx[order, 2], lp[order], marg
+
+
+def _ungrouped(clause_bits, full, labels, model, log_keep):
     n_g, n = model.n_g, model.n
-    n_demos = truth.shape[0]
-    clause_bits = pack_rows(np.ascontiguousarray(truth.T))           # (n_clauses, words)
-    full = pack_rows(np.ones((1, n_demos), dtype=np.uint8))[0]
-    labels = LabelMasks(
-        pos=pack_rows((y01 == 1).astype(np.uint8)[None, :])[0],
-        neg=pack_rows((y01 == 0).astype(np.uint8)[None, :])[0],
-        n_pos=float((y01 == 1).sum()), n_neg=float((y01 == 0).sum()),
-    )
     structures = support_structures(model)
-    parts_s = _structure_tables(structures, clause_bits, full, model)
-    parts_t = _subset_tables(clause_bits, 0, n_g, model.p_global, full)
-    parts_e = _subset_tables(clause_bits, n_g, n, model.p_eventual, full)
-    n_hyp = len(structures) * len(parts_t.lp) * len(parts_e.lp)
-    log_keep = math.log(tol / n_hyp) if tol > 0 else -np.inf
-    log_z, keep_idx, keep_lp, mass_s, mass_t, mass_e = _exact_kernel(
+    parts_s = structure_tables(structures, clause_bits, full, model)
+    parts_t = PartTable(*subset_table(clause_bits, 0, n_g, model.p_global, full))
+    parts_e = PartTable(*subset_table(clause_bits, n_g, n, model.p_eventual, full))
+    log_z, keep_idx, keep_lp, mass_s, mass_t, mass_e = ungrouped_kernel(
         parts_s, parts_t, parts_e, labels, model, log_keep)
-    # Smallest prefix of the sorted kept hypotheses that covers 1 - tol.
     order = np.argsort(-keep_lp, kind="stable")
     keep_idx, keep_lp = keep_idx[order], keep_lp[order]
-    cum = np.cumsum(np.exp(keep_lp))
-    if tol > 0:
-        stop = int(np.searchsorted(cum, 1.0 - tol)) + 1
-        keep_idx, keep_lp, cum = keep_idx[:stop], keep_lp[:stop], cum[:stop]
-    dropped = max(0.0, 1.0 - float(cum[-1])) if len(cum) else 1.0
-    # Clause marginals from the per-part masses.
-    n_cl = n_g + n + n * n
-    marg = np.zeros(n_cl)
+    marg = np.zeros(n_g + n + n * n)
     t_ids = np.arange(len(mass_t))
     for j in range(n_g):
         marg[j] = mass_t[((t_ids >> j) & 1).astype(bool)].sum()
@@ -242,10 +205,59 @@ def exact_posterior(truth, y01, model, tol=1e-9):
             while a >= 0:
                 marg[n_g + n + a * n + v] += mass_s[s]
                 a = parent[a]
+    return (log_z, structures[keep_idx[:, 0]], keep_idx[:, 1], keep_idx[:, 2], keep_lp, marg)
+
+
+def exact_posterior(truth, y01, model, tol=1e-9, grouped=True):
+    """Enumerate the support and return the posterior.
+
+    Parameters
+    ----------
+    truth : ndarray (n_demos, n_clauses) uint8
+        Clause truth matrix (:func:`bsi_sklearn.clauses.clause_truth`).
+    y01 : ndarray (n_demos,)
+        Labels in {0, 1}.
+    model : Model
+        The model bundle (:func:`bsi_sklearn.model.make_model`).
+    tol : float
+        Posterior mass the result may drop (the least probable hypotheses).
+    grouped : bool, default=True
+        Enumerate groups of interchangeable parts (the engine); ``False`` runs the ungrouped
+        reference over every hypothesis.
+
+    Returns
+    -------
+    ExactResult
+        The kept hypotheses are every hypothesis of normalised log posterior at least
+        ``log(tol / n_hypotheses)``, cut to the shortest most-probable prefix that covers
+        ``1 - tol``; ties are ordered by structure (lexicographic parent array), then global
+        and eventual subset masks.
+    """
+    n_g, n = model.n_g, model.n
+    n_demos = truth.shape[0]
+    clause_bits = pack_rows(np.ascontiguousarray(truth.T))           # (n_clauses, words)
+    full = pack_rows(np.ones((1, n_demos), dtype=np.uint8))[0]
+    labels = LabelMasks(
+        pos=pack_rows((y01 == 1).astype(np.uint8)[None, :])[0],
+        neg=pack_rows((y01 == 0).astype(np.uint8)[None, :])[0],
+        n_pos=float((y01 == 1).sum()), n_neg=float((y01 == 0).sum()),
+    )
+    n_hyp = count_hypotheses(PRIORS[model.prior], n_g, n)
+    log_keep = math.log(tol / n_hyp) if tol > 0 else -np.inf
+    engine = _grouped if grouped else _ungrouped
+    log_z, structures, t_masks, e_masks, keep_lp, marg = engine(clause_bits, full, labels,
+                                                                model, log_keep)
+    # Smallest prefix of the sorted kept hypotheses that covers 1 - tol.
+    cum = np.cumsum(np.exp(keep_lp))
+    if tol > 0:
+        stop = int(np.searchsorted(cum, 1.0 - tol)) + 1
+        structures, t_masks, e_masks = structures[:stop], t_masks[:stop], e_masks[:stop]
+        keep_lp, cum = keep_lp[:stop], cum[:stop]
+    dropped = max(0.0, 1.0 - float(cum[-1])) if len(cum) else 1.0
     return ExactResult(
-        structures=structures[keep_idx[:, 0]],
-        tau_masks=_mask_bits(keep_idx[:, 1], n_g),
-        w1_masks=_mask_bits(keep_idx[:, 2], n),
+        structures=structures,
+        tau_masks=_mask_bits(t_masks, n_g),
+        w1_masks=_mask_bits(e_masks, n),
         log_prob=keep_lp,
         dropped_mass=dropped,
         clause_marginals=marg,

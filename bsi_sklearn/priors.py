@@ -29,6 +29,9 @@ __all__ = [
     "count_structures",
     "count_hypotheses",
     "enumerate_structures",
+    "next_structure",
+    "next_assignment",
+    "structure_log_prior",
     "support_structures",
     "n_orders_of",
 ]
@@ -327,53 +330,118 @@ def count_hypotheses(prior, n_globals, n_subtasks):
     return count_structures(prior, n_subtasks) * 2**n_globals * 2**n_subtasks
 
 
+@njit(cache=True, nogil=True, inline="always")
+def next_assignment(parent, n_children, state, code, descend):
+    """One depth-first step over the order structures of the prior's support.
+
+    Nodes get their parents in index order; the call makes the next assignment and returns
+    the node it assigned (a whole structure is in ``parent`` when that is the last node), or
+    -1 when every structure has been visited. With ``descend`` False the nodes after the last
+    assignment are not tried (its subtree is skipped). Start with ``parent`` filled with
+    ``-2``, ``n_children`` with 0 and ``state = [0, 0, 0, 0]`` (level, roots, done, started);
+    ``n`` must be at least 1. Only valid partial structures are visited: a node's parent is
+    never its descendant, nor (Priors 1, 2) a node that already has a child, nor (Prior 1) a
+    second root. Structures come in lexicographic order of their parent arrays.
+    """
+    n = parent.shape[0]
+    if state[2]:
+        return -1
+    v = state[0]
+    roots = state[1]
+    if state[3] and descend and v < n - 1:
+        v += 1
+    state[3] = 1
+    while v >= 0:
+        u = parent[v]
+        if u >= 0:
+            n_children[u] -= 1
+        elif u == -1:
+            roots -= 1
+        u += 1
+        while u < n:
+            if u == -1:
+                if code != _LINEAR_CHAIN or roots == 0:
+                    break
+            elif u != v and (code == _FOREST or n_children[u] == 0):
+                a = u  # u must not descend from v among the nodes placed so far
+                while 0 <= a < v:
+                    a = parent[a]
+                if a != v:
+                    break
+            u += 1
+        if u == n:
+            parent[v] = -2
+            v -= 1
+            continue
+        parent[v] = u
+        if u >= 0:
+            n_children[u] += 1
+        else:
+            roots += 1
+        state[0] = v
+        state[1] = roots
+        return v
+    state[2] = 1
+    return -1
+
+
+@njit(cache=True, nogil=True, inline="always")
+def next_structure(parent, n_children, state, code):
+    """Advance ``parent`` to the next order structure of the prior's support (depth-first).
+
+    Same start as :func:`next_assignment`; each call that returns True leaves the next
+    structure in ``parent`` (for ``n = 0``, the empty structure once).
+    """
+    n = parent.shape[0]
+    if n == 0:
+        done = state[2] == 1
+        state[2] = 1
+        return not done
+    while True:
+        v = next_assignment(parent, n_children, state, code, True)
+        if v < 0:
+            return False
+        if v == n - 1:
+            return True
+
+
+@njit(cache=True, nogil=True, inline="always")
+def structure_log_prior(parent, model, scratch):
+    """``log_prior_structure`` for a structure known to be in the support, without allocating.
+
+    ``scratch`` is an int64 array of ``len(parent)`` elements. Uses the tables of the model
+    bundle (chains: by number of chains; forests: by subtree sizes).
+    """
+    n = parent.shape[0]
+    if not model.forest:
+        m = 0
+        for v in range(n):
+            if parent[v] < 0:
+                m += 1
+        return model.lp_chains[m] if n else 0.0
+    scratch[:] = 1
+    for v in range(n):
+        a = parent[v]
+        while a >= 0:
+            scratch[a] += 1
+            a = parent[a]
+    out = model.forest_const
+    for v in range(n):
+        out += model.forest_g[scratch[v]]
+    return out
+
+
 @njit(cache=True)
-def _enumerate_structures(n, code):
-    # Every parent array with values in {-1} U {other nodes}, kept when it is a forest of the
-    # prior's shape. n**n candidates: only called for the small n where exact inference fits.
-    total = 1
-    for _ in range(n):
-        total *= n
-    out = np.empty((max(total, 1), n), dtype=np.int64)
+def _enumerate_structures(n, code, count):
+    out = np.empty((count, n), dtype=np.int64)
+    parent = np.full(n, -2, dtype=np.int64)
+    n_children = np.zeros(n, dtype=np.int64)
+    state = np.zeros(4, dtype=np.int64)
     k = 0
-    digits = np.zeros(n, dtype=np.int64)
-    parent = np.empty(n, dtype=np.int64)
-    n_children = np.empty(n, dtype=np.int64)
-    for _ in range(total):
-        # digit d of node v: 0 -> root, else the d-th other node.
-        for v in range(n):
-            d = digits[v]
-            if d == 0:
-                parent[v] = -1
-            else:
-                parent[v] = d - 1 if d - 1 < v else d
-        ok = True
-        for v in range(n):  # acyclic: walking up ends within n steps
-            a = parent[v]
-            steps = 0
-            while a >= 0 and steps <= n:
-                a = parent[a]
-                steps += 1
-            if a >= 0:
-                ok = False
-                break
-        if ok and code != _FOREST:
-            n_roots = _count_children(parent, n_children)
-            for v in range(n):
-                if n_children[v] > 1:
-                    ok = False
-            if code == _LINEAR_CHAIN and n_roots != 1:
-                ok = False
-        if ok:
-            out[k] = parent
-            k += 1
-        # increment mixed-radix counter
-        for v in range(n):
-            digits[v] += 1
-            if digits[v] < n:
-                break
-            digits[v] = 0
-    return out[:k]
+    while next_structure(parent, n_children, state, code):
+        out[k] = parent
+        k += 1
+    return out
 
 
 def enumerate_structures(prior, n):
@@ -383,12 +451,10 @@ def enumerate_structures(prior, n):
     --------
     >>> enumerate_structures("sets_of_chains", 2)
     array([[-1, -1],
-           [ 1, -1],
-           [-1,  0]])
+           [-1,  0],
+           [ 1, -1]])
     """
-    if n == 0:
-        return np.zeros((1, 0), dtype=np.int64)
-    return _enumerate_structures(n, prior_code(prior))
+    return _enumerate_structures(n, prior_code(prior), count_structures(prior, n))
 
 
 def support_structures(model):

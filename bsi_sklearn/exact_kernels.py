@@ -1,0 +1,285 @@
+"""The numba passes of the grouped exact enumeration (:mod:`bsi_sklearn.exact`).
+
+The passes run over pairs (structure group, subset-pair group). A pair's likelihood depends on
+(satisfied positives ``ps``, satisfied negatives ``ns``, conjuncts ``k``) and splits into
+``lik_pos[k, ps] + lik_neg[k, ns]``. Pairs that cannot matter are skipped with a bound: a
+pair's ``ps`` is at most the positives both groups satisfy, so its likelihood is at most
+``bound[k, min(P_g, P_h)]``; whenever that bound, times the whole prior mass, is below
+``exp(margin)`` times the evidence found so far, the pair and every later one of its size class
+(groups are sorted by decreasing ``P_g``) are skipped. What they drop is below ``exp(margin)``
+of the evidence (``margin <= log(1e-16)``), and never holds a hypothesis above the keep
+threshold.
+"""
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from bsi_sklearn.clauses import popcount
+from bsi_sklearn.exact_parts import ancestor_masks, new_walk, next_kept_structure
+from bsi_sklearn.grouping import lookup
+from bsi_sklearn.likelihood import log_likelihood
+from bsi_sklearn.priors import structure_log_prior
+
+__all__ = ["StructureSide", "SubsetSide", "Likelihoods", "Expansion", "likelihood_tables",
+           "log_evidence", "group_masses", "walk_structures", "MAX_CELLS"]
+
+#: Largest (satisfied positives x satisfied negatives) table of the passes' caches; above it
+#: every pair of groups pays a log and an exp instead.
+MAX_CELLS = 1 << 22
+
+
+class StructureSide(NamedTuple):
+    """Structure groups sorted by (size, decreasing satisfied positives)."""
+
+    bits: np.ndarray       # (G, n_words) uint64
+    weight: np.ndarray     # (G,) prior weight relative to exp(ref)
+    best: np.ndarray       # (G,) largest member log prior (absolute)
+    n_pos: np.ndarray      # (G,) positives the group satisfies
+    cls_start: np.ndarray  # (C + 1,) size classes: groups cls_start[c]:cls_start[c + 1]
+    cls_size: np.ndarray   # (C,) the class' number of orders
+
+
+class SubsetSide(NamedTuple):
+    """Subset-pair groups, sorted by decreasing satisfied positives."""
+
+    pos: np.ndarray        # (H, n_words) bitset AND acceptable demonstrations
+    neg: np.ndarray        # (H, n_words) bitset AND unacceptable demonstrations
+    size: np.ndarray       # (H,) conjuncts
+    lw: np.ndarray         # (H,) log prior weight (absolute)
+    best: np.ndarray       # (H,) largest member log prior
+    n_pos: np.ndarray      # (H,) positives the group satisfies
+
+
+class Likelihoods(NamedTuple):
+    """``log L = pos[k, ps] + neg[k, ns]``, and ``bound[k, p] >= log L`` whenever ps <= p."""
+
+    pos: np.ndarray
+    neg: np.ndarray
+    bound: np.ndarray
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _counts(s_bits, g, h_pos, h_neg, h):
+    ps = 0
+    ns = 0
+    for w in range(s_bits.shape[1]):
+        ps += popcount(s_bits[g, w] & h_pos[h, w])
+        ns += popcount(s_bits[g, w] & h_neg[h, w])
+    return int(ps), int(ns)
+
+
+@njit(cache=True, nogil=True)
+def likelihood_tables(n_pos, n_neg, max_conj, model):
+    """The likelihood as a sum of a term of the positives and one of the negatives."""
+    lik_pos = np.empty((max_conj + 1, n_pos + 1))
+    lik_neg = np.empty((max_conj + 1, n_neg + 1))
+    bound = np.empty((max_conj + 1, n_pos + 1))
+    for k in range(max_conj + 1):
+        top = -np.inf
+        for ns in range(n_neg + 1):
+            if k == 0 and ns < n_neg:
+                lik_neg[k, ns] = -np.inf  # no conjunct: every demonstration satisfies it
+            else:
+                lik_neg[k, ns] = log_likelihood(0.0, float(ns), 0.0, float(n_neg), k,
+                                                model.log_eps, model.likelihood)
+            top = max(top, lik_neg[k, ns])
+        run = -np.inf
+        for ps in range(n_pos + 1):
+            lik_pos[k, ps] = log_likelihood(float(ps), 0.0, float(n_pos), 0.0, k,
+                                            model.log_eps, model.likelihood)
+            run = max(run, lik_pos[k, ps] + top)
+            bound[k, ps] = run
+    return Likelihoods(lik_pos, lik_neg, bound)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _lse_add(mx, acc, v):
+    # Streaming log-sum-exp: (mx, acc) holds exp(mx) * acc.
+    if v > mx:
+        return v, acc * math.exp(mx - v) + 1.0
+    if v > -np.inf:
+        return mx, acc + math.exp(v - mx)
+    return mx, acc
+
+
+@njit(cache=True, nogil=True)
+def log_evidence(ss, hs, lik, cut_offset, cut_floor):
+    """log of the sum over pairs of groups of weight x likelihood, relative to the structure
+    weights' ref. A pair is skipped when its bound is below the running sum + ``cut_offset``
+    or below ``cut_floor``."""
+    n_neg1 = lik.neg.shape[1]
+    n_cells = lik.pos.shape[1] * n_neg1
+    use_hist = n_cells <= MAX_CELLS
+    hist = np.zeros(n_cells if use_hist else 1)
+    stamp = np.zeros(n_cells if use_hist else 1, dtype=np.int64)
+    touched = np.empty(n_cells if use_hist else 1, dtype=np.int64)
+    log_w = np.log(ss.weight)
+    cur = 0
+    mx = -np.inf
+    acc = 0.0
+    for h in range(hs.pos.shape[0]):
+        p_h = hs.n_pos[h]
+        for c in range(ss.cls_size.shape[0]):
+            k = ss.cls_size[c] + hs.size[h]
+            cut = cut_floor
+            if acc > 0.0:
+                cut = max(cut, mx + math.log(acc) + cut_offset)
+            cur += 1
+            nt = 0
+            for g in range(ss.cls_start[c], ss.cls_start[c + 1]):
+                if lik.bound[k, min(ss.n_pos[g], p_h)] < cut:
+                    break
+                ps, ns = _counts(ss.bits, g, hs.pos, hs.neg, h)
+                if use_hist:
+                    cell = ps * n_neg1 + ns
+                    if stamp[cell] != cur:
+                        stamp[cell] = cur
+                        hist[cell] = 0.0
+                        touched[nt] = cell
+                        nt += 1
+                    hist[cell] += ss.weight[g]
+                else:
+                    mx, acc = _lse_add(mx, acc, log_w[g] + lik.pos[k, ps] + lik.neg[k, ns]
+                                       + hs.lw[h])
+            for i in range(nt):
+                cell = touched[i]
+                ps = cell // n_neg1
+                ns = cell - ps * n_neg1
+                mx, acc = _lse_add(mx, acc, math.log(hist[cell]) + lik.pos[k, ps]
+                                   + lik.neg[k, ns] + hs.lw[h])
+    return mx + math.log(acc)
+
+
+@njit(cache=True, nogil=True)
+def group_masses(ss, hs, lik, log_z, keep, cut, cand, cand_ll):
+    """Posterior mass of every structure group and subset-pair group, and the candidates.
+
+    ``log_z`` is relative to the structure weights' ref. Candidates are the pairs whose best
+    member may reach ``keep`` (absolute log posterior, unnormalised); they fill ``cand``
+    (structure group, subset-pair group) and ``cand_ll`` (log likelihood), and their number is
+    returned even when it exceeds the room (the caller then calls again). Pairs whose bound is
+    below ``cut`` are skipped, as in :func:`log_evidence`.
+    """
+    mass_s = np.zeros(ss.weight.shape[0])
+    mass_h = np.zeros(hs.pos.shape[0])
+    cap = cand.shape[0]
+    n_cand = 0
+    n_neg1 = lik.neg.shape[1]
+    n_cells = lik.pos.shape[1] * n_neg1
+    use_cache = n_cells <= MAX_CELLS
+    stamp = np.zeros(n_cells if use_cache else 1, dtype=np.int64)
+    factor = np.empty(n_cells if use_cache else 1)
+    cell_ll = np.empty(n_cells if use_cache else 1)
+    cur = 0
+    for h in range(hs.pos.shape[0]):
+        off = hs.lw[h] - log_z
+        keep_h = keep - hs.best[h]
+        p_h = hs.n_pos[h]
+        mh = 0.0
+        for c in range(ss.cls_size.shape[0]):
+            k = ss.cls_size[c] + hs.size[h]
+            cur += 1
+            for g in range(ss.cls_start[c], ss.cls_start[c + 1]):
+                if lik.bound[k, min(ss.n_pos[g], p_h)] < cut:
+                    break
+                ps, ns = _counts(ss.bits, g, hs.pos, hs.neg, h)
+                if use_cache:
+                    cell = ps * n_neg1 + ns
+                    if stamp[cell] != cur:
+                        stamp[cell] = cur
+                        cell_ll[cell] = lik.pos[k, ps] + lik.neg[k, ns]
+                        factor[cell] = math.exp(cell_ll[cell] + off)
+                    ll = cell_ll[cell]
+                    p = ss.weight[g] * factor[cell]
+                else:
+                    ll = lik.pos[k, ps] + lik.neg[k, ns]
+                    p = ss.weight[g] * math.exp(ll + off)
+                mass_s[g] += p
+                mh += p
+                if ss.best[g] + ll >= keep_h:
+                    if n_cand < cap:
+                        cand[n_cand, 0] = g
+                        cand[n_cand, 1] = h
+                        cand_ll[n_cand] = ll
+                    n_cand += 1
+        mass_h[h] = mh
+    return mass_s, mass_h, n_cand
+
+
+class Expansion(NamedTuple):
+    """What the last walk needs to split masses and expand the kept hypotheses."""
+
+    rank: np.ndarray        # table group id -> position in the sorted StructureSide
+    mass_s: np.ndarray      # posterior mass of each (sorted) structure group
+    ref_s: float
+    cand_start: np.ndarray  # CSR over sorted structure groups into cand_h / cand_ll
+    cand_h: np.ndarray      # subset-pair group (original id)
+    cand_ll: np.ndarray
+    keep: float             # absolute log posterior (unnormalised) a kept hypothesis reaches
+
+
+@njit(cache=True, nogil=True)
+def walk_structures(full, model, rule, table, ss, ex, subsets, out_par, out_idx, out_lp):
+    """The structures the rule keeps, again: each one's share of its group's mass goes to its
+    order clauses; the hypotheses at or above ``ex.keep`` are written to ``out_*`` (structure,
+    [ordinal, global mask, eventual mask], unnormalised log posterior). Returns the order-clause
+    marginals (``n * n``, ``a * n + v`` for ``a -> v``) and the number of kept hypotheses,
+    which may exceed the room in ``out_*`` (the caller then walks again)."""
+    n = model.n
+    by_mask = np.zeros((n, 1 << n))  # mass by (subtask, its ancestor mask)
+    wk = new_walk(n, full)
+    parent = wk.parent
+    scratch = np.zeros(n, dtype=np.int64)
+    anc = np.zeros(n, dtype=np.int64)
+    cap = out_lp.shape[0]
+    k = 0
+    ordinal = -1
+    hg = subsets.groups
+    while next_kept_structure(wk, model, rule):
+        ordinal += 1
+        lp = structure_log_prior(parent, model, scratch)
+        if lp == -np.inf:
+            continue
+        g = ex.rank[lookup(table, wk.bits[n], wk.size[n])]
+        if ex.mass_s[g] == 0.0 and ex.cand_start[g] == ex.cand_start[g + 1]:
+            continue
+        ancestor_masks(parent, anc)
+        if ss.weight[g] > 0.0 and ex.mass_s[g] > 0.0:
+            share = ex.mass_s[g] * (math.exp(lp - ex.ref_s) / ss.weight[g])
+            for v in range(n):
+                by_mask[v, anc[v]] += share
+        for j in range(ex.cand_start[g], ex.cand_start[g + 1]):
+            h = ex.cand_h[j]
+            need = ex.keep - lp - ex.cand_ll[j]  # a member's log prior must reach this
+            if hg.best[h] < need:
+                continue
+            for q in range(subsets.pair_start[h], subsets.pair_start[h + 1]):
+                gt = subsets.pair_t[q]
+                ge = subsets.pair_e[q]
+                if subsets.t_groups.best[gt] + subsets.e_groups.best[ge] < need:
+                    continue
+                for it in range(subsets.t_start[gt], subsets.t_start[gt + 1]):
+                    t = subsets.t_items[it]
+                    for ie in range(subsets.e_start[ge], subsets.e_start[ge + 1]):
+                        e = subsets.e_items[ie]
+                        lp_te = subsets.t_lp[t] + subsets.e_lp[e]
+                        if lp_te < need:
+                            continue
+                        if k < cap:
+                            out_par[k] = parent
+                            out_idx[k, 0] = ordinal
+                            out_idx[k, 1] = t
+                            out_idx[k, 2] = e
+                            out_lp[k] = lp + lp_te + ex.cand_ll[j]
+                        k += 1
+    marg = np.zeros(n * n)
+    for v in range(n):
+        for m in range(1, 1 << n):
+            if by_mask[v, m] != 0.0:
+                for a in range(n):
+                    if (m >> a) & 1:
+                        marg[a * n + v] += by_mask[v, m]
+    return marg, k

@@ -1,0 +1,205 @@
+"""Grouping of hypothesis parts that the likelihood cannot tell apart.
+
+A part of a hypothesis (an order structure, a subset of globals or of eventuals) enters the
+likelihood only through the bitset of demonstrations it satisfies and its number of conjuncts.
+Parts with the same ``(bitset, size)`` key form one group whose prior weights add up; the exact
+enumeration then runs over groups instead of parts. This module holds the open-addressing hash
+table (numba, no Python objects) that assigns group ids in order of first appearance, so that
+the grouping, and every sum over groups, is deterministic.
+"""
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+__all__ = ["KeyTable", "new_table", "find_or_insert", "with_room", "insert", "lookup",
+           "add_weight", "group_rows", "Groups"]
+
+_EMPTY = -1
+
+
+class KeyTable(NamedTuple):
+    """Hash table from ``(bitset words, size)`` keys to group ids ``0, 1, ...``."""
+
+    slots: np.ndarray   # (capacity,) int64: group id, or -1 for an empty slot
+    bits: np.ndarray    # (room, n_words) uint64: each group's bitset
+    size: np.ndarray    # (room,) int64: each group's number of conjuncts
+    count: np.ndarray   # (1,) int64: number of groups
+
+
+class Groups(NamedTuple):
+    """Groups of parts with their summed prior weight (linear, relative to ``ref``)."""
+
+    bits: np.ndarray    # (G, n_words) uint64
+    size: np.ndarray    # (G,) int64
+    weight: np.ndarray  # (G,) float64: sum of exp(lp - ref) over the members
+    ref: float          # log scale of ``weight``: the largest member log prior
+    best: np.ndarray    # (G,) float64: largest member log prior of each group
+
+
+@njit(cache=True, nogil=True)
+def new_table(n_words, room):
+    """An empty table for keys of ``n_words`` words, with space for ``room`` groups."""
+    room = max(room, 16)
+    cap = 1
+    while cap < 2 * room:
+        cap *= 2
+    return KeyTable(np.full(cap, _EMPTY, dtype=np.int64),
+                    np.empty((room, n_words), dtype=np.uint64),
+                    np.empty(room, dtype=np.int64), np.zeros(1, dtype=np.int64))
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _hash(bits, size):
+    h = np.uint64(size) * np.uint64(0x9E3779B97F4A7C15)
+    for w in range(bits.shape[0]):
+        h ^= bits[w]
+        h *= np.uint64(0xBF58476D1CE4E5B9)
+        h ^= h >> np.uint64(31)
+    return h
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _slot_of(table, bits, size):
+    # The slot holding the key, or the empty slot where it would go.
+    mask = np.uint64(table.slots.shape[0] - 1)
+    i = _hash(bits, size) & mask
+    while True:
+        g = table.slots[i]
+        if g == _EMPTY:
+            return i
+        if table.size[g] == size:
+            same = True
+            for w in range(bits.shape[0]):
+                if table.bits[g, w] != bits[w]:
+                    same = False
+                    break
+            if same:
+                return i
+        i = (i + np.uint64(1)) & mask
+
+
+@njit(cache=True, nogil=True, inline="always")
+def lookup(table, bits, size):
+    """Group id of a key, or -1."""
+    return table.slots[_slot_of(table, bits, size)]
+
+
+@njit(cache=True, nogil=True)
+def _grown(table):
+    n = table.count[0]
+    bigger = new_table(table.bits.shape[1], 2 * table.bits.shape[0])
+    bigger.bits[:n] = table.bits[:n]
+    bigger.size[:n] = table.size[:n]
+    bigger.count[0] = n
+    for g in range(n):
+        bigger.slots[_slot_of(bigger, bigger.bits[g], bigger.size[g])] = g
+    return bigger
+
+
+@njit(cache=True, nogil=True)
+def with_room(table):
+    """The table itself, or a bigger copy when it is full (call before :func:`insert`)."""
+    if table.count[0] == table.bits.shape[0]:
+        return _grown(table)
+    return table
+
+
+@njit(cache=True, nogil=True, inline="always")
+def insert(table, bits, size):
+    """Group id of the key, created if new; the table must have room (:func:`with_room`)."""
+    i = _slot_of(table, bits, size)
+    g = table.slots[i]
+    if g != _EMPTY:
+        return g
+    g = table.count[0]
+    table.slots[i] = g
+    table.bits[g] = bits
+    table.size[g] = size
+    table.count[0] = g + 1
+    return g
+
+
+@njit(cache=True, nogil=True)
+def find_or_insert(table, bits, size):
+    """``(table, group id)``: the key's group, created if new (the table may be replaced)."""
+    i = _slot_of(table, bits, size)
+    g = table.slots[i]
+    if g != _EMPTY:
+        return table, g
+    g = table.count[0]
+    if g == table.bits.shape[0]:
+        table = _grown(table)
+        i = _slot_of(table, bits, size)
+    table.slots[i] = g
+    table.bits[g] = bits
+    table.size[g] = size
+    table.count[0] = g + 1
+    return table, g
+
+
+@njit(cache=True, nogil=True, inline="always")
+def add_weight(weight, best, ref, g, lp, top):
+    """Add a member of log weight ``lp`` to group ``g``; returns the (possibly raised) ``ref``.
+
+    ``weight`` holds ``sum exp(lp - ref)``; when a member beats ``ref`` every weight is rescaled,
+    so no term overflows. ``best[g]`` keeps the largest ``top`` (a member's largest log prior:
+    ``lp`` itself for a single part, the sum of the parts' bests for a pair of groups).
+    """
+    if lp > ref:
+        if ref > -np.inf:
+            scale = math.exp(ref - lp)
+            for i in range(weight.shape[0]):
+                weight[i] *= scale
+        ref = lp
+    weight[g] += math.exp(lp - ref)
+    if top > best[g]:
+        best[g] = top
+    return ref
+
+
+@njit(cache=True, nogil=True)
+def _group_rows(bits, size, lp, top):
+    n_rows, n_words = bits.shape
+    table = new_table(n_words, min(n_rows, 1 << 16))
+    gid = np.full(n_rows, -1, dtype=np.int64)
+    weight = np.zeros(n_rows)
+    best = np.full(n_rows, -np.inf)
+    ref = -np.inf
+    for r in range(n_rows):
+        if lp[r] == -np.inf:
+            continue  # outside the prior's support: no group
+        table, g = find_or_insert(table, bits[r], size[r])
+        gid[r] = g
+        ref = add_weight(weight, best, ref, g, lp[r], top[r])
+    n = table.count[0]
+    return table, gid, Groups(table.bits[:n].copy(), table.size[:n].copy(), weight[:n].copy(),
+                              ref, best[:n].copy())
+
+
+def group_rows(bits, size, lp, top=None):
+    """Group rows by ``(bits, size)``; rows of log weight ``-inf`` get group ``-1``.
+
+    ``lp`` is each row's log weight (its log prior); ``top`` the log prior of its most probable
+    member (``lp`` itself by default), of which each group keeps the largest.
+
+    Returns
+    -------
+    table : KeyTable
+    gid : ndarray of shape (n_rows,), int64
+        Each row's group (ids in order of first appearance).
+    groups : Groups
+
+    Examples
+    --------
+    >>> bits = np.array([[1], [2], [1]], dtype=np.uint64)
+    >>> _, gid, g = group_rows(bits, np.array([1, 1, 1]), np.log([0.5, 0.3, 0.2]))
+    >>> gid.tolist(), np.round(g.weight * np.exp(g.ref), 3).tolist()
+    ([0, 1, 0], [0.7, 0.3])
+    """
+    lp = np.ascontiguousarray(lp, dtype=np.float64)
+    return _group_rows(np.ascontiguousarray(bits, dtype=np.uint64),
+                       np.ascontiguousarray(size, dtype=np.int64), lp,
+                       lp if top is None else np.ascontiguousarray(top, dtype=np.float64))
