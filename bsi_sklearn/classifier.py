@@ -13,7 +13,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.diagnostics import missed_mass, split_rhat
-from bsi_sklearn.exact import exact_posterior
+from bsi_sklearn.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.likelihood import LIKELIHOODS
 from bsi_sklearn.mcmc import (
     deduplicate_demos,
@@ -36,6 +36,9 @@ from bsi_sklearn.traces import check_consistent_traces, check_labels, check_trac
 __all__ = ["BSIClassifier"]
 
 _INFERENCE = ("auto", "exact", "mcmc")
+#: Work budget of inference="auto" for exact enumeration (exact.exact_posterior's max_work):
+#: about a second on this project's 2-core reference machine.
+_AUTO_EXACT_WORK = 1.5e8
 # A chain whose own reweighted posterior misses more than this much of the reported posterior
 # mass (the total variation between the two) means the chains have not found the same mass.
 _MISSED_WARN = 0.05
@@ -77,15 +80,22 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         ``log eps = -4 log(2) (|T| + |Omega| + |Omega|(|Omega|-1)/2)``.
     inference : {"auto", "exact", "mcmc"}, default="auto"
         ``"auto"`` enumerates the posterior exactly when the support has at most
-        ``max_exact_hypotheses`` hypotheses, and samples with MCMC otherwise.
+        ``max_exact_hypotheses`` hypotheses and the enumeration needs at most about a second
+        of work on a 2020s CPU core (a count of the work that depends on the data only, so the
+        choice is the same on every machine; nearly flat posteriors, e.g. a ``"ci"``
+        likelihood with a large ``epsilon``, need the most), and samples with MCMC otherwise.
+        ``inference_`` says which it did.
     n_samples : int, default=10_000
         MCMC steps recorded per chain, after ``burn_in``.
     burn_in : int, default=100
         MCMC steps discarded at the start of every chain.
     n_chains : int, default=4
         Independent MCMC chains, each started from a draw of the prior.
-    max_exact_hypotheses : int, default=2_000_000
-        Largest support enumerated exactly.
+    max_exact_hypotheses : int, default=10_000_000_000
+        Largest support enumerated exactly. Exact inference sums interchangeable parts of the
+        hypotheses and skips, with a bound, those that cannot add 1e-17 of the posterior, so
+        its time depends on the data far more than on this number: the paper's dinner table
+        (2.0e8 hypotheses under Prior 2, 2.4e9 under Prior 3) takes milliseconds.
     tol : float, default=1e-9
         Posterior mass exact inference may drop (its least probable hypotheses); the mass
         actually dropped is ``posterior_.dropped_mass``.
@@ -143,8 +153,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     never visited more than 5% of the reported posterior mass (``max_missed_mass``). Raw
     log-posterior traces may wander (their split-R-hat is kept as ``rhat``) while the reported
     posterior is right; with one chain there is nothing to compare and no warning. With the
-    default roles (every proposition a global candidate and a subtask) and a support too large
-    to enumerate, a ``UserWarning`` suggests ``global_candidates``, ``subtasks`` and
+    default roles (every proposition a global candidate and a subtask) and a support that
+    ``"auto"`` could not enumerate, a ``UserWarning`` suggests ``global_candidates``, ``subtasks`` and
     ``conditions``.
 
     References
@@ -169,7 +179,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     def __init__(self, *, prior="sets_of_chains", likelihood="cb", global_candidates=None,
                  subtasks=None, conditions=None, p_global=0.8, p_eventual=0.8, p_part=0.3,
                  n_new=5.0, epsilon=None, inference="auto", n_samples=10_000, burn_in=100,
-                 n_chains=4, max_exact_hypotheses=2_000_000, tol=1e-9, binarize=None,
+                 n_chains=4, max_exact_hypotheses=10_000_000_000, tol=1e-9, binarize=None,
                  pos_label=None, n_jobs=None, random_state=None, verbose=0):
         self.prior = prior
         self.likelihood = likelihood
@@ -268,19 +278,25 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
                            p_part=self.p_part, n_new=self.n_new, epsilon=self.epsilon)
         n_hyp = count_hypotheses(self.prior, n_g, n)
         inference = self.inference
+        work = None
         if inference == "auto":
             inference = "exact" if n_hyp <= self.max_exact_hypotheses else "mcmc"
+            work = _AUTO_EXACT_WORK
         elif inference == "exact" and n_hyp > self.max_exact_hypotheses:
             raise ValueError(
                 f"inference='exact' needs {n_hyp:,} hypotheses ({n_g} global candidates, {n} "
                 f"subtasks, prior={self.prior!r}), above max_exact_hypotheses="
                 f"{self.max_exact_hypotheses:,}; raise max_exact_hypotheses or use 'mcmc'"
             )
-        if inference == "mcmc":
-            self._warn_default_roles(traces.n_props, n_hyp)
         if inference == "exact":
-            self.posterior_, self.mcmc_diagnostics_ = self._fit_exact(truth, y01, roles, model)
-        else:
+            try:
+                self.posterior_, self.mcmc_diagnostics_ = self._fit_exact(truth, y01, roles,
+                                                                          model, work)
+            except ExactWorkExceeded:  # only "auto" sets a budget: sample instead
+                inference = "mcmc"
+        if inference == "mcmc":
+            if self.inference == "auto":
+                self._warn_default_roles(traces.n_props, n_hyp)
             rng = check_random_state(self.random_state)
             seeds = rng.randint(np.iinfo(np.int32).max, size=self.n_chains)
             self.posterior_, self.mcmc_diagnostics_ = self._fit_mcmc(
@@ -309,7 +325,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         warnings.warn(
             f"With the default roles all {n_props} propositions are global candidates and "
             f"subtasks: the support has {n_hyp:.3g} hypotheses, too many to enumerate "
-            f"(max_exact_hypotheses={self.max_exact_hypotheses:,}), so MCMC samples it, and "
+            f"(max_exact_hypotheses={self.max_exact_hypotheses:,}, and about a second of "
+            "enumeration for inference='auto'), so MCMC samples it, and "
             "the most probable specifications fill with trivial clauses. Say which propositions "
             "play which role with global_candidates=, subtasks= and conditions= (a dataset's "
             "Bunch has them: BSIClassifier(**data.roles)).",
@@ -335,8 +352,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
             stacklevel=3,
         )
 
-    def _fit_exact(self, truth, y01, roles, model):
-        res = exact_posterior(truth, y01, model, tol=float(self.tol))
+    def _fit_exact(self, truth, y01, roles, model, max_work):
+        res = exact_posterior(truth, y01, model, tol=float(self.tol), max_work=max_work)
         probs = np.exp(res.log_prob)
         probs /= probs.sum()
         post = Posterior(res.structures, res.tau_masks, res.w1_masks, probs, roles,

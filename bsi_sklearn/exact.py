@@ -33,11 +33,16 @@ from bsi_sklearn.exact_parts import subset_table
 from bsi_sklearn.exact_ungrouped import LabelMasks, structure_tables, ungrouped_kernel
 from bsi_sklearn.priors import PRIORS, count_hypotheses, support_structures
 
-__all__ = ["exact_posterior", "ExactResult"]
+__all__ = ["exact_posterior", "ExactResult", "ExactWorkExceeded", "MAX_KEPT"]
+
+#: Default most hypotheses an exact posterior lists (about 100 bytes each).
+MAX_KEPT = 1_000_000
 
 #: Pairs of groups whose total mass is bounded below exp(_MARGIN) of the evidence are skipped
 #: (and never when ``tol`` is 0).
 _MARGIN = math.log(1e-17)
+_STRUCTURE_COST = 100
+_EMIT_COST = 20
 
 #: Largest (satisfied positives x satisfied negatives) histogram of the first pass; above it
 #: every pair of groups pays a log and an exp instead.
@@ -96,7 +101,7 @@ def _structure_side(sg, pos):
     size = sg.size[order]
     cls_size, cls_first = np.unique(size, return_index=True)
     side = StructureSide(np.ascontiguousarray(sg.bits[order]), sg.weight[order], sg.best[order],
-                         n_pos[order], np.append(cls_first, len(size)).astype(np.int64),
+                         n_pos[order], size, np.append(cls_first, len(size)).astype(np.int64),
                          cls_size.astype(np.int64))
     return side, rank
 
@@ -113,20 +118,47 @@ def _subset_side(hg, labels):
     return side, order
 
 
-def _evidence(full, model, rule, hs, lik, margin):
-    # Group the structures the rule keeps; log evidence over them (absolute) and what the
-    # later passes need.
-    table, sg = group_structures(full, model, rule)
+class ExactWorkExceeded(RuntimeError):
+    """The enumeration would take more work than the budget it was given (``max_work``)."""
+
+
+class _Budget:
+    # Work in units of one pair-of-groups evaluation (about 5-10 ns here): a structure walked
+    # costs about _STRUCTURE_COST of them, a hypothesis the last walk may list (every subset
+    # pair of a structure whose group may hold a kept hypothesis) about _EMIT_COST. The count
+    # depends on the data only, never on timing.
+    def __init__(self, max_work):
+        self.left = np.inf if max_work is None else float(max_work)
+
+    def visits(self):
+        return int(min(self.left / _STRUCTURE_COST, 2**62))
+
+    def spend(self, work, what):
+        self.left -= work
+        if self.left < 0:
+            raise ExactWorkExceeded(f"exact enumeration stopped: {what} exceeds its work budget")
+
+
+def _evidence(full, model, rule, hs, lik, margin, budget):
+    # Group the structures the rule keeps; log evidence over them (relative to the groups'
+    # ref) and what the later passes need.
+    table, sg, members, n_visited, complete = group_structures(full, model, rule)
+    budget.spend(_STRUCTURE_COST * n_visited, f"walking {n_visited:,} order structures")
+    if not complete:
+        budget.spend(np.inf, "walking the order structures")
+    budget.spend(len(sg.size) * len(hs.lw),
+                 f"{len(sg.size):,} x {len(hs.lw):,} pairs of groups")
     ss, rank = _structure_side(sg, rule.pos)
     if not ss.weight.sum() > 0.0:
-        return table, sg, ss, rank, -np.inf, 0.0
+        return table, sg, ss, rank, members, -np.inf, 0.0
     prior_total = math.log(ss.weight.sum()) + np.logaddexp.reduce(hs.lw)
     log_z_rel = log_evidence(ss, hs, lik, margin - prior_total,
                              rule.cut - sg.ref + margin - prior_total)
-    return table, sg, ss, rank, log_z_rel, margin - prior_total
+    return table, sg, ss, rank, members, log_z_rel, margin - prior_total
 
 
-def _grouped(clause_bits, full, labels, model, log_keep):
+def _grouped(clause_bits, full, labels, model, log_keep, max_kept, max_work):
+    budget = _Budget(max_work)
     subsets = group_subsets(clause_bits, full, model)
     hs, h_order = _subset_side(subsets.groups, labels)
     max_conj = model.n_g + model.n + model.n * (model.n - 1) // 2
@@ -141,37 +173,34 @@ def _grouped(clause_bits, full, labels, model, log_keep):
         # A lower bound of the evidence from the structures whose orders every acceptable
         # demonstration satisfies; then every structure that could add more than exp(margin)
         # of it.
-        rule = Pruning(clause_bits, labels.pos, bound, -np.inf, n_pos)
-        _, sg1, _, _, log_z1, _ = _evidence(full, model, rule, hs, lik, margin)
+        rule = Pruning(clause_bits, labels.pos, bound, -np.inf, n_pos, budget.visits())
+        _, sg1, _, _, _, log_z1, _ = _evidence(full, model, rule, hs, lik, margin, budget)
         if log_z1 > -np.inf:
             cut = log_z1 + sg1.ref + margin - h_total
-    rule = Pruning(clause_bits, labels.pos, bound, cut, 0)
-    table, sg, ss, rank, log_z_rel, offset = _evidence(full, model, rule, hs, lik, margin)
+    rule = Pruning(clause_bits, labels.pos, bound, cut, 0, budget.visits())
+    table, sg, ss, rank, members, log_z_rel, offset = _evidence(full, model, rule, hs, lik,
+                                                                margin, budget)
     log_z = log_z_rel + sg.ref
     keep = log_keep + log_z
     cut_pairs = log_z_rel + offset
-    cand, cand_ll = np.empty((4096, 2), dtype=np.int64), np.empty(4096)
-    mass_s, mass_h, n_cand = group_masses(ss, hs, lik, log_z_rel, keep, cut_pairs, cand,
-                                          cand_ll)
-    if n_cand > len(cand):  # rare: run again with room for every candidate
-        cand, cand_ll = np.empty((n_cand, 2), dtype=np.int64), np.empty(n_cand)
-        mass_s, mass_h, n_cand = group_masses(ss, hs, lik, log_z_rel, keep, cut_pairs, cand,
-                                              cand_ll)
-    cand, cand_ll = cand[:n_cand], cand_ll[:n_cand]
+    budget.spend(len(ss.weight) * len(hs.lw), "the second pass")
+    mass_s, mass_h, flag = group_masses(ss, hs, lik, log_z_rel, keep, cut_pairs)
+    n_expand = int(members[flag.astype(bool)[rank]].sum())  # members: table order
+    n_subsets = 2 ** (model.n_g + model.n)
+    budget.spend(_EMIT_COST * n_expand * n_subsets + _STRUCTURE_COST * int(members.sum()),
+                 f"listing the hypotheses of {n_expand:,} order structures")
+    ex = Expansion(rank, mass_s, sg.ref, flag, h_order, keep)
     mass_h = mass_h[np.argsort(h_order)]  # back to the groups' own order
-    by_g = np.argsort(cand[:, 0], kind="stable")
-    ex = Expansion(rank, mass_s, sg.ref,
-                   np.searchsorted(cand[by_g, 0], np.arange(len(mass_s) + 1)).astype(np.int64),
-                   np.ascontiguousarray(h_order[cand[by_g, 1]]),
-                   np.ascontiguousarray(cand_ll[by_g]), keep)
-    room = 4096
+    room = max(1, min(n_expand * n_subsets, max_kept))  # at most what may be listed
     while True:
         par = np.empty((room, model.n), dtype=np.int64)
         idx, lp = np.empty((room, 3), dtype=np.int64), np.empty(room)
-        marg_o, n_out = walk_structures(full, model, rule, table, ss, ex, subsets, par, idx, lp)
-        if n_out <= room:
+        marg_o, n_out = walk_structures(full, model, rule, table, ss, hs, lik, ex, subsets, par,
+                                        idx, lp)
+        if n_out <= room or room == max_kept:
             break
-        room = n_out  # rare: walk again with room for every kept hypothesis
+        room = min(n_out, max_kept)  # rare: walk again with room for more
+    n_out = min(n_out, room)
     par, idx, lp = par[:n_out], idx[:n_out], lp[:n_out] - log_z
     kept = lp >= log_keep
     par, idx, lp = par[kept], idx[kept], lp[kept]
@@ -181,7 +210,7 @@ def _grouped(clause_bits, full, labels, model, log_keep):
     return log_z, par[order], idx[order, 1], idx[order, 2], lp[order], marg
 
 
-def _ungrouped(clause_bits, full, labels, model, log_keep):
+def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, max_work):
     n_g, n = model.n_g, model.n
     structures = support_structures(model)
     parts_s = structure_tables(structures, clause_bits, full, model)
@@ -208,7 +237,8 @@ def _ungrouped(clause_bits, full, labels, model, log_keep):
     return (log_z, structures[keep_idx[:, 0]], keep_idx[:, 1], keep_idx[:, 2], keep_lp, marg)
 
 
-def exact_posterior(truth, y01, model, tol=1e-9, grouped=True):
+def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT,
+                    max_work=None):
     """Enumerate the support and return the posterior.
 
     Parameters
@@ -224,6 +254,22 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True):
     grouped : bool, default=True
         Enumerate groups of interchangeable parts (the engine); ``False`` runs the ungrouped
         reference over every hypothesis.
+    max_kept : int, default=MAX_KEPT
+        Most hypotheses returned (bounds the memory of a nearly flat posterior); when more are
+        needed to cover ``1 - tol`` the most probable are kept and ``dropped_mass`` says how
+        much the rest hold. The clause marginals and the evidence are exact either way. The
+        ungrouped reference ignores it.
+    max_work : float or None, default=None
+        Work budget, in evaluations of a pair of groups (about 5-10 ns each here; a structure
+        walked counts 100, a hypothesis that may be listed 20): :class:`ExactWorkExceeded` is
+        raised as soon as the enumeration is
+        known to need more. The count depends on the data only, so the outcome is the same on
+        every machine. ``None``: no limit. The ungrouped reference ignores it.
+
+    Raises
+    ------
+    ExactWorkExceeded
+        When ``max_work`` is exceeded.
 
     Returns
     -------
@@ -246,7 +292,8 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True):
     log_keep = math.log(tol / n_hyp) if tol > 0 else -np.inf
     engine = _grouped if grouped else _ungrouped
     log_z, structures, t_masks, e_masks, keep_lp, marg = engine(clause_bits, full, labels,
-                                                                model, log_keep)
+                                                                model, log_keep, max_kept,
+                                                                max_work)
     # Smallest prefix of the sorted kept hypotheses that covers 1 - tol.
     cum = np.cumsum(np.exp(keep_lp))
     if tol > 0:

@@ -38,6 +38,7 @@ class StructureSide(NamedTuple):
     weight: np.ndarray     # (G,) prior weight relative to exp(ref)
     best: np.ndarray       # (G,) largest member log prior (absolute)
     n_pos: np.ndarray      # (G,) positives the group satisfies
+    size: np.ndarray       # (G,) number of orders
     cls_start: np.ndarray  # (C + 1,) size classes: groups cls_start[c]:cls_start[c + 1]
     cls_size: np.ndarray   # (C,) the class' number of orders
 
@@ -154,19 +155,17 @@ def log_evidence(ss, hs, lik, cut_offset, cut_floor):
 
 
 @njit(cache=True, nogil=True)
-def group_masses(ss, hs, lik, log_z, keep, cut, cand, cand_ll):
-    """Posterior mass of every structure group and subset-pair group, and the candidates.
+def group_masses(ss, hs, lik, log_z, keep, cut):
+    """Posterior mass of every structure group and subset-pair group, and which structure
+    groups may hold a kept hypothesis.
 
-    ``log_z`` is relative to the structure weights' ref. Candidates are the pairs whose best
-    member may reach ``keep`` (absolute log posterior, unnormalised); they fill ``cand``
-    (structure group, subset-pair group) and ``cand_ll`` (log likelihood), and their number is
-    returned even when it exceeds the room (the caller then calls again). Pairs whose bound is
-    below ``cut`` are skipped, as in :func:`log_evidence`.
+    ``log_z`` is relative to the structure weights' ref. A structure group is flagged when,
+    with some subset-pair group, its best member may reach ``keep`` (absolute log posterior,
+    unnormalised). Pairs whose bound is below ``cut`` are skipped, as in :func:`log_evidence`.
     """
     mass_s = np.zeros(ss.weight.shape[0])
     mass_h = np.zeros(hs.pos.shape[0])
-    cap = cand.shape[0]
-    n_cand = 0
+    flag = np.zeros(ss.weight.shape[0], dtype=np.uint8)
     n_neg1 = lik.neg.shape[1]
     n_cells = lik.pos.shape[1] * n_neg1
     use_cache = n_cells <= MAX_CELLS
@@ -200,13 +199,9 @@ def group_masses(ss, hs, lik, log_z, keep, cut, cand, cand_ll):
                 mass_s[g] += p
                 mh += p
                 if ss.best[g] + ll >= keep_h:
-                    if n_cand < cap:
-                        cand[n_cand, 0] = g
-                        cand[n_cand, 1] = h
-                        cand_ll[n_cand] = ll
-                    n_cand += 1
+                    flag[g] = 1
         mass_h[h] = mh
-    return mass_s, mass_h, n_cand
+    return mass_s, mass_h, flag
 
 
 class Expansion(NamedTuple):
@@ -215,19 +210,61 @@ class Expansion(NamedTuple):
     rank: np.ndarray        # table group id -> position in the sorted StructureSide
     mass_s: np.ndarray      # posterior mass of each (sorted) structure group
     ref_s: float
-    cand_start: np.ndarray  # CSR over sorted structure groups into cand_h / cand_ll
-    cand_h: np.ndarray      # subset-pair group (original id)
-    cand_ll: np.ndarray
+    flag: np.ndarray        # (sorted) structure groups that may hold a kept hypothesis
+    h_order: np.ndarray     # SubsetSide position -> subset-pair group id
     keep: float             # absolute log posterior (unnormalised) a kept hypothesis reaches
 
 
 @njit(cache=True, nogil=True)
-def walk_structures(full, model, rule, table, ss, ex, subsets, out_par, out_idx, out_lp):
+def _heap_add(heap_lp, heap_slot, size, value, slot):
+    # Min-heap of (log posterior, slot of out_*): the least probable kept hypothesis on top.
+    i = size
+    heap_lp[i] = value
+    heap_slot[i] = slot
+    while i > 0:
+        up = (i - 1) // 2
+        if heap_lp[up] <= heap_lp[i]:
+            break
+        heap_lp[i], heap_lp[up] = heap_lp[up], heap_lp[i]
+        heap_slot[i], heap_slot[up] = heap_slot[up], heap_slot[i]
+        i = up
+
+
+@njit(cache=True, nogil=True)
+def _heap_replace_top(heap_lp, heap_slot, size, value):
+    # The top's slot now holds a more probable hypothesis: restore the heap.
+    heap_lp[0] = value
+    i = 0
+    while True:
+        small = i
+        for child in (2 * i + 1, 2 * i + 2):
+            if child < size and heap_lp[child] < heap_lp[small]:
+                small = child
+        if small == i:
+            break
+        heap_lp[i], heap_lp[small] = heap_lp[small], heap_lp[i]
+        heap_slot[i], heap_slot[small] = heap_slot[small], heap_slot[i]
+        i = small
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _put(out_par, out_idx, out_lp, slot, parent, ordinal, t, e, value):
+    out_par[slot] = parent
+    out_idx[slot, 0] = ordinal
+    out_idx[slot, 1] = t
+    out_idx[slot, 2] = e
+    out_lp[slot] = value
+
+
+@njit(cache=True, nogil=True)
+def walk_structures(full, model, rule, table, ss, hs, lik, ex, subsets, out_par, out_idx,
+                    out_lp):
     """The structures the rule keeps, again: each one's share of its group's mass goes to its
     order clauses; the hypotheses at or above ``ex.keep`` are written to ``out_*`` (structure,
-    [ordinal, global mask, eventual mask], unnormalised log posterior). Returns the order-clause
-    marginals (``n * n``, ``a * n + v`` for ``a -> v``) and the number of kept hypotheses,
-    which may exceed the room in ``out_*`` (the caller then walks again)."""
+    [ordinal, global mask, eventual mask], unnormalised log posterior), in no particular order;
+    when there are more than they have room for, a min-heap keeps the most probable. Returns the order-clause
+    marginals (``n * n``, ``a * n + v`` for ``a -> v``) and the number of hypotheses at or
+    above ``ex.keep``, which may exceed the room in ``out_*``."""
     n = model.n
     by_mask = np.zeros((n, 1 << n))  # mass by (subtask, its ancestor mask)
     wk = new_walk(n, full)
@@ -235,27 +272,37 @@ def walk_structures(full, model, rule, table, ss, ex, subsets, out_par, out_idx,
     scratch = np.zeros(n, dtype=np.int64)
     anc = np.zeros(n, dtype=np.int64)
     cap = out_lp.shape[0]
+    heap_lp = np.empty(cap)
+    heap_slot = np.empty(cap, dtype=np.int64)
     k = 0
     ordinal = -1
-    hg = subsets.groups
     while next_kept_structure(wk, model, rule):
         ordinal += 1
         lp = structure_log_prior(parent, model, scratch)
         if lp == -np.inf:
             continue
         g = ex.rank[lookup(table, wk.bits[n], wk.size[n])]
-        if ex.mass_s[g] == 0.0 and ex.cand_start[g] == ex.cand_start[g + 1]:
+        if ex.mass_s[g] == 0.0 and not ex.flag[g]:
             continue
         ancestor_masks(parent, anc)
         if ss.weight[g] > 0.0 and ex.mass_s[g] > 0.0:
             share = ex.mass_s[g] * (math.exp(lp - ex.ref_s) / ss.weight[g])
             for v in range(n):
                 by_mask[v, anc[v]] += share
-        for j in range(ex.cand_start[g], ex.cand_start[g + 1]):
-            h = ex.cand_h[j]
-            need = ex.keep - lp - ex.cand_ll[j]  # a member's log prior must reach this
-            if hg.best[h] < need:
+        if not ex.flag[g]:
+            continue
+        size = ss.size[g]
+        for hi in range(hs.pos.shape[0]):
+            ps, ns = _counts(ss.bits, g, hs.pos, hs.neg, hi)
+            k_conj = size + hs.size[hi]
+            ll = lik.pos[k_conj, ps] + lik.neg[k_conj, ns]
+            floor = ex.keep
+            if k >= cap and heap_lp[0] > floor:
+                floor = heap_lp[0]  # the heap is full: beat its least probable
+            need = floor - lp - ll  # a member's log prior must reach this
+            if hs.best[hi] < need:
                 continue
+            h = ex.h_order[hi]
             for q in range(subsets.pair_start[h], subsets.pair_start[h + 1]):
                 gt = subsets.pair_t[q]
                 ge = subsets.pair_e[q]
@@ -268,13 +315,15 @@ def walk_structures(full, model, rule, table, ss, ex, subsets, out_par, out_idx,
                         lp_te = subsets.t_lp[t] + subsets.e_lp[e]
                         if lp_te < need:
                             continue
-                        if k < cap:
-                            out_par[k] = parent
-                            out_idx[k, 0] = ordinal
-                            out_idx[k, 1] = t
-                            out_idx[k, 2] = e
-                            out_lp[k] = lp + lp_te + ex.cand_ll[j]
+                        value = lp + lp_te + ll
                         k += 1
+                        if k <= cap:
+                            _put(out_par, out_idx, out_lp, k - 1, parent, ordinal, t, e, value)
+                            _heap_add(heap_lp, heap_slot, k - 1, value, k - 1)
+                        elif value > heap_lp[0]:
+                            _put(out_par, out_idx, out_lp, heap_slot[0], parent, ordinal, t, e,
+                                 value)
+                            _heap_replace_top(heap_lp, heap_slot, cap, value)
     marg = np.zeros(n * n)
     for v in range(n):
         for m in range(1, 1 << n):

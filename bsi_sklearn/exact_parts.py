@@ -81,6 +81,7 @@ class Pruning(NamedTuple):
     bound: np.ndarray        # (n_pos + 1,) non-decreasing bound on the log likelihood
     cut: float
     min_pos: int
+    max_visits: int          # the walk stops after this many structures (a work budget)
 
 
 class StructureWalk(NamedTuple):
@@ -185,49 +186,62 @@ def ancestor_masks(parent, anc):
 
 
 @njit(cache=True, nogil=True)
-def _fill_groups(wk, model, rule, table, weight, best, ref, scratch):
-    # Group kept structures until the walk ends (returns True) or the table is full; the walk
-    # resumes at the next call (growing arrays inside this loop would make numba reload them
-    # at every step).
+def _fill_groups(wk, model, rule, table, weight, best, members, ref, scratch, visits):
+    # Group kept structures until the walk ends (returns 1), the table is full (0) or more
+    # than rule.max_visits structures were seen (2); the walk resumes at the next call
+    # (growing arrays inside this loop would make numba reload them at every step).
     n = model.n
     room = table.bits.shape[0]
     while table.count[0] < room:
         if not next_kept_structure(wk, model, rule):
-            return True
+            return 1
+        visits[0] += 1
+        if visits[0] > rule.max_visits:
+            return 2
         lp = structure_log_prior(wk.parent, model, scratch)
         if lp == -np.inf:
             continue
         g = insert(table, wk.bits[n], wk.size[n])
+        members[g] += 1
         ref[0] = add_weight(weight, best, ref[0], g, lp, lp)
-    return False
+    return 0
 
 
 @njit(cache=True, nogil=True)
 def group_structures(full, model, rule):
     """Walk the order structures the rule keeps and group them by ``(bitset, size)``.
 
-    Returns ``(table, groups, n_visited)``: the hash table (to find a structure's group
-    again), the groups with their summed prior weights, and how many structures were grouped.
-    Memory grows with the number of groups only.
+    Returns ``(table, groups, members, n_visited, complete)``: the hash table (to find a
+    structure's group again), the groups with their summed prior weights, each group's number
+    of structures, how many structures were walked, and False when the walk stopped at
+    ``rule.max_visits``. Memory grows with the number of groups only.
     """
     n = model.n
     table = new_table(full.shape[0], 4096)
     weight = np.zeros(table.bits.shape[0])
     best = np.full(table.bits.shape[0], -np.inf)
+    members = np.zeros(table.bits.shape[0], dtype=np.int64)
     ref = np.full(1, -np.inf)
+    visits = np.zeros(1, dtype=np.int64)
     wk = new_walk(n, full)
     scratch = np.zeros(n, dtype=np.int64)
-    while not _fill_groups(wk, model, rule, table, weight, best, ref, scratch):
+    while True:
+        code = _fill_groups(wk, model, rule, table, weight, best, members, ref, scratch, visits)
+        if code:
+            break
         table = with_room(table)
         room = table.bits.shape[0]
         w2 = np.zeros(room)
         w2[:weight.shape[0]] = weight
         b2 = np.full(room, -np.inf)
         b2[:best.shape[0]] = best
-        weight, best = w2, b2
+        m2 = np.zeros(room, dtype=np.int64)
+        m2[:members.shape[0]] = members
+        weight, best, members = w2, b2, m2
     k = table.count[0]
-    return table, Groups(table.bits[:k].copy(), table.size[:k].copy(), weight[:k].copy(),
-                         ref[0], best[:k].copy())
+    groups = Groups(table.bits[:k].copy(), table.size[:k].copy(), weight[:k].copy(), ref[0],
+                    best[:k].copy())
+    return table, groups, members[:k].copy(), visits[0], code == 1
 
 
 def _members(gid, n_groups):

@@ -1,0 +1,213 @@
+"""The grouped exact engine against the ungrouped enumeration and brute force.
+
+The engine sums interchangeable parts into groups and skips, with a bound, what cannot add
+more than 1e-17 of the evidence; none of it may change the posterior beyond rounding.
+"""
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from bsi_sklearn.clauses import pack_rows, popcounts
+from bsi_sklearn.exact import ExactWorkExceeded, exact_posterior
+from bsi_sklearn.exact_parts import Pruning, group_structures, new_walk, next_kept_structure
+from bsi_sklearn.grouping import group_rows
+from bsi_sklearn.model import make_model
+from bsi_sklearn.priors import (
+    PRIORS,
+    count_structures,
+    enumerate_structures,
+    log_prior_structure,
+    structure_log_prior,
+)
+
+
+def _brute_structures(prior, n):
+    out = []
+    for par in itertools.product(range(-1, n), repeat=n):
+        if any(par[v] == v for v in range(n)):
+            continue
+        ok = True
+        for v in range(n):
+            a, steps = par[v], 0
+            while a >= 0 and steps <= n:
+                a, steps = par[a], steps + 1
+            ok &= a < 0
+        if not ok:
+            continue
+        children = [sum(p == v for p in par) for v in range(n)]
+        if prior != "forest" and max(children, default=0) > 1:
+            continue
+        if prior == "linear_chain" and n and sum(p < 0 for p in par) != 1:
+            continue
+        out.append(par)
+    return sorted(out)
+
+
+@pytest.mark.parametrize("prior", PRIORS)
+@pytest.mark.parametrize("n", range(0, 6))
+def test_depth_first_structures_are_the_support_in_order(prior, n):
+    got = [tuple(r) for r in enumerate_structures(prior, n).tolist()]
+    assert len(got) == count_structures(prior, n)
+    assert got == _brute_structures(prior, n)  # lexicographic, no duplicates
+
+
+@pytest.mark.parametrize("prior", PRIORS)
+def test_depth_first_counts_up_to_eight(prior):
+    for n in (6, 7, 8):
+        assert len(enumerate_structures(prior, n)) == count_structures(prior, n)
+
+
+@pytest.mark.parametrize("prior", PRIORS)
+def test_structure_log_prior_matches_closed_form(prior):
+    model = make_model(prior=prior, likelihood="cb", n_globals=1, n_subtasks=5, p_part=0.37,
+                       n_new=2.5)
+    scratch = np.zeros(5, dtype=np.int64)
+    total = 0.0
+    for parent in enumerate_structures(prior, 5):
+        ref = log_prior_structure(parent, model)
+        assert structure_log_prior(parent, model, scratch) == pytest.approx(ref, abs=1e-12)
+        total += math.exp(ref)
+    assert total == pytest.approx(1.0, abs=1e-12)  # the skip bound relies on it
+
+
+def test_group_rows_sums_weights_in_order_of_first_appearance():
+    bits = np.array([[3], [1], [3], [3]], dtype=np.uint64)
+    size = np.array([2, 1, 2, 1])
+    lp = np.log([0.1, 0.2, 0.3, 0.4])
+    _, gid, g = group_rows(bits, size, lp)
+    assert gid.tolist() == [0, 1, 0, 2]
+    assert np.allclose(g.weight * np.exp(g.ref), [0.4, 0.2, 0.4])
+    assert np.allclose(g.best, np.log([0.3, 0.2, 0.4]))
+
+
+def _walk_all(prior, n, clause_bits, full, pos, min_pos):
+    model = make_model(prior=prior, likelihood="cb", n_globals=0, n_subtasks=n)
+    rule = Pruning(clause_bits, pos, np.zeros(int(popcounts(full[None], pos)[0]) + 1), -np.inf,
+                   min_pos, 2**62)
+    wk = new_walk(n, full)
+    seen = []
+    while next_kept_structure(wk, model, rule):
+        seen.append((tuple(wk.parent), wk.bits[n].copy(), int(wk.size[n])))
+    return seen
+
+
+@pytest.mark.parametrize("prior", PRIORS)
+def test_pruned_walk_keeps_exactly_the_structures_every_positive_satisfies(prior):
+    rng = np.random.default_rng(4)
+    n, n_demos = 4, 40
+    truth = (rng.random((n_demos, n + n * n)) < 0.85).astype(np.uint8)  # no globals
+    y = rng.random(n_demos) < 0.6
+    clause_bits = pack_rows(np.ascontiguousarray(truth.T))
+    full = pack_rows(np.ones((1, n_demos), dtype=np.uint8))[0]
+    pos = pack_rows(y.astype(np.uint8)[None])[0]
+    everything = _walk_all(prior, n, clause_bits, full, pos, 0)
+    assert [s[0] for s in everything] == [tuple(r) for r in enumerate_structures(prior, n)]
+    for parent, bits, size in everything:
+        orders = [(a, v) for v in range(n) for a in _ancestors(parent, v)]
+        sat = np.ones(n_demos, bool)
+        for a, v in orders:
+            sat &= truth[:, n + a * n + v] == 1
+        assert size == len(orders)
+        assert np.array_equal(bits, pack_rows(sat.astype(np.uint8)[None])[0])
+    kept = [s[0] for s in _walk_all(prior, n, clause_bits, full, pos, int(y.sum()))]
+    want = [s[0] for s in everything
+            if popcounts(s[1][None], pos)[0] == y.sum()]
+    assert kept == want
+
+
+def _ancestors(parent, v):
+    out, a = [], parent[v]
+    while a >= 0:
+        out.append(a)
+        a = parent[a]
+    return out
+
+
+def _problem(seed, prior, likelihood, n_g, n, n_demos, frac_pos, p_true, epsilon):
+    rng = np.random.default_rng(seed)
+    truth = (rng.random((n_demos, n_g + n + n * n)) < p_true).astype(np.uint8)
+    # Repeated demonstrations and a planted specification that most positives satisfy.
+    truth[rng.integers(0, n_demos, n_demos // 3)] = truth[0]
+    y = (rng.random(n_demos) < frac_pos).astype(np.int64)
+    planted = rng.random(truth.shape[1]) < 0.3
+    truth[(y == 1)[:, None] & planted[None, :] & (rng.random(truth.shape) < 0.9)] = 1
+    model = make_model(prior=prior, likelihood=likelihood, n_globals=n_g, n_subtasks=n,
+                       epsilon=epsilon)
+    return truth, y, model
+
+
+def _as_dict(res):
+    return {(tuple(p), tuple(t), tuple(e)): lp for p, t, e, lp in
+            zip(res.structures.tolist(), res.tau_masks.tolist(), res.w1_masks.tolist(),
+                res.log_prob)}
+
+
+def _assert_same_posterior(a, b):
+    assert a.n_hypotheses == b.n_hypotheses
+    assert a.log_evidence == pytest.approx(b.log_evidence, rel=1e-12, abs=1e-9)
+    assert np.abs(a.clause_marginals - b.clause_marginals).max(initial=0) < 1e-12
+    assert a.dropped_mass == pytest.approx(b.dropped_mass, abs=1e-12)
+    da, db = _as_dict(a), _as_dict(b)
+    # Hypotheses of equal posterior at the cut may be listed either way (rounding).
+    cut = min(min(da.values(), default=0), min(db.values(), default=0))
+    assert all(abs(da.get(k, db.get(k)) - cut) < 1e-9 for k in set(da) ^ set(db))
+    assert all(abs(da[k] - db[k]) < 1e-11 for k in set(da) & set(db))
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 10**6), prior=st.sampled_from(PRIORS),
+       likelihood=st.sampled_from(["cb", "ci"]), n_g=st.integers(0, 3), n=st.integers(0, 4),
+       n_demos=st.integers(1, 80), frac_pos=st.sampled_from([0.0, 0.5, 0.8, 1.0]),
+       p_true=st.floats(0.3, 0.97), epsilon=st.sampled_from([None, 0.01, 0.2]),
+       tol=st.sampled_from([1e-9, 1e-4, 0.0]))
+def test_grouped_equals_ungrouped(seed, prior, likelihood, n_g, n, n_demos, frac_pos, p_true,
+                                  epsilon, tol):
+    truth, y, model = _problem(seed, prior, likelihood, n_g, n, n_demos, frac_pos, p_true,
+                               epsilon)
+    a = exact_posterior(truth, y, model, tol=tol)
+    b = exact_posterior(truth, y, model, tol=tol, grouped=False)
+    _assert_same_posterior(a, b)
+
+
+@pytest.mark.parametrize("prior", PRIORS)
+def test_grouped_equals_ungrouped_on_a_larger_support(prior):
+    truth, y, model = _problem(11, prior, "cb", 2, 5, 70, 0.75, 0.8, None)
+    _assert_same_posterior(exact_posterior(truth, y, model),
+                           exact_posterior(truth, y, model, grouped=False))
+
+
+def test_max_kept_keeps_the_most_probable_and_reports_the_rest():
+    truth, y, model = _problem(2, "sets_of_chains", "ci", 1, 4, 30, 0.8, 0.8, 0.45)
+    full = exact_posterior(truth, y, model, tol=1e-9)
+    few = exact_posterior(truth, y, model, tol=1e-9, max_kept=25)
+    assert len(full.log_prob) > 25 and len(few.log_prob) == 25
+    assert np.array_equal(few.log_prob, full.log_prob[:25])
+    assert few.dropped_mass == pytest.approx(1 - np.exp(full.log_prob[:25]).sum(), abs=1e-12)
+    assert np.array_equal(few.clause_marginals, full.clause_marginals)
+
+
+def test_structure_groups_hold_the_whole_prior():
+    truth, y, model = _problem(5, "forest", "cb", 1, 5, 50, 0.7, 0.8, None)
+    clause_bits = pack_rows(np.ascontiguousarray(truth.T))
+    full = pack_rows(np.ones((1, len(y)), dtype=np.uint8))[0]
+    pos = pack_rows((y == 1).astype(np.uint8)[None])[0]
+    rule = Pruning(clause_bits, pos, np.zeros(int(y.sum()) + 1), -np.inf, 0, 2**62)
+    _, groups, members, n_visited, complete = group_structures(full, model, rule)
+    assert (groups.weight * np.exp(groups.ref)).sum() == pytest.approx(1.0, abs=1e-12)
+    assert len(groups.size) < count_structures("forest", 5)
+    assert complete and members.sum() == n_visited == count_structures("forest", 5)
+    _, _, _, n_visited, complete = group_structures(full, model, rule._replace(max_visits=100))
+    assert not complete and n_visited == 101
+
+
+def test_work_budget_stops_before_the_work_and_is_deterministic():
+    truth, y, model = _problem(2, "sets_of_chains", "ci", 1, 5, 40, 0.8, 0.8, 0.45)
+    with pytest.raises(ExactWorkExceeded, match="work budget"):
+        exact_posterior(truth, y, model, max_work=1e4)
+    ok = exact_posterior(truth, y, model, max_work=1e9)
+    _assert_same_posterior(ok, exact_posterior(truth, y, model))
