@@ -46,26 +46,20 @@ class SubsetGroups(NamedTuple):
     e_lp: np.ndarray
 
 
-@njit(cache=True, nogil=True)
 def subset_table(clause_bits, first_clause, n_items, p, full):
-    """Bitset, size and log prior of every subset (bit mask) of ``n_items`` clauses."""
-    n_sub = 1 << n_items
-    n_words = clause_bits.shape[1]
-    bits = np.empty((n_sub, n_words), dtype=np.uint64)
-    size = np.zeros(n_sub, dtype=np.int64)
-    lp = np.empty(n_sub)
-    bits[0, :] = full
-    for m in range(1, n_sub):
-        low = 0
-        while not (m >> low) & 1:
-            low += 1
-        prev = m & (m - 1)
-        for w in range(n_words):
-            bits[m, w] = bits[prev, w] & clause_bits[first_clause + low, w]
-        size[m] = size[prev] + 1
-    for m in range(n_sub):
-        lp[m] = log_prior_subset(size[m], n_items, p)
-    return PartTable(bits, size, lp)
+    """Bitset, size and log prior of every subset (bit mask) of ``n_items`` clauses.
+
+    Plain numpy, one doubling step per clause (it spares a compilation on the first fit).
+    """
+    bits = np.empty((1 << n_items, clause_bits.shape[1]), dtype=np.uint64)
+    size = np.zeros(1 << n_items, dtype=np.int64)
+    bits[0] = full
+    for i in range(n_items):
+        half = 1 << i  # masks [half, 2 half) add clause i to masks [0, half)
+        bits[half:2 * half] = bits[:half] & clause_bits[first_clause + i]
+        size[half:2 * half] = size[:half] + 1
+    lp = np.array([log_prior_subset.py_func(k, n_items, p) for k in range(n_items + 1)])
+    return PartTable(bits, size, lp[size])
 
 
 class Pruning(NamedTuple):
@@ -106,7 +100,7 @@ def new_walk(n, full):
                          np.empty(max(n, 1), dtype=np.int64), np.empty(max(n, 1), dtype=np.int64))
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def _add_orders(wk, v, clause_bits, base):
     # Node v just got its parent: the orders that became known are (a, d) for every new
     # ancestor a (the parent's chain up to the first node not placed yet, inclusive) and every
@@ -140,7 +134,7 @@ def _add_orders(wk, v, clause_bits, base):
     wk.size[v + 1] = wk.size[v] + n_above * n_below
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def next_kept_structure(wk, model, rule):
     """Advance the walk to the next order structure the pruning rule keeps.
 
@@ -170,7 +164,7 @@ def next_kept_structure(wk, model, rule):
         descend = True
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def ancestor_masks(parent, anc):
     """Each subtask's ancestors as a bit mask, into ``anc``; returns the number of orders."""
     size = 0
@@ -258,15 +252,15 @@ def group_subsets(clause_bits, full, model):
     n_g, n = model.n_g, model.n
     t_tab = subset_table(clause_bits, 0, n_g, model.p_global, full)
     e_tab = subset_table(clause_bits, n_g, n, model.p_eventual, full)
-    _, t_gid, tg = group_rows(t_tab.bits, t_tab.size, t_tab.lp)
-    _, e_gid, eg = group_rows(e_tab.bits, e_tab.size, e_tab.lp)
+    t_gid, tg = group_rows(t_tab.bits, t_tab.size, t_tab.lp)
+    e_gid, eg = group_rows(e_tab.bits, e_tab.size, e_tab.lp)
     t_start, t_items = _members(t_gid, len(tg.size))
     e_start, e_items = _members(e_gid, len(eg.size))
     # Pairs of groups: every (global group, eventual group), then grouped again.
     a, b = np.divmod(np.arange(len(tg.size) * len(eg.size)), len(eg.size))
     with np.errstate(divide="ignore"):
         lw = np.log(tg.weight)[a] + tg.ref + np.log(eg.weight)[b] + eg.ref
-    _, pair_gid, groups = group_rows(tg.bits[a] & eg.bits[b], tg.size[a] + eg.size[b], lw,
+    pair_gid, groups = group_rows(tg.bits[a] & eg.bits[b], tg.size[a] + eg.size[b], lw,
                                      tg.best[a] + eg.best[b])
     pair_start, pairs = _members(pair_gid, len(groups.size))
     return SubsetGroups(groups, pair_start, a[pairs], b[pairs], tg, t_start, t_items, t_tab.lp,

@@ -4,8 +4,9 @@ A part of a hypothesis (an order structure, a subset of globals or of eventuals)
 likelihood only through the bitset of demonstrations it satisfies and its number of conjuncts.
 Parts with the same ``(bitset, size)`` key form one group whose prior weights add up; the exact
 enumeration then runs over groups instead of parts. This module holds the open-addressing hash
-table (numba, no Python objects) that assigns group ids in order of first appearance, so that
-the grouping, and every sum over groups, is deterministic.
+table (numba, no Python objects) that groups order structures as they are generated, and
+``group_rows`` (numpy) for parts given as arrays; both assign group ids in order of first
+appearance, so that the grouping, and every sum over groups, is deterministic.
 """
 
 import math
@@ -14,8 +15,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-__all__ = ["KeyTable", "new_table", "find_or_insert", "with_room", "insert", "lookup",
-           "add_weight", "group_rows", "Groups"]
+__all__ = ["KeyTable", "new_table", "with_room", "insert", "lookup", "add_weight",
+           "group_rows", "Groups"]
 
 _EMPTY = -1
 
@@ -81,7 +82,7 @@ def _slot_of(table, bits, size):
         i = (i + np.uint64(1)) & mask
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def lookup(table, bits, size):
     """Group id of a key, or -1."""
     return table.slots[_slot_of(table, bits, size)]
@@ -107,7 +108,7 @@ def with_room(table):
     return table
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def insert(table, bits, size):
     """Group id of the key, created if new; the table must have room (:func:`with_room`)."""
     i = _slot_of(table, bits, size)
@@ -123,24 +124,6 @@ def insert(table, bits, size):
 
 
 @njit(cache=True, nogil=True)
-def find_or_insert(table, bits, size):
-    """``(table, group id)``: the key's group, created if new (the table may be replaced)."""
-    i = _slot_of(table, bits, size)
-    g = table.slots[i]
-    if g != _EMPTY:
-        return table, g
-    g = table.count[0]
-    if g == table.bits.shape[0]:
-        table = _grown(table)
-        i = _slot_of(table, bits, size)
-    table.slots[i] = g
-    table.bits[g] = bits
-    table.size[g] = size
-    table.count[0] = g + 1
-    return table, g
-
-
-@njit(cache=True, nogil=True, inline="always")
 def add_weight(weight, best, ref, g, lp, top):
     """Add a member of log weight ``lp`` to group ``g``; returns the (possibly raised) ``ref``.
 
@@ -160,34 +143,15 @@ def add_weight(weight, best, ref, g, lp, top):
     return ref
 
 
-@njit(cache=True, nogil=True)
-def _group_rows(bits, size, lp, top):
-    n_rows, n_words = bits.shape
-    table = new_table(n_words, min(n_rows, 1 << 16))
-    gid = np.full(n_rows, -1, dtype=np.int64)
-    weight = np.zeros(n_rows)
-    best = np.full(n_rows, -np.inf)
-    ref = -np.inf
-    for r in range(n_rows):
-        if lp[r] == -np.inf:
-            continue  # outside the prior's support: no group
-        table, g = find_or_insert(table, bits[r], size[r])
-        gid[r] = g
-        ref = add_weight(weight, best, ref, g, lp[r], top[r])
-    n = table.count[0]
-    return table, gid, Groups(table.bits[:n].copy(), table.size[:n].copy(), weight[:n].copy(),
-                              ref, best[:n].copy())
-
-
 def group_rows(bits, size, lp, top=None):
     """Group rows by ``(bits, size)``; rows of log weight ``-inf`` get group ``-1``.
 
     ``lp`` is each row's log weight (its log prior); ``top`` the log prior of its most probable
-    member (``lp`` itself by default), of which each group keeps the largest.
+    member (``lp`` itself by default), of which each group keeps the largest. Plain numpy: the
+    subsets it groups are few, and it spares a compilation on the first fit.
 
     Returns
     -------
-    table : KeyTable
     gid : ndarray of shape (n_rows,), int64
         Each row's group (ids in order of first appearance).
     groups : Groups
@@ -195,11 +159,28 @@ def group_rows(bits, size, lp, top=None):
     Examples
     --------
     >>> bits = np.array([[1], [2], [1]], dtype=np.uint64)
-    >>> _, gid, g = group_rows(bits, np.array([1, 1, 1]), np.log([0.5, 0.3, 0.2]))
+    >>> gid, g = group_rows(bits, np.array([1, 1, 1]), np.log([0.5, 0.3, 0.2]))
     >>> gid.tolist(), np.round(g.weight * np.exp(g.ref), 3).tolist()
     ([0, 1, 0], [0.7, 0.3])
     """
-    lp = np.ascontiguousarray(lp, dtype=np.float64)
-    return _group_rows(np.ascontiguousarray(bits, dtype=np.uint64),
-                       np.ascontiguousarray(size, dtype=np.int64), lp,
-                       lp if top is None else np.ascontiguousarray(top, dtype=np.float64))
+    bits = np.asarray(bits, dtype=np.uint64).reshape(len(lp), -1)
+    lp = np.asarray(lp, dtype=np.float64)
+    top = lp if top is None else np.asarray(top, dtype=np.float64)
+    ok = lp > -np.inf
+    gid = np.full(len(lp), -1, dtype=np.int64)
+    if not ok.any():
+        return gid, Groups(np.empty((0, bits.shape[1]), np.uint64), np.empty(0, np.int64),
+                           np.empty(0), -np.inf, np.empty(0))
+    key = np.concatenate([bits[ok], np.asarray(size, dtype=np.uint64)[ok, None]], axis=1)
+    uniq, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    order = np.argsort(first, kind="stable")  # ids in order of first appearance
+    rank = np.empty(len(order), dtype=np.int64)
+    rank[order] = np.arange(len(order))
+    gid[ok] = rank[inverse.ravel()]
+    ref = float(lp[ok].max())
+    weight = np.zeros(len(order))
+    np.add.at(weight, gid[ok], np.exp(lp[ok] - ref))
+    best = np.full(len(order), -np.inf)
+    np.maximum.at(best, gid[ok], top[ok])
+    return gid, Groups(np.ascontiguousarray(uniq[order, :-1]), uniq[order, -1].astype(np.int64),
+                       weight, ref, best)

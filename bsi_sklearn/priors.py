@@ -330,7 +330,7 @@ def count_hypotheses(prior, n_globals, n_subtasks):
     return count_structures(prior, n_subtasks) * 2**n_globals * 2**n_subtasks
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def next_assignment(parent, n_children, state, code, descend):
     """One depth-first step over the order structures of the prior's support.
 
@@ -385,7 +385,7 @@ def next_assignment(parent, n_children, state, code, descend):
     return -1
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def next_structure(parent, n_children, state, code):
     """Advance ``parent`` to the next order structure of the prior's support (depth-first).
 
@@ -405,7 +405,7 @@ def next_structure(parent, n_children, state, code):
             return True
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def structure_log_prior(parent, model, scratch):
     """``log_prior_structure`` for a structure known to be in the support, without allocating.
 

@@ -79,7 +79,7 @@ def test_group_rows_sums_weights_in_order_of_first_appearance():
     bits = np.array([[3], [1], [3], [3]], dtype=np.uint64)
     size = np.array([2, 1, 2, 1])
     lp = np.log([0.1, 0.2, 0.3, 0.4])
-    _, gid, g = group_rows(bits, size, lp)
+    gid, g = group_rows(bits, size, lp)
     assert gid.tolist() == [0, 1, 0, 2]
     assert np.allclose(g.weight * np.exp(g.ref), [0.4, 0.2, 0.4])
     assert np.allclose(g.best, np.log([0.3, 0.2, 0.4]))
