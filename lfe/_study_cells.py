@@ -25,6 +25,7 @@ from lfe.annotate import MISSION_OBJECTIVES, annotate_scenarios
 from lfe.compare import _weighted_f1  # the comparison's scorer, shared within lfe
 from lfe.dataset import make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
+from lfe.scenario import checked_once
 
 __all__ = [
     "BSI_CV",
@@ -106,23 +107,24 @@ def simulate_repeat(*, n_pool, test_size, noises, propositions, dataset_seed, la
     """
     dataset = make_lfe_dataset(n_pool + test_size, random_state=dataset_seed, noise=0.0,
                                time_noise=0.0)
-    scenarios = dataset.scenarios
     objectives = list(MISSION_OBJECTIVES)
     data = {"n_pool": n_pool, "clean": dataset.labels[objectives].to_numpy(),
             "labels": {}, "phases": {}, "props": {}, "roles": {}}
     extractor = None
-    for ps in propositions:
-        extractor = LFEPropositionExtractor(propositions=ps).fit(scenarios)
-        data["props"][ps] = extractor.transform(scenarios)
-        data["roles"][ps] = {"global_candidates": extractor.global_candidates_,
-                             "subtasks": extractor.subtasks_,
-                             "conditions": extractor.conditions_}
-    data["flight"] = extractor.flight_phase_features(scenarios)
-    for noise in noises:
-        labels, phases = annotate_scenarios(scenarios, noise=noise, time_noise=TIME_NOISE,
-                                            random_state=label_seed)
-        data["labels"][noise] = labels[objectives].to_numpy()
-        data["phases"][noise] = extractor.phase_labels(scenarios, phases)
+    # every step below reads the same unmodified scenarios: validate them once, not nine times
+    with checked_once(dataset.scenarios) as scenarios:
+        for ps in propositions:
+            extractor = LFEPropositionExtractor(propositions=ps).fit(scenarios)
+            data["props"][ps] = extractor.transform(scenarios)
+            data["roles"][ps] = {"global_candidates": extractor.global_candidates_,
+                                 "subtasks": extractor.subtasks_,
+                                 "conditions": extractor.conditions_}
+        data["flight"] = extractor.flight_phase_features(scenarios)
+        for noise in noises:
+            labels, phases = annotate_scenarios(scenarios, noise=noise, time_noise=TIME_NOISE,
+                                                random_state=label_seed)
+            data["labels"][noise] = labels[objectives].to_numpy()
+            data["phases"][noise] = extractor.phase_labels(scenarios, phases)
     return data
 
 

@@ -160,3 +160,25 @@ def test_check_scenario_accepts_mappings_and_rejects_other_things():
         check_scenarios(sc)
     with pytest.raises(ValueError, match="non-empty list of scenarios"):
         LFEPropositionExtractor().fit([])
+
+
+def test_checked_once_checks_on_entry_and_skips_only_those_scenarios(monkeypatch):
+    import lfe.scenario as scenario_module
+    from lfe.scenario import checked_once
+
+    good, bad = _good("ok"), _tracks(_set("x", 0, np.nan))
+    with pytest.raises(ValueError, match="non-finite"):  # checked on entry
+        with checked_once([good, bad]):
+            pass
+    calls = []
+    real = scenario_module._where
+    monkeypatch.setattr(scenario_module, "_where", lambda i, sc: calls.append(sc) or real(i, sc))
+    with checked_once([good]) as scenarios:
+        assert scenarios[0] is good and calls == [good]
+        annotate_scenarios(scenarios)
+        LFEPropositionExtractor().fit(scenarios).transform(scenarios)
+        assert calls == [good]  # not checked again inside the block
+        with pytest.raises(ValueError, match="non-finite"):  # others still are
+            check_scenarios([good, bad])
+    check_scenarios([good])  # checked again after the block
+    assert calls.count(good) == 2
