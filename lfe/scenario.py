@@ -276,7 +276,7 @@ def check_scenario(scenario, index=0):
             f"scenario {index}: expected a Scenario (or a mapping with tracks, weapons, sites, "
             f"meta), got {type(scenario).__name__}"
         )
-    if id(scenario) in _CHECKED.get():
+    if id(scenario) in _CHECKED.get()[0]:
         return scenario  # validated on entering checked_once; see there
     where = _where(index, scenario)
     meta = scenario.meta
@@ -435,23 +435,27 @@ def check_scenarios(X):
     return [check_scenario(sc, i) for i, sc in enumerate(X)]
 
 
-# Ids of the scenarios validated by the enclosing checked_once blocks (empty outside them).
-_CHECKED = contextvars.ContextVar("lfe_checked_scenarios", default=frozenset())
+# (ids of the scenarios validated by the enclosing checked_once blocks, their memo); outside
+# every block: no ids, no memo.
+_CHECKED = contextvars.ContextVar("lfe_checked_scenarios", default=(frozenset(), None))
 
 
 @contextlib.contextmanager
 def checked_once(scenarios):
-    """Validate scenarios once; inside the block, checking these same objects again is free.
+    """Validate scenarios once; inside the block, checking them again and re-deriving is free.
 
     Simulating and extracting a dataset passes the same scenarios through several validating
     functions (:func:`lfe.annotate_scenarios`, every method of
     :class:`lfe.LFEPropositionExtractor`, :class:`lfe.LFEDataset`), and each used to check
-    every table again (about 10 ms a scenario each time). Code that owns the scenarios and does
-    not modify them in between wraps those calls in this block: the scenarios are checked on
-    entry, and inside the block :func:`check_scenario` returns these very objects (the same
-    ``Scenario`` instances, compared by identity) unchecked; any other scenario is checked as
-    usual. Modifying a scenario's tables inside the block is not detected, so the block must
-    not do it. The setting is local to the thread (a context variable) and ends with the block.
+    every table again (about 10 ms a scenario each time) and to rebuild the same per-scenario
+    intermediate results (the commander's debrief, the extractor's per-aircraft grid). Code
+    that owns the scenarios and does not modify them in between wraps those calls in this
+    block: the scenarios are checked on entry; inside the block :func:`check_scenario` returns
+    these very objects (the same ``Scenario`` instances, compared by identity) unchecked, and
+    :func:`memoised` computes each intermediate result once per scenario; any other scenario is
+    checked and computed as usual. Modifying a scenario's tables inside the block is not
+    detected, so the block must not do it. The setting is local to the thread (a context
+    variable) and ends with the block, which releases the memo.
 
     Parameters
     ----------
@@ -474,8 +478,38 @@ def checked_once(scenarios):
     True
     """
     checked = check_scenarios(scenarios)
-    token = _CHECKED.set(_CHECKED.get() | {id(sc) for sc in checked})
+    ids, memo = _CHECKED.get()
+    token = _CHECKED.set((ids | {id(sc) for sc in checked}, {} if memo is None else memo))
     try:
         yield checked  # `checked` keeps them alive, so no other object takes their ids
     finally:
         _CHECKED.reset(token)
+
+
+def memoised(scenario, key, compute):
+    """``compute()``, computed once per scenario and ``key`` inside :func:`checked_once`.
+
+    Outside such a block, or for a scenario the block did not check, it simply returns
+    ``compute()``. ``compute`` must be a pure function of the scenario (and of what ``key``
+    names), and its result must not be modified by the caller (it is shared).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The scenario the result derives from.
+    key : hashable
+        What is computed, with every argument besides the scenario.
+    compute : callable
+        Computes it, without arguments.
+
+    Returns
+    -------
+    value : object
+    """
+    ids, memo = _CHECKED.get()
+    if memo is None or id(scenario) not in ids:
+        return compute()
+    slot = (id(scenario), key)
+    if slot not in memo:
+        memo[slot] = compute()
+    return memo[slot]
