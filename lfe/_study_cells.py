@@ -237,12 +237,15 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
         return [seqs[i] for i in idx]
 
     preds, fit_s, detail = {}, {}, {}
+    coupled = None  # the coupled networks' inputs, built once for both
     for name in NETWORKS:
         start = time.perf_counter()
         clf = baselines.make_paper_baseline(name, random_state=model_seed,
                                             **settings["networks"])
-        X = ([pd.concat([p.astype(float), f], axis=1) for p, f in zip(props, data["flight"])]
-             if clf.coupled else props)
+        if clf.coupled and coupled is None:
+            coupled = [pd.concat([p.astype(float), f], axis=1)
+                       for p, f in zip(props, data["flight"])]
+        X = coupled if clf.coupled else props
         clf.fit(sub(X, train), y[train], phases=sub(data["phases"][noise], train))
         preds[name] = clf.predict(sub(X, test))
         fit_s[name] = time.perf_counter() - start
