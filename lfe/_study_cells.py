@@ -14,7 +14,6 @@ import time
 import warnings
 
 import numpy as np
-import pandas as pd
 from sklearn.dummy import DummyClassifier
 from sklearn.exceptions import ConvergenceWarning, FitFailedWarning
 from sklearn.model_selection import GridSearchCV, KFold, StratifiedKFold, train_test_split
@@ -243,7 +242,9 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
         clf = baselines.make_paper_baseline(name, random_state=model_seed,
                                             **settings["networks"])
         if clf.coupled and coupled is None:
-            coupled = [pd.concat([p.astype(float), f], axis=1)
+            # arrays, not frames: the same float64 values as pd.concat of the propositions and
+            # the flight features, without checking 51 column names per mission per call
+            coupled = [np.hstack([p.to_numpy(dtype=float), f.to_numpy(dtype=float)])
                        for p, f in zip(props, data["flight"])]
         X = coupled if clf.coupled else props
         clf.fit(sub(X, train), y[train], phases=sub(data["phases"][noise], train))
