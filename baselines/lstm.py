@@ -363,21 +363,19 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
             "pooling": self.pooling,
         }
         with torch.random.fork_rng(devices=fork_devices), _deterministic_torch():
+            # padded once, for both phases (every batch of either is a slice of these)
+            batches = _Batches(data, sequences.offsets, y01, weights, phase_data, device)
             torch.manual_seed(torch_seed)
             module = _RecurrentNet(**self._net_config).to(device)
-            self._train(
-                module, data, sequences.offsets, y01, weights, phase_data, train_idx,
-                valid_idx, order_rng, device,
-            )
+            self._train(module, batches, train_idx, valid_idx, order_rng, device)
             self.refit_epochs_ = 0
             if self.refit and len(valid_idx) and self.best_epoch_ > 0:
                 # Same initial weights, every training sequence, the chosen number of epochs.
                 torch.manual_seed(torch_seed)
                 module = _RecurrentNet(**self._net_config).to(device)
                 self._train(
-                    module, data, sequences.offsets, y01, weights, phase_data,
-                    np.arange(sequences.n_sequences), np.empty(0, dtype=np.int64), order_rng,
-                    device, epochs=self.best_epoch_,
+                    module, batches, np.arange(sequences.n_sequences),
+                    np.empty(0, dtype=np.int64), order_rng, device, epochs=self.best_epoch_,
                 )
                 self.refit_epochs_ = self.best_epoch_
 
@@ -503,32 +501,28 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
             weights[:, k] = per_class[y01[:, k].astype(np.int64)]
         return weights
 
-    def _train(self, module, data, offsets, y01, weights, phase_data, train_idx, valid_idx,
-               order_rng, device, epochs=None):
+    def _train(self, module, batches, train_idx, valid_idx, order_rng, device, epochs=None):
         """Train ``module`` with early stopping, or for exactly ``epochs`` epochs (a refit).
 
         With ``epochs`` the weights after the last epoch are kept in ``module_`` and the
         early-stopping attributes (``history_``, ``best_epoch_``, ...) are left as they are.
         """
         objective_mask = torch.as_tensor(~self._constant, dtype=torch.float32, device=device)
+        params = list(module.parameters())
+        # foreach: one kernel per step for all parameters instead of one per parameter (the
+        # same arithmetic element by element, so the same weights; about 5 % of a fit)
         optimizer = torch.optim.Adam(
-            module.parameters(), lr=self.lr, weight_decay=self.weight_decay
+            params, lr=self.lr, weight_decay=self.weight_decay, foreach=True
         )
 
         def batch_loss(indices):
-            batch = _make_batch(data, offsets, indices, device)
-            logits, phase_logits = module(*batch)
-            target = torch.as_tensor(y01[indices], device=device)
+            x, lengths, rev, target, weight, phase_target, mask = batches.batch(indices)
+            logits, phase_logits = module(x, lengths, rev)
             bce = nn.functional.binary_cross_entropy_with_logits(
-                logits, target, weight=torch.as_tensor(weights[indices], device=device),
-                reduction="none",
+                logits, target, weight=weight, reduction="none",
             )
             loss = (bce.mean(dim=0) * objective_mask).sum()
             if phase_logits is not None:
-                padded, _ = pad_sequences(phase_data, offsets, indices, fill=0)
-                mask = torch.as_tensor(length_mask(batch[1].cpu().numpy(), padded.shape[1]),
-                                       device=device)
-                phase_target = torch.as_tensor(padded, device=device)
                 loss = loss + nn.functional.cross_entropy(
                     phase_logits[mask], phase_target[mask]
                 )
@@ -547,7 +541,7 @@ class LSTMSequenceClassifier(ClassifierMixin, BaseEstimator):
                 optimizer.zero_grad()
                 loss.backward()
                 if self.clip_grad_norm is not None:
-                    nn.utils.clip_grad_norm_(module.parameters(), self.clip_grad_norm)
+                    nn.utils.clip_grad_norm_(params, self.clip_grad_norm, foreach=True)
                 optimizer.step()
                 total += float(loss.detach()) * len(indices)
                 count += len(indices)
@@ -738,14 +732,22 @@ def _deterministic_torch():
     """Run the block with torch's deterministic algorithms on, then restore the setting.
 
     The CPU kernels these networks use are deterministic already; the flag makes torch raise
-    rather than silently pick a nondeterministic kernel (on GPUs, for example).
+    rather than silently pick a nondeterministic kernel (on GPUs, for example). Its companion
+    ``torch.utils.deterministic.fill_uninitialized_memory`` (NaN-fill every new tensor, a
+    guard against kernels that read memory they did not write) is switched off inside the
+    block: it cost about a tenth of a fit (tens of thousands of fills per fit) and changes no
+    result of kernels that write their outputs, which every kernel used here does (the fitted
+    weights are bit-identical with and without it).
     """
     previous = torch.are_deterministic_algorithms_enabled()
+    fill = torch.utils.deterministic.fill_uninitialized_memory
     torch.use_deterministic_algorithms(True)
+    torch.utils.deterministic.fill_uninitialized_memory = False
     try:
         yield
     finally:
         torch.use_deterministic_algorithms(previous)
+        torch.utils.deterministic.fill_uninitialized_memory = fill
 
 
 @contextlib.contextmanager
@@ -760,6 +762,45 @@ def _torch_threads(n_threads):
         yield
     finally:
         torch.set_num_threads(previous)
+
+
+class _Batches:
+    """The training sequences, targets and weights of one ``fit`` as padded tensors, built once.
+
+    Every mini-batch (and the validation batch) is then rows of these tensors cut to the
+    batch's longest sequence: the same values that padding the batch on its own gives
+    (:func:`_make_batch`), without padding and converting again at every step of every epoch,
+    in the early-stopping phase and again in the refit. Memory: ``n_sequences x`` the longest
+    length ``x n_features`` floats, the size of one padded batch holding every sequence.
+    """
+
+    def __init__(self, data, offsets, y01, weights, phase_data, device):
+        n = len(offsets) - 1
+        every = np.arange(n)
+        padded, lengths = pad_sequences(data, offsets, every)
+        self.lengths_np = lengths
+        self.x = torch.as_tensor(padded, device=device)
+        self.lengths = torch.as_tensor(lengths, device=device)
+        self.rev = torch.as_tensor(reverse_index(lengths, padded.shape[1]), device=device)
+        self.y = torch.as_tensor(y01, device=device)
+        self.weights = torch.as_tensor(weights, device=device)
+        self.phases = self.mask = None
+        if phase_data is not None:
+            phases, _ = pad_sequences(phase_data, offsets, every, fill=0)
+            self.phases = torch.as_tensor(phases, device=device)
+            self.mask = torch.as_tensor(length_mask(lengths, padded.shape[1]), device=device)
+
+    def batch(self, indices):
+        """Inputs, lengths, reversal index, targets, weights, phase targets and step mask."""
+        t_max = int(self.lengths_np[indices].max())
+        rows = torch.as_tensor(indices, device=self.x.device)
+        phases = mask = None
+        if self.phases is not None:
+            phases = self.phases[rows, :t_max].contiguous()
+            mask = self.mask[rows, :t_max].contiguous()
+        return (self.x[rows, :t_max].contiguous(), self.lengths[rows],
+                self.rev[rows, :t_max].contiguous(), self.y[rows], self.weights[rows],
+                phases, mask)
 
 
 def _make_batch(data, offsets, indices, device):

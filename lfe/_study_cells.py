@@ -14,7 +14,6 @@ import time
 import warnings
 
 import numpy as np
-import pandas as pd
 from sklearn.dummy import DummyClassifier
 from sklearn.exceptions import ConvergenceWarning, FitFailedWarning
 from sklearn.model_selection import GridSearchCV, KFold, StratifiedKFold, train_test_split
@@ -25,6 +24,7 @@ from lfe.annotate import MISSION_OBJECTIVES, annotate_scenarios
 from lfe.compare import _weighted_f1  # the comparison's scorer, shared within lfe
 from lfe.dataset import make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
+from lfe.scenario import checked_once
 
 __all__ = [
     "BSI_CV",
@@ -106,23 +106,24 @@ def simulate_repeat(*, n_pool, test_size, noises, propositions, dataset_seed, la
     """
     dataset = make_lfe_dataset(n_pool + test_size, random_state=dataset_seed, noise=0.0,
                                time_noise=0.0)
-    scenarios = dataset.scenarios
     objectives = list(MISSION_OBJECTIVES)
     data = {"n_pool": n_pool, "clean": dataset.labels[objectives].to_numpy(),
             "labels": {}, "phases": {}, "props": {}, "roles": {}}
     extractor = None
-    for ps in propositions:
-        extractor = LFEPropositionExtractor(propositions=ps).fit(scenarios)
-        data["props"][ps] = extractor.transform(scenarios)
-        data["roles"][ps] = {"global_candidates": extractor.global_candidates_,
-                             "subtasks": extractor.subtasks_,
-                             "conditions": extractor.conditions_}
-    data["flight"] = extractor.flight_phase_features(scenarios)
-    for noise in noises:
-        labels, phases = annotate_scenarios(scenarios, noise=noise, time_noise=TIME_NOISE,
-                                            random_state=label_seed)
-        data["labels"][noise] = labels[objectives].to_numpy()
-        data["phases"][noise] = extractor.phase_labels(scenarios, phases)
+    # every step below reads the same unmodified scenarios: validate them once, not nine times
+    with checked_once(dataset.scenarios) as scenarios:
+        for ps in propositions:
+            extractor = LFEPropositionExtractor(propositions=ps).fit(scenarios)
+            data["props"][ps] = extractor.transform(scenarios)
+            data["roles"][ps] = {"global_candidates": extractor.global_candidates_,
+                                 "subtasks": extractor.subtasks_,
+                                 "conditions": extractor.conditions_}
+        data["flight"] = extractor.flight_phase_features(scenarios)
+        for noise in noises:
+            labels, phases = annotate_scenarios(scenarios, noise=noise, time_noise=TIME_NOISE,
+                                                random_state=label_seed)
+            data["labels"][noise] = labels[objectives].to_numpy()
+            data["phases"][noise] = extractor.phase_labels(scenarios, phases)
     return data
 
 
@@ -235,12 +236,17 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
         return [seqs[i] for i in idx]
 
     preds, fit_s, detail = {}, {}, {}
+    coupled = None  # the coupled networks' inputs, built once for both
     for name in NETWORKS:
         start = time.perf_counter()
         clf = baselines.make_paper_baseline(name, random_state=model_seed,
                                             **settings["networks"])
-        X = ([pd.concat([p.astype(float), f], axis=1) for p, f in zip(props, data["flight"])]
-             if clf.coupled else props)
+        if clf.coupled and coupled is None:
+            # arrays, not frames: the same float64 values as pd.concat of the propositions and
+            # the flight features, without checking 51 column names per mission per call
+            coupled = [np.hstack([p.to_numpy(dtype=float), f.to_numpy(dtype=float)])
+                       for p, f in zip(props, data["flight"])]
+        X = coupled if clf.coupled else props
         clf.fit(sub(X, train), y[train], phases=sub(data["phases"][noise], train))
         preds[name] = clf.predict(sub(X, test))
         fit_s[name] = time.perf_counter() - start

@@ -14,7 +14,7 @@ import pandas as pd
 from sklearn.utils import check_random_state
 
 from bsi_sklearn.param_validation import Interval, validate_params
-from lfe.scenario import check_scenarios
+from lfe.scenario import check_scenarios, memoised
 
 __all__ = [
     "MISSION_OBJECTIVES",
@@ -280,8 +280,10 @@ def annotate_scenarios(scenarios, *, noise=0.0, time_noise=0.0, min_target_hits=
     rng = check_random_state(random_state)
     ids, label_rows, phase_rows = [], [], []
     for sc in scenarios:
-        verdicts, times, t_end = _debrief(sc, int(min_target_hits), max_attrition,
-                                          superiority_fraction, int(max_air_losses))
+        args = (int(min_target_hits), max_attrition, superiority_fraction, int(max_air_losses))
+        verdicts, times, t_end = memoised(sc, ("lfe.annotate._debrief", *args),
+                                          lambda sc=sc, args=args: _debrief(sc, *args))
+        verdicts = dict(verdicts)  # flipped below; the memoised debrief stays as it was
         flips = rng.random_sample(len(MISSION_OBJECTIVES)) < noise if noise > 0 else None
         if flips is not None:
             for k, name in enumerate(MISSION_OBJECTIVES):

@@ -34,6 +34,7 @@ from bsi_sklearn.param_validation import (
 from lfe.annotate import MISSION_OBJECTIVES
 from lfe.dataset import LFEDataset, load_lfe_dataset, make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
+from lfe.scenario import checked_once
 
 __all__ = [
     "BSI_PRIORS",
@@ -501,13 +502,15 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     baselines.require_torch()  # the networks need torch: say so before the BSI fits, not after
     objectives = list(MISSION_OBJECTIVES)
     labels = dataset.labels[objectives]
-    extractor = LFEPropositionExtractor().fit(dataset.scenarios)
-    props = extractor.transform(dataset.scenarios)
-    flight = extractor.flight_phase_features(dataset.scenarios)
+    with checked_once(dataset.scenarios) as scenarios:  # validated once, not four times
+        extractor = LFEPropositionExtractor().fit(scenarios)
+        props = extractor.transform(scenarios)
+        flight = extractor.flight_phase_features(scenarios)
+        phases = extractor.phase_labels(scenarios, dataset.phases)
     data = {
         "props": props,
         "coupled": [pd.concat([p.astype(float), f], axis=1) for p, f in zip(props, flight)],
-        "phases": extractor.phase_labels(dataset.scenarios, dataset.phases),
+        "phases": phases,
         "labels": labels.to_numpy(),
         "roles": {"global_candidates": extractor.global_candidates_,
                   "subtasks": extractor.subtasks_, "conditions": extractor.conditions_},

@@ -28,6 +28,7 @@ from lfe.scenario import (
     WEAPON_COLUMNS,
     Scenario,
     check_scenarios,
+    checked_once,
     normalise_table,
 )
 from lfe.simulator import ScenarioConfig, simulate_scenario
@@ -308,12 +309,13 @@ def make_lfe_dataset(n_scenarios=24, random_state=0, *, noise=0.04, time_noise=1
         config = random_scenario_config(rng)
         seed = int(rng.randint(0, 2**31 - 1))
         scenarios.append(simulate_scenario(config, seed, scenario_id=f"lfe-{k:0{width}d}"))
-    labels, phases = annotate_scenarios(scenarios, noise=noise, time_noise=time_noise,
-                                        random_state=rng)
     info = {"generator": "lfe.make_lfe_dataset", "n_scenarios": int(n_scenarios),
             "random_state": random_state if isinstance(random_state, numbers.Integral)
             else None, "noise": noise, "time_noise": time_noise}
-    return LFEDataset(scenarios, labels, phases, info=info)
+    with checked_once(scenarios) as scenarios:  # annotation and the dataset check them once
+        labels, phases = annotate_scenarios(scenarios, noise=noise, time_noise=time_noise,
+                                            random_state=rng)
+        return LFEDataset(scenarios, labels, phases, info=info)
 
 
 @functools.lru_cache(maxsize=1)

@@ -11,7 +11,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn.param_validation import Interval, StrOptions, validate_params
 from lfe.annotate import PHASE_NAMES, phase_labels
-from lfe.scenario import FLIGHT_PHASES, ROLES, check_scenarios
+from lfe.scenario import FLIGHT_PHASES, ROLES, check_scenarios, memoised
 
 __all__ = [
     "LFEPropositionExtractor",
@@ -281,7 +281,7 @@ class LFEPropositionExtractor(TransformerMixin, BaseEstimator, auto_wrap_output_
         self._check_params()
         scenarios = check_scenarios(X)
         columns = list(self.feature_names_out_)
-        return [_propositions(_State(sc, self.time_step), columns) for sc in scenarios]
+        return [_propositions(_state(sc, self.time_step), columns) for sc in scenarios]
 
     def get_feature_names_out(self, input_features=None):
         """Proposition names, in column order.
@@ -329,7 +329,7 @@ class LFEPropositionExtractor(TransformerMixin, BaseEstimator, auto_wrap_output_
         check_is_fitted(self, "feature_names_out_")
         self._check_params()
         scenarios = check_scenarios(X)
-        return [_flight_phases(_State(sc, self.time_step)) for sc in scenarios]
+        return [_flight_phases(_state(sc, self.time_step)) for sc in scenarios]
 
     def phase_labels(self, X, phases):
         """Scenario-phase label (0-3) at every time step of the traces.
@@ -368,7 +368,7 @@ class LFEPropositionExtractor(TransformerMixin, BaseEstimator, auto_wrap_output_
         rows = _phase_rows(scenarios, phases)
         out = []
         for sc, row in zip(scenarios, rows):
-            state = _State(sc, self.time_step)
+            state = _state(sc, self.time_step)
             out.append(phase_labels(state.grid, row))
         return out
 
@@ -412,8 +412,13 @@ def _fill(arr, present, default):
     return out
 
 
+def _state(sc, time_step):
+    """``_State(sc, time_step)``, built once per scenario inside ``checked_once``."""
+    return memoised(sc, ("lfe.extractor._State", time_step), lambda: _State(sc, time_step))
+
+
 class _State:
-    """Per-aircraft state of one scenario on the output grid."""
+    """Per-aircraft state of one scenario on the output grid (read-only once built)."""
 
     def __init__(self, sc, time_step):
         tracks = sc.tracks

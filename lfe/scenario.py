@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import numbers
 from collections.abc import Mapping
 
@@ -12,6 +14,7 @@ __all__ = [
     "Scenario",
     "check_scenario",
     "check_scenarios",
+    "checked_once",
     "SIDES",
     "ROLES",
     "FRIENDLY_ROLES",
@@ -273,6 +276,8 @@ def check_scenario(scenario, index=0):
             f"scenario {index}: expected a Scenario (or a mapping with tracks, weapons, sites, "
             f"meta), got {type(scenario).__name__}"
         )
+    if id(scenario) in _CHECKED.get()[0]:
+        return scenario  # validated on entering checked_once; see there
     where = _where(index, scenario)
     meta = scenario.meta
     for key in META_KEYS:
@@ -428,3 +433,83 @@ def check_scenarios(X):
     if len(X) == 0:
         raise ValueError("expected a non-empty list of scenarios, got 0 scenarios")
     return [check_scenario(sc, i) for i, sc in enumerate(X)]
+
+
+# (ids of the scenarios validated by the enclosing checked_once blocks, their memo); outside
+# every block: no ids, no memo.
+_CHECKED = contextvars.ContextVar("lfe_checked_scenarios", default=(frozenset(), None))
+
+
+@contextlib.contextmanager
+def checked_once(scenarios):
+    """Validate scenarios once; inside the block, checking them again and re-deriving is free.
+
+    Simulating and extracting a dataset passes the same scenarios through several validating
+    functions (:func:`lfe.annotate_scenarios`, every method of
+    :class:`lfe.LFEPropositionExtractor`, :class:`lfe.LFEDataset`), and each used to check
+    every table again (about 10 ms a scenario each time) and to rebuild the same per-scenario
+    intermediate results (the commander's debrief, the extractor's per-aircraft grid). Code
+    that owns the scenarios and does not modify them in between wraps those calls in this
+    block: the scenarios are checked on entry; inside the block :func:`check_scenario` returns
+    these very objects (the same ``Scenario`` instances, compared by identity) unchecked, and
+    :func:`memoised` computes each intermediate result once per scenario; any other scenario is
+    checked and computed as usual. Modifying a scenario's tables inside the block is not
+    detected, so the block must not do it. The setting is local to the thread (a context
+    variable) and ends with the block, which releases the memo.
+
+    Parameters
+    ----------
+    scenarios : list of Scenario or mapping
+        The scenarios, as for :func:`check_scenarios`.
+
+    Yields
+    ------
+    scenarios : list of Scenario
+        The checked scenarios (mappings wrapped in :class:`Scenario`); use these inside the
+        block.
+
+    Examples
+    --------
+    >>> from lfe import ScenarioConfig, simulate_scenario
+    >>> from lfe.scenario import check_scenarios, checked_once
+    >>> sc = simulate_scenario(ScenarioConfig(n_hostile=4, n_sams=1), random_state=0)
+    >>> with checked_once([sc]) as scenarios:
+    ...     check_scenarios(scenarios)[0] is sc
+    True
+    """
+    checked = check_scenarios(scenarios)
+    ids, memo = _CHECKED.get()
+    token = _CHECKED.set((ids | {id(sc) for sc in checked}, {} if memo is None else memo))
+    try:
+        yield checked  # `checked` keeps them alive, so no other object takes their ids
+    finally:
+        _CHECKED.reset(token)
+
+
+def memoised(scenario, key, compute):
+    """``compute()``, computed once per scenario and ``key`` inside :func:`checked_once`.
+
+    Outside such a block, or for a scenario the block did not check, it simply returns
+    ``compute()``. ``compute`` must be a pure function of the scenario (and of what ``key``
+    names), and its result must not be modified by the caller (it is shared).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The scenario the result derives from.
+    key : hashable
+        What is computed, with every argument besides the scenario.
+    compute : callable
+        Computes it, without arguments.
+
+    Returns
+    -------
+    value : object
+    """
+    ids, memo = _CHECKED.get()
+    if memo is None or id(scenario) not in ids:
+        return compute()
+    slot = (id(scenario), key)
+    if slot not in memo:
+        memo[slot] = compute()
+    return memo[slot]

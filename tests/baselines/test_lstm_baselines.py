@@ -315,3 +315,36 @@ def test_score_is_subset_accuracy_for_several_objectives(trained):
         X_TRAIN, np.where(Y_TRAIN == 1, "yes", "no")
     )
     assert 0.0 <= strings.score(X_TEST, labels) <= 1.0
+
+
+def test_batches_padded_once_equal_batches_padded_one_by_one():
+    from baselines._sequences import length_mask, pad_sequences
+    from baselines.lstm import _Batches, _make_batch
+
+    rng = np.random.default_rng(0)
+    lengths = rng.integers(3, 12, size=9)
+    offsets = np.concatenate([[0], np.cumsum(lengths)])
+    data = rng.normal(size=(offsets[-1], 3)).astype(np.float32)
+    phases = rng.integers(0, 4, size=offsets[-1])
+    y01 = rng.integers(0, 2, size=(9, 2)).astype(np.float32)
+    weights = rng.uniform(0.5, 2.0, size=(9, 2)).astype(np.float32)
+    batches = _Batches(data, offsets, y01, weights, phases, torch.device("cpu"))
+    for indices in ([4, 0, 7], [2], np.arange(9), [8, 1]):
+        indices = np.asarray(indices)
+        x, lens, rev, target, weight, phase_target, mask = batches.batch(indices)
+        ref = _make_batch(data, offsets, indices, torch.device("cpu"))
+        for got, want in zip((x, lens, rev), ref):
+            assert got.dtype == want.dtype and got.is_contiguous()
+            assert torch.equal(got, want)
+        padded, _ = pad_sequences(phases, offsets, indices, fill=0)
+        assert torch.equal(phase_target, torch.as_tensor(padded))
+        assert torch.equal(mask, torch.as_tensor(length_mask(lengths[indices], x.shape[1])))
+        assert torch.equal(target, torch.as_tensor(y01[indices]))
+        assert torch.equal(weight, torch.as_tensor(weights[indices]))
+
+
+def test_fit_restores_torch_determinism_settings():
+    fill = torch.utils.deterministic.fill_uninitialized_memory
+    LSTMSequenceClassifier(hidden_size=4, max_epochs=2, random_state=0).fit(X_TRAIN, Y_TRAIN)
+    assert not torch.are_deterministic_algorithms_enabled()
+    assert torch.utils.deterministic.fill_uninitialized_memory == fill

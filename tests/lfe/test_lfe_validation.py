@@ -1,6 +1,7 @@
 """Bad raw input: ValueError naming the scenario and the column, whoever reads it."""
 
 import numpy as np
+import pandas as pd
 import pytest
 from lfe_build import aircraft, scenario
 
@@ -160,3 +161,51 @@ def test_check_scenario_accepts_mappings_and_rejects_other_things():
         check_scenarios(sc)
     with pytest.raises(ValueError, match="non-empty list of scenarios"):
         LFEPropositionExtractor().fit([])
+
+
+def test_checked_once_checks_on_entry_and_skips_only_those_scenarios(monkeypatch):
+    import lfe.scenario as scenario_module
+    from lfe.scenario import checked_once
+
+    good, bad = _good("ok"), _tracks(_set("x", 0, np.nan))
+    with pytest.raises(ValueError, match="non-finite"):  # checked on entry
+        with checked_once([good, bad]):
+            pass
+    calls = []
+    real = scenario_module._where
+    monkeypatch.setattr(scenario_module, "_where", lambda i, sc: calls.append(sc) or real(i, sc))
+    with checked_once([good]) as scenarios:
+        assert scenarios[0] is good and calls == [good]
+        annotate_scenarios(scenarios)
+        LFEPropositionExtractor().fit(scenarios).transform(scenarios)
+        assert calls == [good]  # not checked again inside the block
+        with pytest.raises(ValueError, match="non-finite"):  # others still are
+            check_scenarios([good, bad])
+    check_scenarios([good])  # checked again after the block
+    assert calls.count(good) == 2
+
+
+def test_checked_once_memoises_per_scenario_work_without_changing_results(monkeypatch):
+    import lfe.extractor as extractor_module
+    from lfe.scenario import checked_once
+
+    scenarios = [_good("a"), _good("b")]
+    ext = LFEPropositionExtractor().fit(scenarios)
+    outside = (annotate_scenarios(scenarios, noise=0.5, random_state=3),
+               annotate_scenarios(scenarios), ext.transform(scenarios),
+               ext.flight_phase_features(scenarios))
+    built = []
+    real = extractor_module._State
+    monkeypatch.setattr(extractor_module, "_State", lambda sc, step: built.append(sc) or
+                        real(sc, step))
+    with checked_once(scenarios) as checked:
+        inside = (annotate_scenarios(checked, noise=0.5, random_state=3),
+                  annotate_scenarios(checked), ext.transform(checked),
+                  ext.flight_phase_features(checked))
+        ext.phase_labels(checked, inside[1][1])
+    assert built == scenarios  # one grid per scenario for every extractor call
+    for a, b in zip(outside[:2], inside[:2]):  # flipped verdicts do not leak into the memo
+        pd.testing.assert_frame_equal(a[0], b[0])
+        pd.testing.assert_frame_equal(a[1], b[1])
+    for a, b in zip(outside[2] + outside[3], inside[2] + inside[3]):
+        pd.testing.assert_frame_equal(a, b)

@@ -102,6 +102,28 @@ def test_resume_runs_only_missing_cells(tiny_run, tmp_path):
     assert status == 2 and "other arguments" in err
 
 
+def test_each_repeat_is_simulated_once_for_all_its_cells(tmp_path, monkeypatch):
+    import lfe.study
+
+    real, simulated, seen = lfe.study.simulate_repeat, [], []
+    real_cell = lfe.study.run_cell
+
+    def counting(**kwargs):
+        simulated.append(kwargs["dataset_seed"])
+        return real(**kwargs)
+
+    def cell(data, **kwargs):
+        seen.append(id(data["clean"]))  # the repeat's own arrays, not a fresh simulation
+        return real_cell(data, **kwargs)
+
+    monkeypatch.setattr(lfe.study, "simulate_repeat", counting)
+    monkeypatch.setattr(lfe.study, "run_cell", cell)
+    status, _, _ = _run(["--quick", "--sizes", "3,4", "--noise", "0,0.04", "--test-size", "4",
+                         "--repeats", "1", "--verbose", "0", "--out", str(tmp_path)])
+    assert status == 0
+    assert len(simulated) == 1 and len(seen) == 4 and len(set(seen)) == 1
+
+
 @pytest.mark.parametrize("argv, message", [
     (["--sizes", "3,600"], "above the training pool"),
     (["--sizes", "1"], "--sizes"),
