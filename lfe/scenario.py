@@ -15,6 +15,7 @@ __all__ = [
     "check_scenario",
     "check_scenarios",
     "checked_once",
+    "memoised",
     "SIDES",
     "ROLES",
     "FRIENDLY_ROLES",
