@@ -211,3 +211,29 @@ def test_work_budget_stops_before_the_work_and_is_deterministic():
         exact_posterior(truth, y, model, max_work=1e4)
     ok = exact_posterior(truth, y, model, max_work=1e9)
     _assert_same_posterior(ok, exact_posterior(truth, y, model))
+
+
+def test_auto_enumerates_the_dinner_table_exactly_and_n_jobs_does_not_matter():
+    from bsi_sklearn import BSIClassifier
+    from bsi_sklearn.datasets import make_dinner_table_demos
+
+    d = make_dinner_table_demos(30, n_negative=8, random_state=1)
+    fits = [BSIClassifier(**d.roles, n_jobs=n_jobs).fit(d.traces, d.labels) for n_jobs in (1, 2)]
+    assert [f.inference_ for f in fits] == ["exact", "exact"]
+    assert fits[0].n_hypotheses_ == 201_908_736
+    assert np.array_equal(fits[0].posterior_.probabilities, fits[1].posterior_.probabilities)
+    assert fits[0].map_specification_ == fits[1].map_specification_
+
+
+def test_auto_samples_when_the_enumeration_is_over_its_budget(monkeypatch):
+    import bsi_sklearn.classifier as classifier
+    from bsi_sklearn import BSIClassifier
+
+    truth_x = [np.array([[1, 0, 1], [1, 1, 1]]), np.array([[1, 0, 0], [1, 1, 1]])]
+    monkeypatch.setattr(classifier, "_AUTO_EXACT_WORK", 1.0)
+    clf = BSIClassifier(global_candidates=[0], subtasks=[1, 2], n_samples=50,
+                        random_state=0).fit(truth_x)
+    assert clf.inference_ == "mcmc"
+    with pytest.raises(ValueError, match="max_exact_hypotheses"):
+        BSIClassifier(global_candidates=[0], subtasks=[1, 2], inference="exact",
+                      max_exact_hypotheses=3).fit(truth_x)
