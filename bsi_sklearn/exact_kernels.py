@@ -73,21 +73,31 @@ def _counts(s_bits, g, h_pos, h_neg, h):
 
 
 def likelihood_tables(n_pos, n_neg, max_conj, model):
-    """The likelihood as a sum of a term of the positives and one of the negatives.
+    """The likelihood as a sum of a term of the positives and one of the negatives."""
+    return Likelihoods(*_likelihood_tables(n_pos, n_neg, max_conj, model))
 
-    Plain Python over the numba function's Python body (a few thousand calls; it spares a
-    compilation on the first fit).
-    """
-    lik = log_likelihood.py_func
-    lik_pos = np.array([[lik(float(ps), 0.0, float(n_pos), 0.0, k, model.log_eps,
-                             model.likelihood) for ps in range(n_pos + 1)]
-                        for k in range(max_conj + 1)])
-    # No conjunct: every demonstration satisfies the formula, so ns < n_neg cannot happen.
-    lik_neg = np.array([[lik(0.0, float(ns), 0.0, float(n_neg), k, model.log_eps,
-                             model.likelihood) if k or ns == n_neg else -np.inf
-                         for ns in range(n_neg + 1)] for k in range(max_conj + 1)])
-    bound = np.maximum.accumulate(lik_pos + lik_neg.max(axis=1)[:, None], axis=1)
-    return Likelihoods(lik_pos, lik_neg, bound)
+
+@njit(cache=True, nogil=True)
+def _likelihood_tables(n_pos, n_neg, max_conj, model):
+    lik_pos = np.empty((max_conj + 1, n_pos + 1))
+    lik_neg = np.empty((max_conj + 1, n_neg + 1))
+    bound = np.empty((max_conj + 1, n_pos + 1))
+    for k in range(max_conj + 1):
+        top = -np.inf
+        for ns in range(n_neg + 1):
+            if k == 0 and ns < n_neg:
+                lik_neg[k, ns] = -np.inf  # no conjunct: every demonstration satisfies it
+            else:
+                lik_neg[k, ns] = log_likelihood(0.0, float(ns), 0.0, float(n_neg), k,
+                                                model.log_eps, model.likelihood)
+            top = max(top, lik_neg[k, ns])
+        run = -np.inf
+        for ps in range(n_pos + 1):
+            lik_pos[k, ps] = log_likelihood(float(ps), 0.0, float(n_pos), 0.0, k,
+                                            model.log_eps, model.likelihood)
+            run = max(run, lik_pos[k, ps] + top)
+            bound[k, ps] = run
+    return lik_pos, lik_neg, bound
 
 
 @njit(cache=True, nogil=True, inline="always")
