@@ -17,7 +17,8 @@ PRIOR_NAMES = {"linear_chain", "sets_of_chains", "forest"}
 def _modules(*folders):
     for folder in folders:
         for path in sorted((ROOT / folder).rglob("*.py")):
-            if "__pycache__" not in path.parts:
+            # node_modules: webppl's package, installed by benchmarks/bench_reference.py
+            if "__pycache__" not in path.parts and "node_modules" not in path.parts:
                 yield path
 
 
