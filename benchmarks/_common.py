@@ -180,6 +180,18 @@ def target(name, wanted, measured, ok):
             "ok": None if ok is None else bool(ok)}
 
 
+def clause_problem(X, roles):
+    """``(traces, resolved roles, clause truth)`` of demonstrations, as ``fit`` computes them."""
+    from bsi_sklearn.clauses import clause_truth
+    from bsi_sklearn.roles import resolve_roles
+    from bsi_sklearn.traces import check_traces
+
+    traces = check_traces(X)
+    r = resolve_roles(roles["global_candidates"], roles["subtasks"], roles["conditions"],
+                      traces.n_props, traces.feature_names)
+    return traces, r, clause_truth(traces, r)
+
+
 def problem_roles(roles):
     """``BSIClassifier`` keyword arguments for a roles dict."""
     return dict(global_candidates=roles["global_candidates"], subtasks=roles["subtasks"],

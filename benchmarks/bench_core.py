@@ -4,15 +4,21 @@ import time
 
 import numpy as np
 import pandas as pd
-from _common import Section, fmt_n, fmt_s, md_table, problem_roles, target, time_call
+from _common import (
+    Section,
+    clause_problem,
+    fmt_n,
+    fmt_s,
+    md_table,
+    problem_roles,
+    target,
+    time_call,
+)
 from _data import make_demos, poi_demos
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.mcmc import deduplicate_demos, run_chain
 from bsi_sklearn.model import make_model
-from bsi_sklearn.roles import resolve_roles
-from bsi_sklearn.traces import check_traces
 
 
 def kernel_rate(X, y, roles, prior="sets_of_chains", n_samples=10_000, burn_in=100, seeds=5):
@@ -20,11 +26,9 @@ def kernel_rate(X, y, roles, prior="sets_of_chains", n_samples=10_000, burn_in=1
 
     Returns ``(updates_per_s, seconds, n_updates, n_unique_demos)``.
     """
-    traces = check_traces(X)
-    r = resolve_roles(roles["global_candidates"], roles["subtasks"], roles["conditions"],
-                      traces.n_props, traces.feature_names)
+    traces, r, truth = clause_problem(X, roles)
     y01 = np.ones(traces.n_demos, dtype=np.int64) if y is None else np.asarray(y)
-    demos = deduplicate_demos(clause_truth(traces, r), y01)
+    demos = deduplicate_demos(truth, y01)
     model = make_model(prior=prior, likelihood="cb", n_globals=r.n_globals,
                        n_subtasks=r.n_subtasks)
     args = (demos, model, n_samples, burn_in)
@@ -119,10 +123,8 @@ def run(cfg):
                                   "(5 globals), defaults", "< 2 s",
                                   f"{fmt_s(wall_b)} (cpu {fmt_s(cpu_b)})",
                                   wall_b < 2.0 if not cfg.quick else None))
-    traces = check_traces(Xb)
-    r = resolve_roles(kwb["global_candidates"], kwb["subtasks"], kwb["conditions"],
-                      traces.n_props, None)
-    n_unique = deduplicate_demos(clause_truth(traces, r), np.ones(traces.n_demos))[0].shape[1]
+    traces, _, truth = clause_problem(Xb, kwb)
+    n_unique = deduplicate_demos(truth, np.ones(traces.n_demos))[0].shape[1]
     sec.add(f"**{n_demos:,} demonstrations x {n_steps:,} steps, 5 globals x 6 subtasks** "
             f"(`benchmarks/_data.make_demos`, {n_unique} unique clause-truth rows), "
             "10,000 samples + 100 burn-in per chain:")

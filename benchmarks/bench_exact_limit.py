@@ -7,19 +7,26 @@ import json
 import subprocess
 import textwrap
 import time
+from pathlib import Path
 
 import numpy as np
-from _common import Section, fmt_n, fmt_s, md_table, problem_roles, python_cmd, target
+from _common import (
+    Section,
+    clause_problem,
+    fmt_s,
+    md_table,
+    problem_roles,
+    python_cmd,
+    target,
+)
 from _data import make_demos
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.datasets import make_dinner_table_demos
 from bsi_sklearn.exact import exact_posterior
 from bsi_sklearn.model import make_model
 from bsi_sklearn.priors import count_hypotheses
-from bsi_sklearn.roles import resolve_roles
-from bsi_sklearn.traces import check_labels, check_traces
+from bsi_sklearn.traces import check_labels
 
 _MEMORY_CHILD = textwrap.dedent("""
     import json, resource, sys
@@ -60,11 +67,8 @@ def _dinner():
 
 
 def _enumeration_only(X, y, roles, prior):
-    traces = check_traces(X)
+    traces, r, truth = clause_problem(X, roles)
     y01, _ = check_labels(y, traces.n_demos, None)
-    r = resolve_roles(roles["global_candidates"], roles["subtasks"], roles["conditions"],
-                      traces.n_props, traces.feature_names)
-    truth = clause_truth(traces, r)
     model = make_model(prior=prior, likelihood="cb", n_globals=r.n_globals,
                        n_subtasks=r.n_subtasks)
     return lambda: exact_posterior(truth, y01, model)
@@ -87,8 +91,8 @@ def run(cfg):
         exact = BSIClassifier(**kw, inference="exact")
         chain = BSIClassifier(**kw, inference="mcmc", n_chains=1, n_samples=10_000,
                               burn_in=100, random_state=0)
-        t_exact, _ = _best(lambda c=exact: c.fit(X, y), reps)
-        t_chain, _ = _best(lambda c=chain: c.fit(X, y), reps)
+        t_exact, _ = _best(lambda c=exact, X=X, y=y: c.fit(X, y), reps)
+        t_chain, _ = _best(lambda c=chain, X=X, y=y: c.fit(X, y), reps)
         t_enum, _ = _best(_enumeration_only(X, y, roles, prior), reps)
         rate = n_hyp / t_enum
         data["problems"].append({"problem": name, "prior": prior, "hypotheses": n_hyp,
@@ -126,10 +130,8 @@ def run(cfg):
     mem_rows = []
     for n_g, n, prior in cfg.pick([(1, 8, "forest"), (1, 10, "sets_of_chains"),
                                    (1, 10, "forest")], [(1, 6, "sets_of_chains")]):
-        code = _MEMORY_CHILD.format(bench=str(cfg.out.resolve()
-                                              if (cfg.out / "_data.py").exists()
-                                              else __import__("pathlib").Path(__file__).parent),
-                                    n=n, n_g=n_g, prior=prior)
+        code = _MEMORY_CHILD.format(bench=str(Path(__file__).resolve().parent), n=n, n_g=n_g,
+                                    prior=prior)
         try:
             out = subprocess.run([python_cmd(), "-c", code], capture_output=True, text=True,
                                  timeout=900, check=True).stdout.strip().splitlines()[-1]

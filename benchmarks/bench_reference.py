@@ -251,8 +251,9 @@ def run(cfg):
         "posterior exactly here), timed the same way: the time to a posterior a user gets. "
         "Exact: `BSIClassifier(inference=\"exact\")`.")
     header = ["demos", "prior", "webppl, traces", "webppl, clause truth", "ours (MCMC fit)",
-              "ratio, traces", "ratio, truth", "ours (defaults)", "ratio (defaults), traces", "TV ours", "TV ours (freq.)", "TV webppl",
-              "TV webppl chain 1 vs 2", "MAP: webppl", "MAP: ours"]
+              "ratio, traces", "ratio, truth", "ours (defaults)", "ratio (defaults), traces",
+              "TV ours", "TV ours (freq.)", "TV webppl", "TV webppl chain 1 vs 2", "MAP: webppl",
+              "MAP: ours"]
     rows = []
     for res in results:
         rows.append([

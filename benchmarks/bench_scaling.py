@@ -6,6 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from _common import (
     Section,
+    clause_problem,
     fmt_n,
     fmt_s,
     md_table,
@@ -17,27 +18,17 @@ from _common import (
 from _data import make_demos
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.mcmc import deduplicate_demos, run_chain
 from bsi_sklearn.model import make_model
 from bsi_sklearn.priors import count_hypotheses
-from bsi_sklearn.roles import resolve_roles
-from bsi_sklearn.traces import check_traces
 
 MCMC = dict(inference="mcmc", n_chains=1, n_samples=10_000, burn_in=100, random_state=0)
 EXACT_LIMIT = 10_000_000  # largest support the sweeps enumerate
 
 
-def _precompute(X, roles):
-    traces = check_traces(X)
-    r = resolve_roles(roles["global_candidates"], roles["subtasks"], roles["conditions"],
-                      traces.n_props, traces.feature_names)
-    return traces, r, clause_truth(traces, r)
-
-
 def precompute_time(X, roles, repeats):
     """Median seconds of validation + clause-truth precomputation, and unique rows."""
-    wall, _, (traces, r, truth), _ = time_call(lambda: _precompute(X, roles), repeats)
+    wall, _, (traces, r, truth), _ = time_call(lambda: clause_problem(X, roles), repeats)
     n_unique = deduplicate_demos(truth, np.ones(traces.n_demos))[0].shape[1]
     return wall, n_unique, truth, r
 

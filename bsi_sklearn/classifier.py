@@ -154,8 +154,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     log-posterior traces may wander (their split-R-hat is kept as ``rhat``) while the reported
     posterior is right; with one chain there is nothing to compare and no warning. With the
     default roles (every proposition a global candidate and a subtask) and a support that
-    ``"auto"`` could not enumerate, a ``UserWarning`` suggests ``global_candidates``, ``subtasks`` and
-    ``conditions``.
+    ``"auto"`` could not enumerate, a ``UserWarning`` suggests ``global_candidates``,
+    ``subtasks`` and ``conditions``.
 
     References
     ----------

@@ -6,18 +6,19 @@ eventual subset), that satisfy the same demonstrations with the same number of c
 interchangeable: their prior weights are summed into groups (:mod:`bsi_sklearn.exact_parts`)
 and the enumeration runs over pairs of groups. A first pass computes the normaliser, building
 per pair of groups only a histogram over (satisfied positives, satisfied negatives); a second
-pass gives every group its posterior mass and finds the pairs of groups that may hold a
+pass gives every group its posterior mass and flags the structure groups that may hold a
 hypothesis above the keep threshold; a last walk over the order structures splits the masses
-into clause marginals and expands the kept hypotheses. The result is the posterior of the
-ungrouped enumeration (:mod:`bsi_sklearn.exact_ungrouped`, the reference it is tested against)
-up to rounding.
+into clause marginals and lists the kept hypotheses. Order structures and pairs of groups that
+cannot add 1e-17 of the evidence are skipped, with a bound (:mod:`bsi_sklearn.exact_kernels`).
+The result is the posterior of the ungrouped enumeration (:mod:`bsi_sklearn.exact_ungrouped`,
+the reference it is tested against) up to rounding.
 """
 
 import math
 
 import numpy as np
 
-from bsi_sklearn.clauses import pack_rows
+from bsi_sklearn.clauses import pack_rows, popcounts
 from bsi_sklearn.exact_kernels import (
     Expansion,
     StructureSide,
@@ -27,9 +28,13 @@ from bsi_sklearn.exact_kernels import (
     log_evidence,
     walk_structures,
 )
-from bsi_sklearn.clauses import popcounts
-from bsi_sklearn.exact_parts import PartTable, Pruning, group_structures, group_subsets
-from bsi_sklearn.exact_parts import subset_table
+from bsi_sklearn.exact_parts import (
+    PartTable,
+    Pruning,
+    group_structures,
+    group_subsets,
+    subset_table,
+)
 from bsi_sklearn.exact_ungrouped import LabelMasks, structure_tables, ungrouped_kernel
 from bsi_sklearn.priors import PRIORS, count_hypotheses, support_structures
 
@@ -43,10 +48,6 @@ MAX_KEPT = 1_000_000
 _MARGIN = math.log(1e-17)
 _STRUCTURE_COST = 100
 _EMIT_COST = 20
-
-#: Largest (satisfied positives x satisfied negatives) histogram of the first pass; above it
-#: every pair of groups pays a log and an exp instead.
-_MAX_CELLS = 1 << 22
 
 
 class ExactResult:
@@ -68,28 +69,31 @@ def _mask_bits(masks, n_items):
     return ((masks[:, None] >> np.arange(n_items)) & 1).astype(bool)
 
 
-def _subset_marginals(subsets, mass_h, n_items, which):
-    # Split each subset-pair group's mass over its pairs of groups, then over their members.
+def _subset_marginals(subsets, mass_h, n_g, n):
+    # Each subset-pair group's mass goes to its pairs of groups in proportion to their prior
+    # weight, then to the members of each global / eventual group in proportion to theirs.
     g = subsets.groups
     with np.errstate(divide="ignore"):
         h_lw = np.log(g.weight) + g.ref
-    part = subsets.t_groups if which == "t" else subsets.e_groups
-    start, items = ((subsets.t_start, subsets.t_items) if which == "t"
-                    else (subsets.e_start, subsets.e_items))
-    item_lp = subsets.t_lp if which == "t" else subsets.e_lp
-    mass_part = np.zeros(len(part.size))
-    for h in np.flatnonzero(mass_h):
-        for q in range(subsets.pair_start[h], subsets.pair_start[h + 1]):
-            gt, ge = subsets.pair_t[q], subsets.pair_e[q]
-            lw = (np.log(subsets.t_groups.weight[gt]) + subsets.t_groups.ref
-                  + np.log(subsets.e_groups.weight[ge]) + subsets.e_groups.ref)
-            mass_part[gt if which == "t" else ge] += mass_h[h] * np.exp(lw - h_lw[h])
-    marg = np.zeros(n_items)
-    for gp in np.flatnonzero(mass_part):
-        members = items[start[gp]:start[gp + 1]]
-        share = mass_part[gp] * np.exp(item_lp[members] - part.ref) / part.weight[gp]
-        marg += (_mask_bits(members, n_items) * share[:, None]).sum(axis=0)
-    return marg
+    of_pair = np.repeat(np.arange(len(mass_h)), np.diff(subsets.pair_start))
+    held = mass_h[of_pair] > 0  # (a group without mass may have weight 0: no 0 * inf)
+    pair_mass = np.zeros(len(of_pair))
+    pair_mass[held] = mass_h[of_pair][held] * np.exp(subsets.pair_lw[held]
+                                                     - h_lw[of_pair][held])
+    out = []
+    for part, group_of_pair, start, items, item_lp, n_items in (
+            (subsets.t_groups, subsets.pair_t, subsets.t_start, subsets.t_items, subsets.t_lp,
+             n_g),
+            (subsets.e_groups, subsets.pair_e, subsets.e_start, subsets.e_items, subsets.e_lp,
+             n)):
+        mass_part = np.bincount(group_of_pair, weights=pair_mass, minlength=len(part.size))
+        marg = np.zeros(n_items)
+        for gp in np.flatnonzero(mass_part):
+            members = items[start[gp]:start[gp + 1]]
+            share = mass_part[gp] * np.exp(item_lp[members] - part.ref) / part.weight[gp]
+            marg += (_mask_bits(members, n_items) * share[:, None]).sum(axis=0)
+        out.append(marg)
+    return out
 
 
 def _structure_side(sg, pos):
@@ -205,8 +209,7 @@ def _grouped(clause_bits, full, labels, model, log_keep, max_kept, max_work):
     kept = lp >= log_keep
     par, idx, lp = par[kept], idx[kept], lp[kept]
     order = np.lexsort((idx[:, 2], idx[:, 1], idx[:, 0], -lp))
-    marg = np.concatenate([_subset_marginals(subsets, mass_h, model.n_g, "t"),
-                           _subset_marginals(subsets, mass_h, model.n, "e"), marg_o])
+    marg = np.concatenate([*_subset_marginals(subsets, mass_h, model.n_g, model.n), marg_o])
     return log_z, par[order], idx[order, 1], idx[order, 2], lp[order], marg
 
 

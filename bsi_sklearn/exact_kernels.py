@@ -112,9 +112,11 @@ def _lse_add(mx, acc, v):
 
 @njit(cache=True, nogil=True)
 def log_evidence(ss, hs, lik, cut_offset, cut_floor):
-    """log of the sum over pairs of groups of weight x likelihood, relative to the structure
-    weights' ref. A pair is skipped when its bound is below the running sum + ``cut_offset``
-    or below ``cut_floor``."""
+    """Log of the sum over pairs of groups of weight x likelihood.
+
+    Relative to the structure weights' ref. A pair is skipped when its bound is below the
+    running sum + ``cut_offset`` or below ``cut_floor``.
+    """
     n_neg1 = lik.neg.shape[1]
     n_cells = lik.pos.shape[1] * n_neg1
     use_hist = n_cells <= MAX_CELLS
@@ -160,8 +162,9 @@ def log_evidence(ss, hs, lik, cut_offset, cut_floor):
 
 @njit(cache=True, nogil=True)
 def group_masses(ss, hs, lik, log_z, keep, cut):
-    """Posterior mass of every structure group and subset-pair group, and which structure
-    groups may hold a kept hypothesis.
+    """Posterior mass of every structure group and subset-pair group, and flags.
+
+    The flags say which structure groups may hold a kept hypothesis.
 
     ``log_z`` is relative to the structure weights' ref. A structure group is flagged when,
     with some subset-pair group, its best member may reach ``keep`` (absolute log posterior,
@@ -263,12 +266,15 @@ def _put(out_par, out_idx, out_lp, slot, parent, ordinal, t, e, value):
 @njit(cache=True, nogil=True)
 def walk_structures(full, model, rule, table, ss, hs, lik, ex, subsets, out_par, out_idx,
                     out_lp):
-    """The structures the rule keeps, again: each one's share of its group's mass goes to its
-    order clauses; the hypotheses at or above ``ex.keep`` are written to ``out_*`` (structure,
-    [ordinal, global mask, eventual mask], unnormalised log posterior), in no particular order;
-    when there are more than they have room for, a min-heap keeps the most probable. Returns the order-clause
-    marginals (``n * n``, ``a * n + v`` for ``a -> v``) and the number of hypotheses at or
-    above ``ex.keep``, which may exceed the room in ``out_*``."""
+    """Walk the structures the rule keeps again: order-clause marginals and kept hypotheses.
+
+    Each structure's share of its group's mass goes to its order clauses; the hypotheses at or
+    above ``ex.keep`` are written to ``out_*`` (structure, [ordinal, global mask, eventual
+    mask], unnormalised log posterior), in no particular order; when there are more than they
+    have room for, a min-heap keeps the most probable. Returns the order-clause marginals
+    (``n * n``, ``a * n + v`` for ``a -> v``) and the number of hypotheses at or above
+    ``ex.keep``, which may exceed the room in ``out_*``.
+    """
     n = model.n
     by_mask = np.zeros((n, 1 << n))  # mass by (subtask, its ancestor mask)
     wk = new_walk(n, full)

@@ -44,6 +44,7 @@ class SubsetGroups(NamedTuple):
     e_start: np.ndarray
     e_items: np.ndarray
     e_lp: np.ndarray
+    pair_lw: np.ndarray     # log prior weight of each member pair of groups
 
 
 def subset_table(clause_bits, first_clause, n_items, p, full):
@@ -261,7 +262,7 @@ def group_subsets(clause_bits, full, model):
     with np.errstate(divide="ignore"):
         lw = np.log(tg.weight)[a] + tg.ref + np.log(eg.weight)[b] + eg.ref
     pair_gid, groups = group_rows(tg.bits[a] & eg.bits[b], tg.size[a] + eg.size[b], lw,
-                                     tg.best[a] + eg.best[b])
+                                  tg.best[a] + eg.best[b])
     pair_start, pairs = _members(pair_gid, len(groups.size))
     return SubsetGroups(groups, pair_start, a[pairs], b[pairs], tg, t_start, t_items, t_tab.lp,
-                        eg, e_start, e_items, e_tab.lp)
+                        eg, e_start, e_items, e_tab.lp, lw[pairs])

@@ -12,6 +12,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from bsi_sklearn.clauses import popcount
 from bsi_sklearn.exact_parts import PartTable
 from bsi_sklearn.likelihood import log_likelihood
 from bsi_sklearn.priors import log_prior_structure
@@ -29,15 +30,8 @@ class LabelMasks(NamedTuple):
 
 
 @njit(cache=True, nogil=True)
-def _popcount64(x):
-    x = x - ((x >> np.uint64(1)) & np.uint64(0x5555555555555555))
-    x = (x & np.uint64(0x3333333333333333)) + ((x >> np.uint64(2)) & np.uint64(0x3333333333333333))
-    x = (x + (x >> np.uint64(4))) & np.uint64(0x0F0F0F0F0F0F0F0F)
-    return int((x * np.uint64(0x0101010101010101)) >> np.uint64(56))
-
-
-@njit(cache=True, nogil=True)
 def structure_tables(structures, clause_bits, full, model):
+    """Bitset, number of orders and log prior of every order structure given as parent rows."""
     n_s = structures.shape[0]
     n_words = clause_bits.shape[1]
     bits = np.empty((n_s, n_words), dtype=np.uint64)
@@ -66,8 +60,8 @@ def _hyp_logpost(s, t, e, parts_s, parts_t, parts_e, labels, model):
     neg_sat = 0
     for w in range(labels.pos.shape[0]):
         sat = parts_s.bits[s, w] & parts_t.bits[t, w] & parts_e.bits[e, w]
-        pos_sat += _popcount64(sat & labels.pos[w])
-        neg_sat += _popcount64(sat & labels.neg[w])
+        pos_sat += int(popcount(sat & labels.pos[w]))
+        neg_sat += int(popcount(sat & labels.neg[w]))
     n_conj = parts_s.size[s] + parts_t.size[t] + parts_e.size[e]
     return parts_s.lp[s] + parts_t.lp[t] + parts_e.lp[e] + log_likelihood(
         float(pos_sat), float(neg_sat), labels.n_pos, labels.n_neg, n_conj, model.log_eps,
@@ -77,6 +71,7 @@ def _hyp_logpost(s, t, e, parts_s, parts_t, parts_e, labels, model):
 
 @njit(cache=True, nogil=True)
 def ungrouped_kernel(parts_s, parts_t, parts_e, labels, model, log_keep):
+    """Log evidence, kept hypotheses (log posterior >= log_keep) and per-part masses."""
     s_lp = parts_s.lp
     n_s, n_t, n_e = s_lp.shape[0], parts_t.lp.shape[0], parts_e.lp.shape[0]
     # Pass 1: log normaliser with a running maximum.
