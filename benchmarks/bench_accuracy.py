@@ -7,7 +7,7 @@ from _common import Section, md_table, problem_roles, target
 from _data import make_demos, poi_demos
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.diagnostics import total_variation
+from bsi_sklearn.inference.diagnostics import total_variation
 
 PRIORS = ("linear_chain", "sets_of_chains", "forest")
 LIKELIHOODS = ("cb", "ci")

@@ -78,7 +78,7 @@ def model_check(webppl, seed=0, n_subtasks=4):
     A 2-global x ``n_subtasks`` problem with 6 acceptable and 3 unacceptable demonstrations,
     every prior x likelihood, the program reading the traces. Returns ``(max_tv, rows)``.
     """
-    from bsi_sklearn.diagnostics import total_variation
+    from bsi_sklearn.inference.diagnostics import total_variation
 
     X, y, roles = make_demos(6, 8, n_subtasks=n_subtasks, n_globals=2, n_negative=3,
                              seed=seed)
@@ -122,7 +122,7 @@ def time_webppl(problem, seeds, samples, burn, webppl, max_seconds=MAX_WEBPPL_S)
 def compare_setting(n_demos, prior, cfg, webppl, samples, seeds=(1, 2), progress=None):
     """All numbers of one row of the table."""
     from bsi_sklearn import BSIClassifier
-    from bsi_sklearn.diagnostics import total_variation
+    from bsi_sklearn.inference.diagnostics import total_variation
 
     X, y, roles, source = poi_demos(n_demos, seed=0)
     kw = problem_roles(roles)

@@ -18,7 +18,7 @@ from _common import (
 from _data import make_demos
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.mcmc import deduplicate_demos, run_chain
+from bsi_sklearn.inference.mcmc import deduplicate_demos, run_chain
 from bsi_sklearn.model import make_model
 from bsi_sklearn.priors import count_hypotheses
 

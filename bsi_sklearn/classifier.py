@@ -12,10 +12,10 @@ from sklearn.utils.parallel import Parallel, delayed
 from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn.clauses import clause_truth
-from bsi_sklearn.diagnostics import missed_mass, split_rhat
-from bsi_sklearn.exact import ExactWorkExceeded, exact_posterior
+from bsi_sklearn.inference.diagnostics import missed_mass, split_rhat
+from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.likelihood import LIKELIHOODS
-from bsi_sklearn.mcmc import (
+from bsi_sklearn.inference.mcmc import (
     deduplicate_demos,
     run_chain,
     score_states,

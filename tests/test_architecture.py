@@ -128,3 +128,52 @@ def test_every_module_says_what_it_holds():
     missing = [_rel(p) for p in _modules("bsi_sklearn", "lfe", "baselines")
                if p.read_text(encoding="utf-8").strip() and ast.get_docstring(_tree(p)) is None]
     assert missing == []
+
+
+# The layers of docs/architecture.md, bottom up; a module imports only from its own layer and
+# the layers below. Modules not named here (reports, experiments, datasets, command lines) sit
+# on top and may import any layer.
+LAYERS = [
+    {"traces", "_trace_values", "roles", "io", "ltl", "param_validation", "preprocessing"},
+    {"clauses"},
+    {"priors", "likelihood", "model"},
+    {"inference"},
+    {"specification", "posterior", "automaton", "metrics", "monitor", "monitor_figure",
+     "active"},
+    {"classifier"},
+]
+
+
+def _layer(module_parts):
+    head = module_parts[0].removesuffix(".py")
+    for k, layer in enumerate(LAYERS):
+        if head in layer:
+            return k
+    return len(LAYERS)
+
+
+def test_imports_point_down_the_layers():
+    bad = []
+    for path in _modules("bsi_sklearn"):
+        parts = path.relative_to(PACKAGE).parts
+        if parts[-1] in {"__init__.py", "__main__.py"} and len(parts) == 1:
+            continue
+        own = _layer(parts)
+        for module, _ in _imports(_tree(path)):
+            if module.split(".")[0] != "bsi_sklearn" or module == "bsi_sklearn":
+                continue
+            target = _layer(module.split(".")[1:])
+            if target > own:
+                bad.append(f"{_rel(path)} (layer {own}) imports {module} (layer {target})")
+    assert bad == []
+
+
+def test_private_inference_modules_stay_in_their_package():
+    bad = []
+    for path in _modules("bsi_sklearn", "lfe", "baselines", "benchmarks"):
+        if "inference" in path.relative_to(ROOT).parts[:2]:
+            continue
+        for module, _ in _imports(_tree(path)):
+            if module.startswith("bsi_sklearn.inference._"):
+                bad.append(f"{_rel(path)}: {module}")
+    assert bad == []

@@ -8,7 +8,7 @@ from _reference import brute_force_posterior
 from poi_problems import make_poi_problem
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.diagnostics import total_variation
+from bsi_sklearn.inference.diagnostics import total_variation
 from bsi_sklearn.likelihood import (
     default_log_epsilon,
     likelihood_code,

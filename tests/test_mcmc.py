@@ -8,8 +8,8 @@ from poi_problems import make_poi_problem
 from sklearn.exceptions import ConvergenceWarning
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.diagnostics import split_rhat, total_variation
-from bsi_sklearn.mcmc import unique_states
+from bsi_sklearn.inference.diagnostics import split_rhat, total_variation
+from bsi_sklearn.inference.mcmc import unique_states
 
 
 @pytest.fixture(scope="module")

@@ -1,6 +1,6 @@
 """The ungrouped exact enumeration: every hypothesis, one by one (the reference).
 
-Kept as the reference the grouped engine (:mod:`bsi_sklearn.exact`) is tested against: it
+Kept as the reference the grouped engine (:mod:`bsi_sklearn.inference.exact`) is tested against: it
 streams every (order structure, global subset, eventual subset) triple twice (normaliser, then
 marginals and kept hypotheses), one AND and two popcounts per 64 demonstrations each. It holds
 one array over all order structures, so it is for small supports only.
@@ -13,7 +13,7 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn.clauses import popcount
-from bsi_sklearn.exact_parts import PartTable
+from bsi_sklearn.inference._exact_parts import PartTable
 from bsi_sklearn.likelihood import log_likelihood
 from bsi_sklearn.priors import log_prior_structure
 

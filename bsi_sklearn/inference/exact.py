@@ -3,14 +3,14 @@
 A hypothesis' likelihood depends only on how many acceptable and unacceptable demonstrations it
 satisfies and on its number of conjuncts, so order structures, and pairs of (global subset,
 eventual subset), that satisfy the same demonstrations with the same number of conjuncts are
-interchangeable: their prior weights are summed into groups (:mod:`bsi_sklearn.exact_parts`)
+interchangeable: their prior weights are summed into groups (:mod:`bsi_sklearn.inference._exact_parts`)
 and the enumeration runs over pairs of groups. A first pass computes the normaliser, building
 per pair of groups only a histogram over (satisfied positives, satisfied negatives); a second
 pass gives every group its posterior mass and flags the structure groups that may hold a
 hypothesis above the keep threshold; a last walk over the order structures splits the masses
 into clause marginals and lists the kept hypotheses. Order structures and pairs of groups that
-cannot add 1e-17 of the evidence are skipped, with a bound (:mod:`bsi_sklearn.exact_kernels`).
-The result is the posterior of the ungrouped enumeration (:mod:`bsi_sklearn.exact_ungrouped`,
+cannot add 1e-17 of the evidence are skipped, with a bound (:mod:`bsi_sklearn.inference._exact_kernels`).
+The result is the posterior of the ungrouped enumeration (:mod:`bsi_sklearn.inference._exact_ungrouped`,
 the reference it is tested against) up to rounding.
 """
 
@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from bsi_sklearn.clauses import pack_rows, popcounts
-from bsi_sklearn.exact_kernels import (
+from bsi_sklearn.inference._exact_kernels import (
     Expansion,
     StructureSide,
     SubsetSide,
@@ -28,14 +28,14 @@ from bsi_sklearn.exact_kernels import (
     log_evidence,
     walk_structures,
 )
-from bsi_sklearn.exact_parts import (
+from bsi_sklearn.inference._exact_parts import (
     PartTable,
     Pruning,
     group_structures,
     group_subsets,
     subset_table,
 )
-from bsi_sklearn.exact_ungrouped import LabelMasks, structure_tables, ungrouped_kernel
+from bsi_sklearn.inference._exact_ungrouped import LabelMasks, structure_tables, ungrouped_kernel
 from bsi_sklearn.priors import PRIORS, count_hypotheses, support_structures
 
 __all__ = ["exact_posterior", "ExactResult", "ExactWorkExceeded", "MAX_KEPT"]

@@ -3,7 +3,7 @@
 A hypothesis is an order structure, a subset of the global candidates and a subset of the
 eventual subtasks. Each part is described by the bitset of demonstrations it satisfies, its
 number of conjuncts and its log prior. The exact posterior runs over *groups* of parts that
-share ``(bitset, size)`` (:mod:`bsi_sklearn.grouping`): order structures are generated
+share ``(bitset, size)`` (:mod:`bsi_sklearn.inference._grouping`): order structures are generated
 depth-first and grouped as they come, without an array over all of them; the two subsets are
 grouped, then combined into groups of (global subset, eventual subset) pairs.
 """
@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn.clauses import popcount
-from bsi_sklearn.grouping import Groups, add_weight, group_rows, insert, new_table, with_room
+from bsi_sklearn.inference._grouping import Groups, add_weight, group_rows, insert, new_table, with_room
 from bsi_sklearn.priors import log_prior_subset, next_assignment, structure_log_prior
 
 __all__ = ["PartTable", "SubsetGroups", "Pruning", "StructureWalk", "subset_table", "new_walk",

@@ -1,4 +1,4 @@
-"""The numba passes of the grouped exact enumeration (:mod:`bsi_sklearn.exact`).
+"""The numba passes of the grouped exact enumeration (:mod:`bsi_sklearn.inference.exact`).
 
 The passes run over pairs (structure group, subset-pair group). A pair's likelihood depends on
 (satisfied positives ``ps``, satisfied negatives ``ns``, conjuncts ``k``) and splits into
@@ -18,8 +18,8 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn.clauses import popcount
-from bsi_sklearn.exact_parts import ancestor_masks, new_walk, next_kept_structure
-from bsi_sklearn.grouping import lookup
+from bsi_sklearn.inference._exact_parts import ancestor_masks, new_walk, next_kept_structure
+from bsi_sklearn.inference._grouping import lookup
 from bsi_sklearn.likelihood import log_likelihood
 from bsi_sklearn.priors import structure_log_prior
 
