@@ -11,11 +11,10 @@ cluster.
 from __future__ import annotations
 
 import time
-import warnings
 
 import numpy as np
 from sklearn.dummy import DummyClassifier
-from sklearn.exceptions import ConvergenceWarning, FitFailedWarning
+from sklearn.metrics import f1_score, make_scorer
 from sklearn.model_selection import GridSearchCV, KFold, StratifiedKFold, train_test_split
 
 from baselines import FAIR_TRAINING, PAPER_BASELINES
@@ -166,9 +165,7 @@ def draw_training_set(clean, n_pool, n_train, seed):
 def _fit_bsi(X, y, roles, params, seed, prior):
     if not np.any(y == 1):
         return None  # BSI needs an acceptable mission; predict "failed" throughout
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        return BSIClassifier(prior=prior, random_state=seed, **roles, **params).fit(X, y)
+    return BSIClassifier(prior=prior, random_state=seed, **roles, **params).fit(X, y)
 
 
 def _fit_bsi_cv(X, y, roles, params, grid, seed):
@@ -176,19 +173,19 @@ def _fit_bsi_cv(X, y, roles, params, grid, seed):
     if not np.any(y == 1):
         return None, {}
     n_min = int(np.bincount(y, minlength=2).min())
+    if n_min == 1:
+        # One mission of a class: some inner training fold would lack it (an inner fit
+        # without an acceptable mission fails), so there is nothing to cross-validate.
+        return _fit_bsi(X, y, roles, params, seed, "sets_of_chains"), {}
     n_splits = min(3, len(y))
     cv = (StratifiedKFold(min(n_splits, n_min), shuffle=True, random_state=seed)
           if n_min >= 2 else KFold(n_splits, shuffle=True, random_state=seed))
+    # zero_division=0: what "f1_weighted" computes, without warning about a class that a
+    # fold's truth or predictions lack
+    scorer = make_scorer(f1_score, average="weighted", zero_division=0)
     search = GridSearchCV(BSIClassifier(random_state=seed, **roles, **params), grid,
-                          scoring="f1_weighted", cv=cv, n_jobs=1, error_score=np.nan)
-    with warnings.catch_warnings():
-        # inner folds without an acceptable mission cannot be fitted; they score nan
-        warnings.simplefilter("ignore", (ConvergenceWarning, FitFailedWarning, UserWarning,
-                                         RuntimeWarning))
-        try:
-            search.fit(X, y)
-        except ValueError:  # every inner fit failed: fall back to the defaults
-            return _fit_bsi(X, y, roles, params, seed, "sets_of_chains"), {}
+                          scoring=scorer, cv=cv, n_jobs=1, error_score="raise")
+    search.fit(X, y)
     chosen = {k: (v if v is None or isinstance(v, str) else float(v))
               for k, v in search.best_params_.items()}
     return search.best_estimator_, chosen
@@ -285,8 +282,12 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
 
 
 def bsi_settings(quick):
-    """BSI parameters of the study (MCMC; shorter chains with ``quick``)."""
-    return dict(inference="mcmc", n_samples=300 if quick else 2000, n_chains=2, burn_in=50)
+    """BSI parameters of the study: ``inference="auto"``.
+
+    Exact within its work budget; MCMC with the classifier's defaults (shorter with ``quick``)
+    only where exact cannot go.
+    """
+    return dict(inference="auto", n_samples=300) if quick else dict(inference="auto")
 
 
 def network_settings(quick):

@@ -5,12 +5,10 @@ from __future__ import annotations
 import math
 import sys
 import time
-import warnings
 from dataclasses import asdict, dataclass
 
 import numpy as np
 import pandas as pd
-from sklearn.exceptions import ConvergenceWarning
 from sklearn.metrics import accuracy_score, f1_score
 from sklearn.utils import Bunch, check_random_state
 from sklearn.utils.parallel import Parallel, delayed
@@ -256,11 +254,9 @@ def run_grid(pools, settings, sizes, *, classifier_params=None, negative_ratio=0
                           int(seeds[i, r, j]), params, k)
         for i, r, j in tasks
     )
-    with warnings.catch_warnings():
-        # Convergence is recorded per fit (rhat, converged) instead of warned about.
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        parallel = Parallel(n_jobs=n_jobs, backend="threading", return_as="generator")
-        rows = list(progress(parallel(jobs), total=len(tasks), desc=desc, verbose=verbose))
+    # Convergence is recorded per fit (rhat, converged) and a ConvergenceWarning reaches the user.
+    parallel = Parallel(n_jobs=n_jobs, backend="threading", return_as="generator")
+    rows = list(progress(parallel(jobs), total=len(tasks), desc=desc, verbose=verbose))
     for row, (_, r, _) in zip(rows, tasks):
         row["repeat"] = r
     return pd.DataFrame(rows)
