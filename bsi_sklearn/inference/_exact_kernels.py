@@ -256,7 +256,8 @@ def _heap_replace_top(heap_lp, heap_slot, size, value):
 
 @njit(cache=True, nogil=True, inline="always")
 def _put(out_par, out_idx, out_lp, slot, parent, ordinal, t, e, value):
-    out_par[slot] = parent
+    for v in range(parent.shape[0]):  # a loop, not a row copy (see _grouping._grown)
+        out_par[slot, v] = parent[v]
     out_idx[slot, 0] = ordinal
     out_idx[slot, 1] = t
     out_idx[slot, 2] = e

@@ -95,7 +95,8 @@ class StructureWalk(NamedTuple):
 def new_walk(n, full):
     """A walk at its start; ``full`` is the all-demonstrations bitset."""
     bits = np.empty((n + 1, full.shape[0]), dtype=np.uint64)
-    bits[0] = full
+    for w in range(full.shape[0]):  # not bits[0] = full: see _grouping._grown
+        bits[0, w] = full[w]
     return StructureWalk(np.full(n, -2, dtype=np.int64), np.zeros(n, dtype=np.int64),
                          np.zeros(4, dtype=np.int64), bits, np.zeros(n + 1, dtype=np.int64),
                          np.empty(max(n, 1), dtype=np.int64), np.empty(max(n, 1), dtype=np.int64))
@@ -227,11 +228,12 @@ def group_structures(full, model, rule):
         table = with_room(table)
         room = table.bits.shape[0]
         w2 = np.zeros(room)
-        w2[:weight.shape[0]] = weight
         b2 = np.full(room, -np.inf)
-        b2[:best.shape[0]] = best
         m2 = np.zeros(room, dtype=np.int64)
-        m2[:members.shape[0]] = members
+        for g in range(weight.shape[0]):  # loops, not slice copies (see _grouping._grown)
+            w2[g] = weight[g]
+            b2[g] = best[g]
+            m2[g] = members[g]
         weight, best, members = w2, b2, m2
     k = table.count[0]
     groups = Groups(table.bits[:k].copy(), table.size[:k].copy(), weight[:k].copy(), ref[0],

@@ -92,8 +92,12 @@ def lookup(table, bits, size):
 def _grown(table):
     n = table.count[0]
     bigger = new_table(table.bits.shape[1], 2 * table.bits.shape[0])
-    bigger.bits[:n] = table.bits[:n]
-    bigger.size[:n] = table.size[:n]
+    # Element loops, not slice copies: a slice copy compiles numba's shape-mismatch message
+    # (string formatting), seconds of a cold start.
+    for g in range(n):
+        for w in range(table.bits.shape[1]):
+            bigger.bits[g, w] = table.bits[g, w]
+        bigger.size[g] = table.size[g]
     bigger.count[0] = n
     for g in range(n):
         bigger.slots[_slot_of(bigger, bigger.bits[g], bigger.size[g])] = g
@@ -117,7 +121,8 @@ def insert(table, bits, size):
         return g
     g = table.count[0]
     table.slots[i] = g
-    table.bits[g] = bits
+    for w in range(bits.shape[0]):
+        table.bits[g, w] = bits[w]
     table.size[g] = size
     table.count[0] = g + 1
     return g
