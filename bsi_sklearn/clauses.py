@@ -5,13 +5,18 @@ Clause layout for ``n_g`` global candidates and ``n`` subtasks (``n_clauses = n_
 - ``j``                 : ``G(tau_j)``
 - ``n_g + w``           : ``pi_w -> F(omega_w)``
 - ``n_g + n + a*n + b`` : ``pi_a -> (!omega_b U omega_a)``  (diagonal ``a == b`` unused, true)
+
+This module is the one place that layout is written: :func:`n_clauses`,
+:func:`clause_index_eventual` and :func:`clause_index_order` are plain Python functions that
+numba kernels may call too (``register_jitable``: inlined when compiled).
 """
 
 import numpy as np
 from numba import njit, types
-from numba.extending import intrinsic
+from numba.extending import intrinsic, register_jitable
 
 __all__ = [
+    "clause_index_eventual",
     "clause_index_order",
     "n_clauses",
     "clause_truth",
@@ -21,11 +26,19 @@ __all__ = [
 ]
 
 
+@register_jitable
 def n_clauses(n_g, n):
     """Number of clause slots for ``n_g`` global candidates and ``n`` subtasks."""
     return n_g + n + n * n
 
 
+@register_jitable
+def clause_index_eventual(w, n_g):
+    """Slot of ``pi_w -> F(omega_w)`` (the slot of ``G(tau_j)`` is ``j``)."""
+    return n_g + w
+
+
+@register_jitable
 def clause_index_order(a, b, n_g, n):
     """Slot of ``pi_a -> (!omega_b U omega_a)`` (*a precedes b*)."""
     return n_g + n + a * n + b
@@ -54,7 +67,7 @@ def _clause_truth(data, offsets, g_idx, s_idx, c_idx):
     n_props = data.shape[1]
     n_g = g_idx.shape[0]
     n = s_idx.shape[0]
-    out = np.zeros((n_demos, n_g + n + n * n), dtype=np.uint8)
+    out = np.zeros((n_demos, n_clauses(n_g, n)), dtype=np.uint8)
     always = np.empty(n_props, dtype=np.uint8)
     first = np.empty(n_props, dtype=np.int64)
     for i in range(n_demos):
@@ -76,21 +89,19 @@ def _clause_truth(data, offsets, g_idx, s_idx, c_idx):
         for w in range(n):
             c = c_idx[w]
             active = c < 0 or data[start, c] != 0
-            out[i, n_g + w] = 1 if (not active or first[s_idx[w]] < length) else 0
-        base = n_g + n
+            done = not active or first[s_idx[w]] < length
+            out[i, clause_index_eventual(w, n_g)] = 1 if done else 0
         for a in range(n):
             c = c_idx[a]
             active = c < 0 or data[start, c] != 0
             fa = first[s_idx[a]]
             for b in range(n):
-                if a == b:
-                    out[i, base + a * n + b] = 1
-                elif not active:
-                    out[i, base + a * n + b] = 1
+                if a == b or not active:
+                    out[i, clause_index_order(a, b, n_g, n)] = 1
                 else:
                     # !b U a: a happens, and b does not happen strictly before the first a.
                     ok = fa < length and first[s_idx[b]] >= fa
-                    out[i, base + a * n + b] = 1 if ok else 0
+                    out[i, clause_index_order(a, b, n_g, n)] = 1 if ok else 0
     return out
 
 

@@ -30,6 +30,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from bsi_sklearn.clauses import clause_index_eventual, clause_index_order, n_clauses
 from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.posterior import Posterior
 from bsi_sklearn.traces import Traces
@@ -159,7 +160,7 @@ class PosteriorMonitor:
         self._masks = posterior._masks  # (n_specs, n_words) clause masks, same package
         self._probs = np.ascontiguousarray(posterior.probabilities, dtype=np.float64)
         n_g, n = roles.n_globals, roles.n_subtasks
-        n_slots = n_g + n + n * n
+        n_slots = n_clauses(n_g, n)
         bits = np.unpackbits(self._masks.view(np.uint8), axis=1, bitorder="little")
         self._used = bits[:, :n_slots].any(axis=0)  # clauses of at least one specification
         slots = posterior._clause_slots()
@@ -383,9 +384,9 @@ def _step(row, t, state, layout, changed):
 
 @njit(cache=True, nogil=True)
 def _initial_state(n_g, n):
-    state = np.zeros(n_g + n + n * n, dtype=np.uint8)
+    state = np.zeros(n_clauses(n_g, n), dtype=np.uint8)
     for a in range(n):
-        state[n_g + n + a * n + a] = SATISFIED  # unused diagonal slots
+        state[clause_index_order(a, a, n_g, n)] = SATISFIED  # unused diagonal slots
     return state
 
 
@@ -400,18 +401,17 @@ def _advance(row, t, state, g_idx, s_idx, c_idx, changed):
             changed[k] = j
             k += 1
     for w in range(n):
-        c = n_g + w
+        c = clause_index_eventual(w, n_g)
         if state[c] == OPEN:
             if (t == 0 and c_idx[w] >= 0 and row[c_idx[w]] == 0) or row[s_idx[w]] != 0:
                 state[c] = SATISFIED
                 changed[k] = c
                 k += 1
-    base = n_g + n
     for a in range(n):
         off = t == 0 and c_idx[a] >= 0 and row[c_idx[a]] == 0
         has_a = row[s_idx[a]] != 0
         for b in range(n):
-            c = base + a * n + b
+            c = clause_index_order(a, b, n_g, n)
             if state[c] == OPEN:
                 if off or has_a:
                     state[c] = SATISFIED
@@ -476,7 +476,7 @@ def _masses(masks, probs, words, p):
 def _monitor_all(data, offsets, g_idx, s_idx, c_idx, masks, probs):
     n_g, n = g_idx.shape[0], s_idx.shape[0]
     out = np.empty((data.shape[0], 3))
-    changed = np.empty(n_g + n + n * n, dtype=np.int64)
+    changed = np.empty(n_clauses(n_g, n), dtype=np.int64)
     words = np.zeros((2, masks.shape[1]), dtype=np.uint64)
     p = np.zeros(3)
     _pack_states(_initial_state(n_g, n), words)

@@ -8,7 +8,13 @@ import numpy as np
 import pandas as pd
 from numba import njit
 
-from bsi_sklearn.clauses import clause_truth, pack_rows
+from bsi_sklearn.clauses import (
+    clause_index_eventual,
+    clause_index_order,
+    clause_truth,
+    n_clauses,
+    pack_rows,
+)
 from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.roles import Roles
 from bsi_sklearn.specification import Specification
@@ -24,7 +30,7 @@ SCHEMA_VERSION = 1
 @njit(cache=True, nogil=True)
 def _clause_masks(structures, tau_masks, w1_masks, n_g, n):
     n_h = structures.shape[0]
-    n_cl = n_g + n + n * n
+    n_cl = n_clauses(n_g, n)
     n_words = (n_cl + 63) // 64
     out = np.zeros((n_h, n_words), dtype=np.uint64)
     one = np.uint64(1)
@@ -34,12 +40,12 @@ def _clause_masks(structures, tau_masks, w1_masks, n_g, n):
                 out[h, j >> 6] |= one << np.uint64(j & 63)
         for w in range(n):
             if w1_masks[h, w]:
-                c = n_g + w
+                c = clause_index_eventual(w, n_g)
                 out[h, c >> 6] |= one << np.uint64(c & 63)
         for v in range(n):
             a = structures[h, v]
             while a >= 0:
-                c = n_g + n + a * n + v
+                c = clause_index_order(a, v, n_g, n)
                 out[h, c >> 6] |= one << np.uint64(c & 63)
                 a = structures[h, a]
     return out
@@ -188,7 +194,7 @@ class Posterior:
     def _clause_slots(self):
         n_g, n = self.roles.n_globals, self.roles.n_subtasks
         return list(range(n_g + n)) + [
-            n_g + n + a * n + b for a in range(n) for b in range(n) if a != b
+            clause_index_order(a, b, n_g, n) for a in range(n) for b in range(n) if a != b
         ]
 
     def clause_matrix(self):
