@@ -14,13 +14,13 @@ from sklearn.utils.validation import check_is_fitted
 from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.inference.diagnostics import missed_mass, split_rhat
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
-from bsi_sklearn.likelihood import LIKELIHOODS
 from bsi_sklearn.inference.mcmc import (
     deduplicate_demos,
     run_chain,
     score_states,
     unique_states,
 )
+from bsi_sklearn.likelihood import LIKELIHOODS
 from bsi_sklearn.model import make_model
 from bsi_sklearn.param_validation import (
     NONZERO_INTEGER,

@@ -14,7 +14,14 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn.clauses import popcount
-from bsi_sklearn.inference._grouping import Groups, add_weight, group_rows, insert, new_table, with_room
+from bsi_sklearn.inference._grouping import (
+    Groups,
+    add_weight,
+    group_rows,
+    insert,
+    new_table,
+    with_room,
+)
 from bsi_sklearn.priors import log_prior_subset, next_assignment, structure_log_prior
 
 __all__ = ["PartTable", "SubsetGroups", "Pruning", "StructureWalk", "subset_table", "new_walk",

@@ -17,7 +17,13 @@ from numba import carray, njit
 from numba.core import types
 from numba.extending import intrinsic
 
-from bsi_sklearn.inference._gibbs_moves import add_pair, chain_move, flip_move, forest_move, sat_counts
+from bsi_sklearn.inference._gibbs_moves import (
+    add_pair,
+    chain_move,
+    flip_move,
+    forest_move,
+    sat_counts,
+)
 from bsi_sklearn.likelihood import log_likelihood
 from bsi_sklearn.model import Model
 from bsi_sklearn.priors import (
