@@ -4,15 +4,15 @@ A hypothesis' likelihood depends only on how many acceptable and unacceptable de
 satisfies and on its number of conjuncts, so order structures, and pairs of (global subset,
 eventual subset), that satisfy the same demonstrations with the same number of conjuncts are
 interchangeable: their prior weights are summed into groups
-(:mod:`bsi_sklearn.inference._exact_parts`) and the enumeration runs over pairs of groups. A first pass computes the normaliser, building
-per pair of groups only a histogram over (satisfied positives, satisfied negatives); a second
-pass gives every group its posterior mass and flags the structure groups that may hold a
-hypothesis above the keep threshold; a last walk over the order structures splits the masses
-into clause marginals and lists the kept hypotheses. Order structures and pairs of groups that
-cannot add 1e-17 of the evidence are skipped, with a bound
-(:mod:`bsi_sklearn.inference._exact_kernels`). The result is the posterior of the ungrouped
-enumeration (:mod:`bsi_sklearn.inference._exact_ungrouped`, the reference it is tested against)
-up to rounding.
+(:mod:`bsi_sklearn.inference._exact_parts`) and the enumeration runs over pairs of groups. A
+first pass computes the normaliser, building per pair of groups only a histogram over
+(satisfied positives, satisfied negatives); a second pass gives every group its posterior mass
+and flags the structure groups that may hold a hypothesis above the keep threshold; a last walk
+over the order structures splits the masses into clause marginals and lists the kept
+hypotheses. Order structures and pairs of groups that cannot add 1e-17 of the evidence are
+skipped, with a bound (:mod:`bsi_sklearn.inference._exact_kernels`). The result is the
+posterior of the ungrouped enumeration (:mod:`bsi_sklearn.inference._exact_ungrouped`, the
+reference it is tested against) up to rounding.
 """
 
 import math
