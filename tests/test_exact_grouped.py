@@ -13,9 +13,14 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from bsi_sklearn.clauses import pack_rows, popcounts
-from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
-from bsi_sklearn.inference._exact_parts import Pruning, group_structures, new_walk, next_kept_structure
+from bsi_sklearn.inference._exact_parts import (
+    Pruning,
+    group_structures,
+    new_walk,
+    next_kept_structure,
+)
 from bsi_sklearn.inference._grouping import group_rows
+from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.model import make_model
 from bsi_sklearn.priors import (
     PRIORS,
