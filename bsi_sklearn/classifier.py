@@ -11,6 +11,7 @@ from sklearn.utils import check_random_state
 from sklearn.utils.parallel import Parallel, delayed
 from sklearn.utils.validation import check_is_fitted
 
+from bsi_sklearn._compile_progress import compile_progress
 from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.inference.diagnostics import missed_mass, split_rhat
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
@@ -110,7 +111,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     random_state : int, RandomState instance or None, default=None
         Seeds of the chains are drawn from it; results do not depend on ``n_jobs``.
     verbose : int, default=0
-        Progress bar over chains when > 0.
+        When > 0: a progress bar over chains, and one over the numba kernels compiled on the
+        first fit in a fresh environment (later processes load them from numba's cache).
 
     Attributes
     ----------
@@ -265,6 +267,12 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         -------
         self : BSIClassifier
         """
+        # A fresh environment compiles the numba kernels on this first fit (seconds): a bar
+        # says so when verbose > 0.
+        with compile_progress(self.verbose):
+            return self._fit(X, y)
+
+    def _fit(self, X, y):
         self._validate_params()
         name = type(self).__name__
         traces = check_traces(X, binarize=self.binarize, estimator_name=name)
