@@ -88,6 +88,18 @@ def test_roles():
         resolve_roles(None, None, [1], 3)
 
 
+@pytest.mark.parametrize("conditions, names", [({2: 2}, None), ({"c": "c"}, ["a", "b", "c"]),
+                                               ({"c": 2}, ["a", "b", "c"])])
+def test_a_subtask_is_not_its_own_condition(conditions, names):
+    # Issue 21: {2: 2} was accepted and gave the clause (2 -> F(2)), which always holds.
+    with pytest.raises(ValueError, match=r"conditions\[.*\]: subtask .* cannot be its own "
+                                         "condition"):
+        resolve_roles(None, None, conditions, 3, names)
+    with pytest.raises(ValueError, match="cannot be its own condition"):
+        BSIClassifier(conditions=conditions).fit(
+            [pd.DataFrame(np.eye(3, dtype=int), columns=names or range(3))])
+
+
 @pytest.mark.parametrize(
     "params, match",
     [

@@ -20,7 +20,7 @@ def _show(value):
 
 
 def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label",
-                      source=None):
+                      source=None, return_ids=False):
     """Split a long-format frame ``demo_id, t, prop...[, label]`` into traces.
 
     Parameters
@@ -30,12 +30,15 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
         ``time_col`` and ``label_col`` is a proposition (0/1 or boolean).
     demo_col, time_col : str, default="demo_id", "t"
         Demonstration identifier and time step. Demonstrations keep the order of their
-        first row; rows are sorted by time, which must be consecutive integers.
+        first row; rows are sorted by time, which must be consecutive integers. The time
+        column is optional: without it, the rows of a demonstration are its steps, in order.
     label_col : str or None, default="label"
         Label column (constant within a demonstration); absent or ``None``: no labels.
     source : str, default=None
         Name used in error messages (the CSV reader passes the file name; rows are then
         reported by file line).
+    return_ids : bool, default=False
+        Also return the demonstrations' ids.
 
     Returns
     -------
@@ -43,6 +46,8 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
         Boolean columns named as in ``df``, index ``0..T_i-1``.
     y : ndarray of shape (n_demos,) or None
         The label of each demonstration, as in ``df``; ``None`` without a label column.
+    ids : ndarray of shape (n_demos,)
+        The ``demo_col`` value of each demonstration (only with ``return_ids=True``).
 
     Examples
     --------
@@ -65,9 +70,12 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
         return (f"{where}, {row_name(pos)}: demonstration {_show(df[demo_col].iat[pos])}, "
                 f"step {_show(df[time_col].iat[pos])}, proposition {prop!r}")
 
-    for col in (demo_col, time_col):
-        if col not in df.columns:
-            raise ValueError(f"{where}: no {col!r} column; columns are {list(df.columns)}")
+    if demo_col not in df.columns:
+        raise ValueError(f"{where}: no {demo_col!r} column; columns are {list(df.columns)}")
+    if time_col not in df.columns:  # the rows of a demonstration are its steps, in order
+        if time_col in (demo_col, label_col):
+            raise ValueError(f"{where}: the time column {time_col!r} is also the id or label")
+        df = df.assign(**{time_col: df.groupby(demo_col, sort=False).cumcount()})
     has_label = label_col is not None and label_col in df.columns
     props = [c for c in df.columns if c not in (demo_col, time_col, label_col)]
     if not props:
@@ -143,7 +151,8 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
                                  f"demonstration {_show(uniques[d])} is missing or changes over "
                                  "time; it must be constant")
             y.append(first)
-    return X, (np.asarray(y) if has_label else None)
+    y = np.asarray(y) if has_label else None
+    return (X, y, np.asarray(uniques)) if return_ids else (X, y)
 
 
 def traces_to_frame(X, y=None, *, feature_names=None, demo_col="demo_id", time_col="t",
@@ -204,15 +213,18 @@ def traces_to_frame(X, y=None, *, feature_names=None, demo_col="demo_id", time_c
 
 
 def read_traces_csv(path_or_buffer, *, demo_col="demo_id", time_col="t", label_col="label",
-                    **read_csv_kwargs):
-    r"""Read long-format traces ``demo_id, t, prop...[, label]`` from a CSV file.
+                    return_ids=False, **read_csv_kwargs):
+    r"""Read long-format traces ``demo_id[, t], prop...[, label]`` from a CSV file.
 
     Parameters
     ----------
     path_or_buffer : str, path-like or file-like
         Anything :func:`pandas.read_csv` reads.
     demo_col, time_col, label_col : str
-        Column names (see :func:`traces_from_frame`); the label column is optional.
+        Column names (see :func:`traces_from_frame`); the time and label columns are
+        optional (without time, a demonstration's rows are its steps, in order).
+    return_ids : bool, default=False
+        Also return the demonstrations' ids (the ``demo_col`` values).
     **read_csv_kwargs
         Passed to :func:`pandas.read_csv` (e.g. ``sep``).
 
@@ -220,6 +232,8 @@ def read_traces_csv(path_or_buffer, *, demo_col="demo_id", time_col="t", label_c
     -------
     X : list of DataFrame
     y : ndarray or None
+    ids : ndarray
+        Only with ``return_ids=True``.
 
     Raises
     ------
@@ -241,7 +255,7 @@ def read_traces_csv(path_or_buffer, *, demo_col="demo_id", time_col="t", label_c
     except (pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
         raise ValueError(f"{name}: {exc}") from None
     return traces_from_frame(df, demo_col=demo_col, time_col=time_col, label_col=label_col,
-                             source=str(name))
+                             source=str(name), return_ids=return_ids)
 
 
 def write_traces_csv(X, y, path_or_buffer=None, *, feature_names=None, demo_col="demo_id",
