@@ -51,7 +51,8 @@ def build_parser(prog, description, subcommands):
             if exc.name != module_name:
                 raise
             continue
-        p = sub.add_parser(name, help=help_, description=help_)
+        # argparse fills %(...)s in help texts: a bare % (as in "95% intervals") is escaped.
+        p = sub.add_parser(name, help=help_.replace("%", "%%"), description=help_)
         module.add_arguments(p)
         p.set_defaults(_run=module.run)
     return parser
@@ -60,8 +61,9 @@ def build_parser(prog, description, subcommands):
 def run_command(parser, argv=None):
     """Parse ``argv``, run the chosen subcommand and return its exit status.
 
-    A ``ValueError`` or ``FileNotFoundError`` (bad input) prints ``prog command: error: ...``
-    on stderr and gives status 2, as argparse does for bad arguments.
+    A ``ValueError`` (bad input) or an ``OSError`` (a file that cannot be read or written)
+    prints one line ``prog command: error: ...``, naming the file, on stderr and gives
+    status 2, as argparse does for bad arguments.
 
     Parameters
     ----------
@@ -78,7 +80,17 @@ def run_command(parser, argv=None):
     args = parser.parse_args(argv)
     try:
         status = args._run(args)
-    except (ValueError, FileNotFoundError) as exc:
+    except ValueError as exc:
         print(f"{parser.prog} {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:
+        print(f"{parser.prog} {args.command}: error: {_os_error(exc)}", file=sys.stderr)
+        return 2
     return 0 if status is None else int(status)
+
+
+def _os_error(exc):
+    """``file: reason`` for an OSError (its text when it names no file)."""
+    if exc.filename is None or exc.strerror is None:
+        return str(exc)
+    return f"{exc.filename}: {exc.strerror.lower()}"
