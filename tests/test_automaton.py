@@ -67,7 +67,7 @@ def test_to_ltlf_dialects():
     assert Specification().to_ltlf(dialect="ltlf2dfa") == "true"
     odd = Specification(globals=["Threat-1", 0, "G"], eventuals=["x"])
     assert odd.to_ltlf() == 'G("0") & G("G") & G("Threat-1") & F(x)'
-    with pytest.raises(ValueError, match="proposition 0 is not an LTLf2DFA atom"):
+    with pytest.raises(ValueError, match="proposition 'G' is not an LTLf2DFA / flloat atom"):
         odd.to_ltlf(dialect="ltlf2dfa")
     renamed = odd.to_ltlf(dialect="ltlf2dfa", atoms={"Threat-1": "threat_1", 0: "p0",
                                                      "G": "g"})
