@@ -28,7 +28,9 @@ accuracy and the most probable specifications.
 Input files:
   *.trace  samples2LTL / Scarlet: positive traces, '---', negative traces, '---', operators
            [, '---', depth, '---', target | '---', alphabet]. One trace a line, time steps
-           separated by ';', the 0/1 propositions of a step by ',' (e.g. 1,0;1,1).
+           separated by ';', the 0/1 propositions of a step by ',' (e.g. 1,0;1,1); a
+           lasso trace 1,0;1,1::1 (loop from step 1) is read as its steps, which is exact
+           for the template's clauses.
   *.csv    long format, one row per time step of a demonstration:
              demo_id,t,<proposition>...[,label]
            demo_id names the demonstration, the optional t counts its steps 0,1,2,...
