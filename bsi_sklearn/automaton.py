@@ -1,18 +1,18 @@
-"""Export of a `Specification`: LTLf text for other tools and a DFA built with flloat.
+"""Export of a `Specification`: LTLf text for other tools and its DFA (see ``dfa.py``).
 
 The template's clauses (``G p``, ``pi -> F w``, ``pi_a -> (!w_b U w_a)``) mean the same on a
 finite trace read as it is (LTLf, as flloat and LTLf2DFA read it) and on the infinite trace
 whose last state repeats forever (LTL, as Spot reads it, and as this project evaluates
 demonstrations): repeating the last state adds no step where ``p`` is false, no first ``w``
-and no ``w_b`` before a first ``w_a``. So the same formula text serves both, and the DFA
-accepts a trace exactly when :meth:`Specification.satisfied_by` holds.
+and no ``w_b`` before a first ``w_a``. So the same formula text serves both, and the DFA (built by
+the project, flloat its cross-check in the tests) accepts a trace exactly when
+:meth:`Specification.satisfied_by` holds.
 """
 
 from __future__ import annotations
 
 import re
 from collections.abc import Mapping
-from functools import lru_cache
 
 import numpy as np
 
@@ -167,8 +167,10 @@ def _key(x):
 class SpecificationAutomaton:
     """A deterministic finite automaton accepting the traces that satisfy a specification.
 
-    Built with `flloat <https://github.com/whitemech/flloat>`_ (the optional extra
-    ``bsi-sklearn[automata]``); usually obtained from :meth:`Specification.to_automaton`.
+    Built by the project (:mod:`bsi_sklearn.dfa`): each clause is a small automaton and the
+    specification's is their product, minimised; usually obtained from
+    :meth:`Specification.to_automaton`. No optional package is needed; flloat, given
+    :attr:`formula`, builds the same language (the tests check it).
 
     Parameters
     ----------
@@ -178,12 +180,13 @@ class SpecificationAutomaton:
     ----------
     specification : Specification
     formula : str
-        The LTLf text given to flloat; propositions are renamed ``p0, p1, ...`` (in the order
-        of :attr:`propositions`), so any identifiers work.
+        The formula as LTLf2DFA / flloat text, propositions renamed ``p0, p1, ...`` (in the
+        order of :attr:`propositions`), so any identifiers work.
     propositions : list
         The identifiers the formula mentions.
-    dfa : pythomata.SymbolicDFA
-        flloat's automaton; its alphabet is the set of assignments of the atoms.
+    dfa : bsi_sklearn.dfa.DFA
+        The minimal automaton: ``dfa.n_states``, ``dfa.delta``, ``dfa.accepting``,
+        ``dfa.to_dot()``.
 
     Examples
     --------
@@ -193,9 +196,13 @@ class SpecificationAutomaton:
     >>> dfa = spec.to_automaton()
     >>> dfa.accepts(np.array([[1, 0], [1, 1]])), dfa.accepts(np.array([[0, 1], [1, 0]]))
     (True, False)
+    >>> dfa.dfa.n_states
+    4
     """
 
     def __init__(self, specification):
+        from bsi_sklearn.dfa import specification_dfa
+
         self.specification = specification
         spec = specification
         idents = set(spec.globals) | set(spec.eventuals) | {x for o in spec.orders for x in o}
@@ -203,11 +210,15 @@ class SpecificationAutomaton:
         self.propositions = sorted(idents, key=_key)
         self._atoms = {ident: f"p{k}" for k, ident in enumerate(self.propositions)}
         self.formula = to_ltlf(spec, dialect="ltlf2dfa", atoms=self._atoms)
-        self.dfa = _build_dfa(self.formula)
+        self.dfa = specification_dfa(spec)
 
     def __repr__(self):
         return (f"SpecificationAutomaton({self.specification.to_ltl()}, "
-                f"n_states={len(self.dfa.states)})")
+                f"n_states={self.dfa.n_states})")
+
+    def to_dot(self):
+        """The automaton in Graphviz DOT (accepting states doubled, edges labelled)."""
+        return self.dfa.to_dot(name=self.specification.to_ltl())
 
     def accepts(self, trace, feature_names=None):
         """Whether the automaton accepts ``trace`` (read as a finite word, step by step).
@@ -232,26 +243,14 @@ class SpecificationAutomaton:
         for ident in self.propositions:  # the column rule of Specification.satisfied_by
             is_int = isinstance(ident, (int, np.integer))
             if columns is not None and ident in columns:
-                cols[ident] = columns[ident]
+                cols[ident] = arr[:, columns[ident]]
             elif (columns is None or is_int) and is_int and 0 <= ident < arr.shape[1]:
-                cols[ident] = int(ident)
+                cols[ident] = arr[:, int(ident)]
             else:
                 raise ValueError(
                     f"proposition {ident!r} is not a column of the trace"
                     + ("" if columns is not None else f" ({arr.shape[1]} columns); pass "
                        "feature_names")
                 )
-        word = [{self._atoms[i]: bool(row[c]) for i, c in cols.items()} for row in arr]
-        return bool(self.dfa.accepts(word))
-
-
-@lru_cache(maxsize=256)
-def _build_dfa(formula):
-    try:
-        from flloat.parser.ltlf import LTLfParser
-    except ImportError:
-        raise ImportError(
-            "Specification.to_automaton needs flloat: pip install 'bsi-sklearn[automata]' "
-            "(or pip install flloat)"
-        ) from None
-    return LTLfParser()(formula).to_automaton()
+        state = self.dfa.run(self.dfa.letters(cols, arr.shape[0]))
+        return bool(self.dfa.accepting[state])
