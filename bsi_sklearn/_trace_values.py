@@ -1,6 +1,7 @@
 """The values of one demonstration: conversion to 0/1 (or floats) and messages that say where.
 
-Private helpers of :mod:`bsi_sklearn.traces`. Every message names the demonstration, the step
+Private helpers of :mod:`bsi_sklearn.traces` (and :func:`trace_columns`, one trace by column
+name, of the specification and its automaton). Every message names the demonstration, the step
 and the proposition: by its DataFrame column name when there is one, by its index otherwise.
 """
 
@@ -18,6 +19,7 @@ __all__ = [
     "ragged_rows_error",
     "to_bool",
     "to_float",
+    "trace_columns",
 ]
 
 
@@ -171,3 +173,45 @@ def ragged_rows_error(rows, estimator_name, item, unit):
             else "is not a list of numbers")
     return ValueError(f"{estimator_name} got a list of lists (scikit-learn's 2-D format, every "
                       f"row a {item} of length one) whose row {k} {what}")
+
+
+def trace_columns(trace, feature_names):
+    """One trace as a boolean array and its column names (name -> index, or None).
+
+    Parameters
+    ----------
+    trace : array-like of shape (T, n_props) or pandas.DataFrame
+    feature_names : sequence or None
+        Column names; a DataFrame's columns when None.
+
+    Returns
+    -------
+    columns : dict or None
+        Column name -> index, when the trace has names.
+    arr : ndarray of shape (T, n_props), bool
+
+    Raises
+    ------
+    ValueError
+        For a trace that is not a non-empty 2-D 0/1 array, or names of the wrong length.
+    """
+    if hasattr(trace, "columns") and hasattr(trace, "to_numpy"):
+        names = list(trace.columns) if feature_names is None else list(feature_names)
+        arr = trace.to_numpy()
+    else:
+        names = None if feature_names is None else list(feature_names)
+        arr = np.asarray(trace)
+    if arr.ndim != 2 or arr.shape[0] < 1:
+        raise ValueError(f"a trace must be a non-empty 2-D array (T, n_props), got {arr.shape}")
+    if arr.dtype.kind == "f" and np.isnan(arr).any():
+        raise ValueError("the trace contains NaN")
+    if not np.isin(arr, (0, 1)).all():
+        raise ValueError("the trace has values other than 0/1 (booleans)")
+    arr = arr.astype(bool)
+    if names is not None:
+        if len(names) != arr.shape[1]:
+            raise ValueError(
+                f"feature_names has {len(names)} entries for a trace of {arr.shape[1]} columns"
+            )
+        return {n: i for i, n in enumerate(names)}, arr
+    return None, arr

@@ -16,6 +16,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from bsi_sklearn._trace_values import trace_columns
 from bsi_sklearn.param_validation import StrOptions, validate_params
 
 __all__ = ["DIALECTS", "SpecificationAutomaton", "ltlf_atom_problem", "spot_atom", "to_ltlf"]
@@ -236,9 +237,7 @@ class SpecificationAutomaton:
         accepted : bool
             Equal to ``specification.satisfied_by(trace, feature_names)``.
         """
-        from bsi_sklearn.specification import _trace_columns
-
-        columns, arr = _trace_columns(trace, feature_names)
+        columns, arr = trace_columns(trace, feature_names)
         cols = {}
         for ident in self.propositions:  # the column rule of Specification.satisfied_by
             is_int = isinstance(ident, (int, np.integer))
