@@ -12,14 +12,17 @@ from bsi_sklearn._cli_files import (
     load_demonstrations,
     unique_stems,
 )
-from bsi_sklearn.classifier import BSIClassifier
 from bsi_sklearn.io.posterior_file import MAX_LISTED
-from bsi_sklearn.likelihood import LIKELIHOODS
 from bsi_sklearn.param_validation import Interval, check_options
-from bsi_sklearn.priors import PRIORS
 from bsi_sklearn.roles import resolve_roles
 
 __all__ = ["add_arguments", "run", "parse_conditions"]
+
+# The choices of --prior and --likelihood, written here so that `bsi fit --help` need not load
+# numba (tests/test_cli_fit.py checks them against bsi_sklearn.priors.PRIORS and
+# bsi_sklearn.likelihood.LIKELIHOODS).
+PRIOR_CHOICES = ("linear_chain", "sets_of_chains", "forest")
+LIKELIHOOD_CHOICES = ("cb", "ci")
 
 _DESCRIPTION = """\
 Fit BSI on each FILE (one model per file) and print the MAP specification, the training
@@ -138,10 +141,10 @@ def add_arguments(parser):
                         type=_conditions_type,
                         help="condition of a subtask, read at t = 0: subtask=condition pairs "
                              "separated by commas or spaces (default: no conditions)")
-    parser.add_argument("--prior", choices=PRIORS, default="sets_of_chains",
+    parser.add_argument("--prior", choices=PRIOR_CHOICES, default="sets_of_chains",
                         help="prior over the order of subtasks: one chain, sets of chains or "
                              "a forest (default: %(default)s)")
-    parser.add_argument("--likelihood", choices=LIKELIHOODS, default="cb",
+    parser.add_argument("--likelihood", choices=LIKELIHOOD_CHOICES, default="cb",
                         help="complexity-based (cb, the size principle) or "
                              "complexity-independent (ci) likelihood (default: %(default)s)")
     parser.add_argument("--inference", choices=["auto", "exact", "mcmc"], default="auto",
@@ -164,11 +167,14 @@ def add_arguments(parser):
                              "share a name)")
 
 
-_OPTION_CONSTRAINTS = {
-    "n_samples": BSIClassifier._parameter_constraints["n_samples"],
-    "top": [Interval(Integral, 1, None, closed="left")],
-    "seed": [Interval(Integral, 0, 2**32 - 1, closed="both")],
-}
+def _option_constraints():
+    from bsi_sklearn.classifier import BSIClassifier
+
+    return {
+        "n_samples": BSIClassifier._parameter_constraints["n_samples"],
+        "top": [Interval(Integral, 1, None, closed="left")],
+        "seed": [Interval(Integral, 0, 2**32 - 1, closed="both")],
+    }
 
 _OPTION_OF = {"global_candidates": "--globals", "subtasks": "--subtasks",
               "conditions": "--conditions"}
@@ -249,7 +255,9 @@ def _roles(args, names, path):
 
 def run(args):
     """Fit on every file (one model per file) and print the results."""
-    check_options(args, _OPTION_CONSTRAINTS)
+    from bsi_sklearn.classifier import BSIClassifier
+
+    check_options(args, _option_constraints())
     if args.conditions is not None:
         parse_conditions(args.conditions)
     outputs = _outputs(args)

@@ -58,6 +58,24 @@ def _folders():
     return list(seen.values())
 
 
+def _in_tree_writable():
+    """Numba's default, without importing numba: ``__pycache__`` writable in every folder.
+
+    Only when numba's environment does not choose otherwise (``NUMBA_CACHE_DIR``, its
+    locator override), since then numba's own locators decide.
+    """
+    if os.environ.get("NUMBA_CACHE_DIR") or os.environ.get("NUMBA_CACHE_LOCATOR_CLASSES"):
+        return False
+    try:
+        for path in _folders():
+            cache = path.parent / "__pycache__"
+            cache.mkdir(exist_ok=True)
+            tempfile.TemporaryFile(dir=cache).close()
+    except OSError:
+        return False
+    return True
+
+
 def _cache_possible():
     """Whether numba finds a writable cache for a function in every folder of the package."""
     classes = _locator_classes()
@@ -119,10 +137,10 @@ def configure_numba_cache():
     UserWarning
         When the cache is not where numba puts it by default.
     """
+    if _in_tree_writable() or _cache_possible():
+        return "default"
     from numba.core import config
 
-    if _cache_possible():
-        return "default"
     folder = _private_temporary_folder()
     if folder is not None:
         previous = config.CACHE_DIR

@@ -7,12 +7,13 @@ a command line is a table ``name -> (module, help)`` wired by :func:`build_parse
 
 import argparse
 import importlib
+import importlib.util
 import sys
 
 __all__ = ["build_parser", "run_command"]
 
 
-def build_parser(prog, description, subcommands):
+def build_parser(prog, description, subcommands, argv=None):
     """An argument parser with one subparser per importable subcommand module.
 
     A subcommand whose module is absent (an optional part not installed) is left out; an
@@ -27,6 +28,10 @@ def build_parser(prog, description, subcommands):
     subcommands : dict
         ``name -> (module_name, help)``; the module exposes ``add_arguments(parser)`` and
         ``run(args)``.
+    argv : list of str, default=None
+        The arguments about to be parsed: only the module of the subcommand they name is
+        imported (the others are listed by their help line), so that ``--help`` and each
+        command start quickly. ``None`` imports every module.
 
     Returns
     -------
@@ -42,20 +47,36 @@ def build_parser(prog, description, subcommands):
     >>> "{fit}" in parser.format_usage()
     True
     """
+    chosen = None
+    if argv is not None:
+        chosen = next((a for a in argv if not a.startswith("-")), None)
     parser = argparse.ArgumentParser(prog=prog, description=description)
     sub = parser.add_subparsers(dest="command", required=True)
     for name, (module_name, help_) in subcommands.items():
-        try:
-            module = importlib.import_module(module_name)
-        except ModuleNotFoundError as exc:
-            if exc.name != module_name:
-                raise
+        load = argv is None or name == chosen
+        if load:
+            try:
+                module = importlib.import_module(module_name)
+            except ModuleNotFoundError as exc:
+                if exc.name != module_name:
+                    raise
+                continue
+        elif not _present(module_name):
             continue
         # argparse fills %(...)s in help texts: a bare % (as in "95% intervals") is escaped.
         p = sub.add_parser(name, help=help_.replace("%", "%%"), description=help_)
-        module.add_arguments(p)
-        p.set_defaults(_run=module.run)
+        if load:
+            module.add_arguments(p)
+            p.set_defaults(_run=module.run)
     return parser
+
+
+def _present(module_name):
+    """Whether ``module_name`` can be imported, without importing it (only its packages)."""
+    try:
+        return importlib.util.find_spec(module_name) is not None
+    except ModuleNotFoundError:
+        return False
 
 
 def run_command(parser, argv=None):

@@ -260,3 +260,49 @@ def test_saved_posterior_round_trips(saved, demos):
     post = Posterior.read_json(saved)
     assert json.loads(saved.read_text())["schema"] == "bsi-sklearn/posterior"
     assert post.predict_proba(X).shape == (3, 2)
+
+
+# ---------------------------------------------------------------- start-up
+_HELP_IMPORTS = """
+import sys, time
+start = time.perf_counter()
+try:
+    from {module} import main
+    main(["--help"])
+except SystemExit:
+    pass
+took = time.perf_counter() - start
+heavy = sorted(m for m in ("sklearn", "numba", "pandas", "scipy", "torch", "matplotlib")
+               if m in sys.modules)
+print("HEAVY", heavy, "TOOK", took)
+"""
+
+
+@pytest.mark.parametrize("module", ["bsi_sklearn.cli", "lfe.cli"])
+def test_top_level_help_is_quick_and_loads_nothing_heavy(module):
+    # Issue 21: every command took 7-10 s, --help included (each subcommand module imported).
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    out = subprocess.run([sys.executable, "-c", _HELP_IMPORTS.format(module=module)],
+                         capture_output=True, text=True, env=env, timeout=300)
+    assert "HEAVY [] TOOK" in out.stdout, out.stdout + out.stderr
+    took = float(out.stdout.split("TOOK")[1])
+    assert took < 1.0, took  # about 0.05 s here
+
+
+def test_import_bsi_sklearn_is_light_until_a_name_is_used():
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    code = ("import sys, bsi_sklearn; print('sklearn' in sys.modules); "
+            "from bsi_sklearn import BSIClassifier, Posterior, Specification; "
+            "print('sklearn' in sys.modules, BSIClassifier.__module__, "
+            "sorted(set(bsi_sklearn.__all__) - set(dir(bsi_sklearn))))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env=env, timeout=300)
+    assert out.stdout.split() == ["False", "True", "bsi_sklearn.classifier", "[]"], out.stderr
+
+
+def test_fit_choices_are_the_models():
+    from bsi_sklearn._cli_fit import LIKELIHOOD_CHOICES, PRIOR_CHOICES
+    from bsi_sklearn.likelihood import LIKELIHOODS
+    from bsi_sklearn.priors import PRIORS
+
+    assert PRIOR_CHOICES == tuple(PRIORS) and LIKELIHOOD_CHOICES == tuple(LIKELIHOODS)

@@ -39,7 +39,11 @@ print("CACHE_DIR", config.CACHE_DIR)
 
 
 def _run(tmp_path, allowed, bypass=False):
-    env = dict(os.environ, PYTHONPATH=str(ROOT), TMPDIR=str(tmp_path))
+    # numba's default locators, named: the package then asks numba itself (its quick check
+    # of the package's own folders, done without numba, would see the real, writable disk).
+    env = dict(os.environ, PYTHONPATH=str(ROOT), TMPDIR=str(tmp_path),
+               NUMBA_CACHE_LOCATOR_CLASSES="UserProvidedCacheLocator,InTreeCacheLocator,"
+                                           "UserWideCacheLocator")
     env.pop("NUMBA_CACHE_DIR", None)
     return subprocess.run([sys.executable, "-c", _READ_ONLY, allowed,
                            "bypass" if bypass else "check"], capture_output=True, text=True,
@@ -85,3 +89,4 @@ def test_a_writable_installation_keeps_numba_defaults():
     from bsi_sklearn import _numba_cache
 
     assert _numba_cache.configure_numba_cache() == "default"
+    assert _numba_cache._in_tree_writable() == (not os.environ.get("NUMBA_CACHE_DIR"))
