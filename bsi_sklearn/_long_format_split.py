@@ -10,6 +10,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from bsi_sklearn._trace_values import time_column_hint
+
 __all__ = ["traces_from_frame"]
 
 
@@ -106,8 +108,10 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
     bad = ~np.isin(arr, (0, 1))
     if bad.any():
         pos, k = map(int, np.argwhere(bad)[0])
+        same_demo = (df[demo_col] == df[demo_col].iat[pos]).to_numpy()
+        hint = time_column_hint(arr[same_demo, k], props[k])
         raise ValueError(f"{value_at(pos, props[k])} has value {_show(arr[pos, k])}; values "
-                         "must be 0 or 1")
+                         "must be 0 or 1" + (f" {hint}" if hint else ""))
     arr = arr.astype(bool)
     t_raw = df[time_col].to_numpy()
     try:

@@ -18,6 +18,7 @@ __all__ = [
     "ragged_error",
     "ragged_rows_error",
     "to_bool",
+    "time_column_hint",
     "to_float",
     "trace_columns",
 ]
@@ -140,11 +141,44 @@ def to_bool(arr, place, binarize):
     bad = (arr != 0) & (arr != 1)
     if bad.any():
         t, p = map(int, np.argwhere(bad)[0])
+        name = place.names[p] if place.names is not None else None
+        advice = time_column_hint(arr[:, p], name) or (
+            "(set binarize=<threshold> to threshold numeric data)")
         raise ValueError(
             f"{place.at(t, p)} has value {arr[t, p].item()!r}; traces must be 0/1 or boolean "
-            "(set binarize=<threshold> to threshold numeric data)"
+            f"{advice}"
         )
     return arr.astype(np.uint8)
+
+
+_TIME_NAMES = {"t", "time", "times", "timestamp", "timestamps", "ts", "step", "steps",
+               "date", "datetime", "frame", "clock", "seconds", "secs", "ms"}
+
+
+def time_column_hint(values, name=None):
+    """Advice when a non-0/1 column looks like time rather than a proposition, else "".
+
+    A column looks like time when its name says so (``time``, ``timestamp``, ``step``...) or
+    its values increase at every step of a demonstration of two steps or more.
+
+    Examples
+    --------
+    >>> time_column_hint([0.5, 1.0, 1.5], "x")[:44]
+    '(the column looks like a time stamp, not a p'
+    >>> time_column_hint([3, 0, 7], "speed")
+    ''
+    """
+    try:
+        v = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        return ""
+    named = name is not None and str(name).strip().lower() in _TIME_NAMES
+    rising = v.ndim == 1 and len(v) >= 2 and bool(np.all(np.diff(v) > 0))
+    if not (named or rising):
+        return ""
+    return ("(the column looks like a time stamp, not a proposition: drop it, or in a "
+            "long-format frame or CSV name the step column 't'; thresholding it with binarize "
+            "would make it a meaningless proposition)")
 
 
 def to_float(arr, place, binarize=None):

@@ -186,3 +186,12 @@ def test_messages_name_the_column_demonstration_and_step():
         check_traces(np.array([[0, 1], [1, 0], [1, 5]]))
     with pytest.raises(ValueError, match="duplicate column names"):
         check_traces([pd.DataFrame([[1, 0]], columns=["a", "a"])])
+
+
+def test_a_time_column_gets_time_advice_not_binarize():
+    frame = pd.DataFrame({"time": [0.5, 1.0, 1.5], "a": [1, 0, 1]})
+    with pytest.raises(ValueError, match="looks like a time stamp") as exc:
+        BSIClassifier().fit([frame])
+    assert "set binarize" not in str(exc.value)
+    with pytest.raises(ValueError, match="set binarize=<threshold>"):
+        BSIClassifier().fit([pd.DataFrame({"speed": [3.0, 1.0], "a": [1, 0]})])

@@ -134,3 +134,19 @@ def test_ids_follow_the_demonstrations():
     X, y, ids = read_traces_csv(io.StringIO("demo_id,t,a\n7,0,1\n3,0,0\n7,1,1\n"),
                                 return_ids=True)
     assert ids.tolist() == [7, 3] and [len(x) for x in X] == [2, 1] and y is None
+
+
+@pytest.mark.parametrize("csv, column", [
+    ("demo_id,t,time,a\n0,0,0.5,1\n0,1,1.0,0\n", "time"),
+    ("demo_id,t,stamp,a\n0,0,1700000000,1\n0,1,1700000001,0\n", "stamp"),
+])
+def test_a_time_column_is_named_as_such_not_sent_to_binarize(csv, column):
+    # Issue 21: a timestamp column got the advice to binarize it.
+    with pytest.raises(ValueError, match=rf"proposition '{column}' has value .*the column looks "
+                                         r"like a time stamp"):
+        read_traces_csv(io.StringIO(csv))
+
+
+def test_other_numeric_columns_keep_their_message():
+    with pytest.raises(ValueError, match=r"has value 3\.0; values must be 0 or 1$"):
+        read_traces_csv(io.StringIO("demo_id,t,speed\n0,0,3.0\n0,1,1.0\n"))
