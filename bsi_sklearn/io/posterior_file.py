@@ -253,7 +253,8 @@ def parse_posterior(text, who="Posterior.from_json"):
     except json.JSONDecodeError as exc:
         raise ValueError(f"{who}: not JSON ({exc})") from None
     except _BadConstant as exc:
-        raise ValueError(f"{who}: not JSON ({exc} is not a JSON number)") from None
+        raise ValueError(f"{who}: {exc} is not a JSON number (JSON has no NaN or Infinity; "
+                         "every probability is a finite number)") from None
     return _Reader(who).document(doc)
 
 

@@ -53,7 +53,7 @@ def _load(doc):
 @pytest.mark.parametrize("edit, message", [
     (lambda p: [x / 2 for x in p], r"probabilities: sum to 0\.(5|4999)\d*, not 1"),
     (lambda p: [-0.1] + p[1:], r"probabilities\[0\]: -0\.1 is negative"),
-    (lambda p: [float("nan")] + p[1:], r"not JSON \(NaN is not a JSON number\)"),
+    (lambda p: [float("nan")] + p[1:], r"from_json: NaN is not a JSON number \(JSON has no NaN"),
     (lambda p: ["0.5"] + p[1:], r"probabilities\[0\]: expected a number, got a string '0\.5'"),
     (lambda p: [True] + p[1:], r"probabilities\[0\]: expected a number, got a boolean"),
     (lambda p: [None] + p[1:], r"probabilities\[0\]: expected a number, got null"),
@@ -185,6 +185,8 @@ def test_fuzzed_documents_load_or_raise_value_error(doc, data):
             key = path[-1]
             parent[key]  # noqa: B018 - the path may be gone after an earlier mutation
         except (KeyError, IndexError, TypeError):
+            continue
+        if not isinstance(parent, (dict, list)):  # an earlier mutation made it a string
             continue
         if kind == "drop":
             del parent[key]
