@@ -1,8 +1,30 @@
-"""Bayesian Specification Inference: LTL task specifications from demonstrations."""
+"""Bayesian Specification Inference: LTL task specifications from demonstrations.
 
-from bsi_sklearn.classifier import BSIClassifier
-from bsi_sklearn.posterior import Posterior
-from bsi_sklearn.specification import Specification
+The public names are imported on first use, so that ``import bsi_sklearn`` and the command
+lines' ``--help`` start in a fraction of a second (scikit-learn and numba load with the
+classifier).
+"""
+
+import importlib
+
+from bsi_sklearn._numba_cache import configure_numba_cache
+
+configure_numba_cache()  # before any compiled function: a read-only installation imports too
 
 __all__ = ["BSIClassifier", "Posterior", "Specification"]
 __version__ = "0.1.0"
+
+_MODULES = {"BSIClassifier": "bsi_sklearn.classifier", "Posterior": "bsi_sklearn.posterior",
+            "Specification": "bsi_sklearn.specification"}
+
+
+def __getattr__(name):
+    if name in _MODULES:
+        value = getattr(importlib.import_module(_MODULES[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'bsi_sklearn' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_MODULES))

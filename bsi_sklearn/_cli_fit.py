@@ -3,17 +3,26 @@
 import argparse
 import re
 from numbers import Integral
-from pathlib import Path
 
 import numpy as np
 
-from bsi_sklearn.classifier import BSIClassifier
-from bsi_sklearn.likelihood import LIKELIHOODS
+from bsi_sklearn._cli_files import (
+    add_format_argument,
+    check_output_file,
+    load_demonstrations,
+    unique_stems,
+)
+from bsi_sklearn.io.posterior_file import MAX_LISTED
 from bsi_sklearn.param_validation import Interval, check_options
-from bsi_sklearn.priors import PRIORS
 from bsi_sklearn.roles import resolve_roles
 
 __all__ = ["add_arguments", "run", "parse_conditions"]
+
+# The choices of --prior and --likelihood, written here so that `bsi fit --help` need not load
+# numba (tests/test_cli_fit.py checks them against bsi_sklearn.priors.PRIORS and
+# bsi_sklearn.likelihood.LIKELIHOODS).
+PRIOR_CHOICES = ("linear_chain", "sets_of_chains", "forest")
+LIKELIHOOD_CHOICES = ("cb", "ci")
 
 _DESCRIPTION = """\
 Fit BSI on each FILE (one model per file) and print the MAP specification, the training
@@ -22,23 +31,28 @@ accuracy and the most probable specifications.
 Input files:
   *.trace  samples2LTL / Scarlet: positive traces, '---', negative traces, '---', operators
            [, '---', depth, '---', target | '---', alphabet]. One trace a line, time steps
-           separated by ';', the 0/1 propositions of a step by ',' (e.g. 1,0;1,1).
+           separated by ';', the 0/1 propositions of a step by ',' (e.g. 1,0;1,1); a
+           lasso trace 1,0;1,1::1 (loop from step 1) is read as its steps, which is exact
+           for the template's clauses.
   *.csv    long format, one row per time step of a demonstration:
              demo_id,t,<proposition>...[,label]
-           demo_id names the demonstration, t counts its steps 0,1,2,... (consecutive),
-           every other column is a 0/1 proposition, and the optional label (constant within a
-           demonstration) is 1 for acceptable, 0 for unacceptable; without it every
-           demonstration is acceptable. Example:
+           demo_id names the demonstration, the optional t counts its steps 0,1,2,...
+           (consecutive; without it the rows are the steps, in order), every other column
+           is a 0/1 proposition, and the optional label (constant within a demonstration) is
+           1 for acceptable, 0 for unacceptable (other labels: name the acceptable one with
+           --pos-label); without it every demonstration is acceptable. Example:
              demo_id,t,safe,picked,placed,label
              0,0,1,0,0,1
              0,1,1,1,0,1
              0,2,1,1,1,1
+The extension decides the format (any other is an error); --format reads every FILE as one.
 
 Roles: by default every proposition is a global candidate and a subtask, which makes the
 support huge and fills the answer with trivial clauses; say which propositions play which role
 with --globals, --subtasks and --conditions (names, or column indices counted from 0; give
-the FILEs first, since --globals and --subtasks take every name that follows them).
-A bad file or option exits with status 2 and a message naming the file, line or option."""
+the FILEs first, since --globals and --subtasks take every name that follows them, or end
+their list with --). A bad file or option exits with status 2 and a message naming the file,
+line or option."""
 
 _EXAMPLE = """\
 example:
@@ -95,11 +109,26 @@ def _conditions_type(text):
     return text
 
 
+_FILES_HINT = ("; --globals, --subtasks and --conditions take every word after them: give "
+               "the FILEs first (bsi fit FILE... --globals ...), or end the option's list "
+               "with --")
+
+
+def _with_files_hint(error):
+    """``parser.error`` that explains a FILE taken by a list option."""
+    def report(message):
+        if "required: FILE" in message:
+            message += _FILES_HINT
+        error(message)
+    return report
+
+
 def add_arguments(parser):
     """Arguments of ``bsi fit`` (and its description, with the input formats)."""
     parser.description = _DESCRIPTION
     parser.epilog = _EXAMPLE
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
+    parser.error = _with_files_hint(parser.error)
     parser.add_argument("files", nargs="+", metavar="FILE",
                         help=".trace files (samples2LTL / Scarlet) or long-format CSV files")
     parser.add_argument("--globals", nargs="*", metavar="PROP", default=None,
@@ -112,10 +141,10 @@ def add_arguments(parser):
                         type=_conditions_type,
                         help="condition of a subtask, read at t = 0: subtask=condition pairs "
                              "separated by commas or spaces (default: no conditions)")
-    parser.add_argument("--prior", choices=PRIORS, default="sets_of_chains",
+    parser.add_argument("--prior", choices=PRIOR_CHOICES, default="sets_of_chains",
                         help="prior over the order of subtasks: one chain, sets of chains or "
                              "a forest (default: %(default)s)")
-    parser.add_argument("--likelihood", choices=LIKELIHOODS, default="cb",
+    parser.add_argument("--likelihood", choices=LIKELIHOOD_CHOICES, default="cb",
                         help="complexity-based (cb, the size principle) or "
                              "complexity-independent (ci) likelihood (default: %(default)s)")
     parser.add_argument("--inference", choices=["auto", "exact", "mcmc"], default="auto",
@@ -127,28 +156,71 @@ def add_arguments(parser):
                         help="posterior entries to print (default: %(default)s)")
     parser.add_argument("--seed", type=int, default=0,
                         help="random seed of the MCMC chains (default: %(default)s)")
+    parser.add_argument("--pos-label", default=None, metavar="LABEL",
+                        help="the label of acceptable demonstrations, when the labels are "
+                             "not 0/1 (e.g. --pos-label yes)")
+    add_format_argument(parser)
     parser.add_argument("--save", default=None, metavar="JSON",
-                        help="write the posterior as JSON (Posterior.to_json); with several "
-                             "FILEs, each one's stem is added: posterior_<stem>.json")
+                        help="write the posterior as JSON (Posterior.to_json, written in one "
+                             "step); with several FILEs, each one's name is added: "
+                             "posterior_<stem>.json (with the folder too when two FILEs "
+                             "share a name)")
 
 
-_OPTION_CONSTRAINTS = {
-    "n_samples": BSIClassifier._parameter_constraints["n_samples"],
-    "top": [Interval(Integral, 1, None, closed="left")],
-    "seed": [Interval(Integral, 0, 2**32 - 1, closed="both")],
-}
+def _option_constraints():
+    from bsi_sklearn.classifier import BSIClassifier
+
+    return {
+        "n_samples": BSIClassifier._parameter_constraints["n_samples"],
+        "top": [Interval(Integral, 1, None, closed="left")],
+        "seed": [Interval(Integral, 0, 2**32 - 1, closed="both")],
+    }
 
 _OPTION_OF = {"global_candidates": "--globals", "subtasks": "--subtasks",
               "conditions": "--conditions"}
 
 
-def _load(path):
-    from bsi_sklearn import io
+def _pos_label(token, y):
+    """``--pos-label`` as a value of the labels' type (an integer for integer labels)."""
+    if token is None or y is None:
+        return None
+    values = np.unique(y).tolist()
+    if token in values or not values:
+        return token
+    for cast in (int, float):
+        try:
+            value = cast(token)
+        except ValueError:
+            continue
+        if value in values:
+            return value
+    raise ValueError(f"--pos-label {token!r} is not among the labels {values}")
 
-    if str(path).endswith(".csv"):
-        X, y = io.read_traces_csv(path)
-        return X, y, None
-    return io.load_trace_file(path)
+
+def _outputs(args):
+    """The posterior file of every input FILE (``None`` without ``--save``), checked."""
+    if args.save is None:
+        return [None] * len(args.files)
+    out = check_output_file(args.save, "--save")
+    if len(args.files) == 1:
+        return [out]
+    return [out.with_name(f"{out.stem}_{stem}{out.suffix}")
+            for stem in unique_stems(args.files)]
+
+
+def _save(posterior, out):
+    """Write ``posterior`` to ``out`` in one step; the line that says so."""
+    try:
+        posterior.to_json(out)
+    except OSError as exc:
+        raise ValueError(f"--save {out}: cannot write ({exc.strerror or exc}); the previous "
+                         "file, if any, is unchanged") from None
+    line = f"saved      : {out}"
+    if len(posterior) > MAX_LISTED:
+        left = float(posterior.probabilities[MAX_LISTED:].sum())
+        line += (f" (the {MAX_LISTED:,} most probable of {len(posterior):,} specifications; "
+                 f"the others, {left:.3g} of the listed mass, as dropped_mass)")
+    return line
 
 
 def _proposition(token, names):
@@ -183,21 +255,31 @@ def _roles(args, names, path):
 
 def run(args):
     """Fit on every file (one model per file) and print the results."""
-    check_options(args, _OPTION_CONSTRAINTS)
+    from bsi_sklearn.classifier import BSIClassifier
+
+    check_options(args, _option_constraints())
     if args.conditions is not None:
         parse_conditions(args.conditions)
-    for path in args.files:
-        X, y, target = _load(path)
+    outputs = _outputs(args)
+    for path, out in zip(args.files, outputs):
+        X, y, target, _ = load_demonstrations(path, args.format)
         names = [str(c) for c in X[0].columns]
+        if args.pos_label is not None and y is None:
+            raise ValueError(f"{path}: --pos-label {args.pos_label!r} is given, but the file "
+                             "has no labels (every demonstration is acceptable)")
+        pos_label = _pos_label(args.pos_label, y)
         clf = BSIClassifier(prior=args.prior, likelihood=args.likelihood,
                             inference=args.inference, n_samples=args.n_samples,
-                            random_state=args.seed, **_roles(args, names, path))
+                            random_state=args.seed, pos_label=pos_label,
+                            **_roles(args, names, path))
         y = np.ones(len(X), dtype=int) if y is None else np.asarray(y)
         try:
             clf.fit(X, y)
         except ValueError as exc:
-            raise ValueError(f"{path}: {exc}") from None
-        print(f"== {path}: {len(X)} demonstrations ({int(y.sum())} acceptable), "
+            message = re.sub(r"\bpos_label\b", "--pos-label", str(exc))
+            raise ValueError(f"{path}: {message}") from None
+        n_good = int((y == clf.classes_[1]).sum())
+        print(f"== {path}: {len(X)} demonstrations ({n_good} acceptable), "
               f"{clf.n_features_in_} propositions, {clf.inference_} inference")
         if target is not None:
             print(f"target     : {target}")
@@ -205,10 +287,6 @@ def run(args):
         print(f"accuracy   : {clf.score(X, y):.3f} (training set)")
         frame = clf.posterior_.to_frame(k=args.top)[["probability", "ltl"]]
         print(frame.to_string(formatters={"probability": "{:.4f}".format}))
-        if args.save is not None:
-            out = Path(args.save)
-            if len(args.files) > 1:
-                out = out.with_name(f"{out.stem}_{Path(path).stem}{out.suffix}")
-            clf.posterior_.to_json(out)
-            print(f"saved      : {out}")
+        if out is not None:
+            print(_save(clf.posterior_, out))
     return 0

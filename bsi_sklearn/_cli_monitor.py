@@ -2,13 +2,24 @@
 
 For every demonstration of every file (``.trace`` or long-format CSV), the posterior
 (:meth:`Posterior.to_json`, e.g. from ``bsi fit ... --save``) monitors it step by step; the
-verdicts go to ``<stem>_<i>_monitor.csv`` and their plot, with the clause events marked, to
-``<stem>_<i>_monitor.png`` in ``--out``.
+verdicts go to ``<file>_<demo>_monitor.csv`` and their plot, with the clause events marked, to
+``<file>_<demo>_monitor.png`` in ``--out``. ``<file>`` is the input's stem (with its folders
+when two inputs share a name), ``<demo>`` the demonstration's ``demo_id`` (CSV) or position
+(``.trace``), made file-safe and unique.
 """
 
-from pathlib import Path
+import io as _io
 
 import numpy as np
+
+from bsi_sklearn._cli_files import (
+    add_format_argument,
+    check_input,
+    check_output_dir,
+    load_demonstrations,
+    unique_names,
+    unique_stems,
+)
 
 __all__ = ["add_arguments", "run"]
 
@@ -22,38 +33,52 @@ def add_arguments(parser):
     parser.add_argument("--out", default="bsi_monitor", metavar="DIR",
                         help="folder for the tables and plots (default: ./bsi_monitor)")
     parser.add_argument("--no-plot", action="store_true", help="write the tables only")
+    add_format_argument(parser)
 
 
-def _load(path):
-    from bsi_sklearn import io
-
-    if str(path).endswith(".csv"):
-        return io.read_traces_csv(path)[0]
-    return io.load_trace_file(path)[0]
+def _check_propositions(posterior, X, path, posterior_path):
+    """The file's propositions must be the posterior's (by name, or by number)."""
+    names = posterior.feature_names_in_
+    given = list(X[0].columns)
+    if names is not None and given != list(names):
+        raise ValueError(f"{path}: its propositions {given} are not those of the posterior "
+                         f"{posterior_path} {list(names)} (a posterior of another task?)")
+    if names is None and len(given) != len(posterior.roles.names):
+        raise ValueError(f"{path}: {len(given)} propositions, but the posterior "
+                         f"{posterior_path} is over {len(posterior.roles.names)}")
 
 
 def run(args):
     """Monitor every demonstration and write its table and plot; prints one line each."""
+    from bsi_sklearn.io._atomic import write_atomic
     from bsi_sklearn.monitor_figure import monitor_frame, plot_monitor
     from bsi_sklearn.posterior import Posterior
 
-    posterior = Posterior.from_json(Path(args.posterior))
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    for path in args.files:
-        for i, trace in enumerate(_load(path)):
-            if not hasattr(trace, "columns"):
+    check_input(args.posterior)
+    posterior = Posterior.read_json(args.posterior)
+    stems = unique_stems(args.files)
+    out = check_output_dir(args.out, "--out")
+    for path, stem in zip(args.files, stems):
+        X, _, _, ids = load_demonstrations(path, args.format)
+        _check_propositions(posterior, X, path, args.posterior)
+        for demo, trace, name in zip(ids, X, unique_names(ids)):
+            if posterior.feature_names_in_ is None:
                 trace = np.asarray(trace)
-            frame = monitor_frame(posterior, trace)
-            stem = out / f"{Path(path).stem}_{i}_monitor"
-            frame.to_csv(stem.with_suffix(".csv"), index=False)
+            try:
+                frame = monitor_frame(posterior, trace)
+            except ValueError as exc:
+                raise ValueError(f"{path}, demonstration {demo!r}: {exc}") from None
+            base = out / f"{stem}_{name}_monitor"
+            write_atomic(base.with_suffix(".csv"), frame.to_csv(index=False))
             if not args.no_plot:
-                ax = plot_monitor(frame, title=f"{Path(path).name}, demonstration {i}")
-                ax.figure.savefig(stem.with_suffix(".png"), dpi=90)
+                ax = plot_monitor(frame, title=f"{path}, demonstration {demo}")
+                png = _io.BytesIO()
+                ax.figure.savefig(png, format="png", dpi=90)
+                write_atomic(base.with_suffix(".png"), png.getvalue())
             end = frame.iloc[-1]
             first = frame.loc[frame["p_violated"] >= 0.5, "step"]
-            print(f"{path} [{i}]: {len(frame) - 1} steps, P(satisfied) at the end "
+            print(f"{path} [{demo}]: {len(frame) - 1} steps, P(satisfied) at the end "
                   f"{end['p_satisfied']:.3f}"
                   + (f", mostly violated from step {int(first.iloc[0])}" if len(first) else "")
-                  + f" -> {stem.name}.csv")
+                  + f" -> {base.name}.csv")
     return 0

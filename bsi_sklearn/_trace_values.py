@@ -1,6 +1,7 @@
 """The values of one demonstration: conversion to 0/1 (or floats) and messages that say where.
 
-Private helpers of :mod:`bsi_sklearn.traces`. Every message names the demonstration, the step
+Private helpers of :mod:`bsi_sklearn.traces` (and :func:`trace_columns`, one trace by column
+name, of the specification and its automaton). Every message names the demonstration, the step
 and the proposition: by its DataFrame column name when there is one, by its index otherwise.
 """
 
@@ -17,7 +18,9 @@ __all__ = [
     "ragged_error",
     "ragged_rows_error",
     "to_bool",
+    "time_column_hint",
     "to_float",
+    "trace_columns",
 ]
 
 
@@ -138,11 +141,44 @@ def to_bool(arr, place, binarize):
     bad = (arr != 0) & (arr != 1)
     if bad.any():
         t, p = map(int, np.argwhere(bad)[0])
+        name = place.names[p] if place.names is not None else None
+        advice = time_column_hint(arr[:, p], name) or (
+            "(set binarize=<threshold> to threshold numeric data)")
         raise ValueError(
             f"{place.at(t, p)} has value {arr[t, p].item()!r}; traces must be 0/1 or boolean "
-            "(set binarize=<threshold> to threshold numeric data)"
+            f"{advice}"
         )
     return arr.astype(np.uint8)
+
+
+_TIME_NAMES = {"t", "time", "times", "timestamp", "timestamps", "ts", "step", "steps",
+               "date", "datetime", "frame", "clock", "seconds", "secs", "ms"}
+
+
+def time_column_hint(values, name=None):
+    """Advice when a non-0/1 column looks like time rather than a proposition, else "".
+
+    A column looks like time when its name says so (``time``, ``timestamp``, ``step``...) or
+    its values increase at every step of a demonstration of two steps or more.
+
+    Examples
+    --------
+    >>> time_column_hint([0.5, 1.0, 1.5], "x")[:44]
+    '(the column looks like a time stamp, not a p'
+    >>> time_column_hint([3, 0, 7], "speed")
+    ''
+    """
+    try:
+        v = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        return ""
+    named = name is not None and str(name).strip().lower() in _TIME_NAMES
+    rising = v.ndim == 1 and len(v) >= 2 and bool(np.all(np.diff(v) > 0))
+    if not (named or rising):
+        return ""
+    return ("(the column looks like a time stamp, not a proposition: drop it, or in a "
+            "long-format frame or CSV name the step column 't'; thresholding it with binarize "
+            "would make it a meaningless proposition)")
 
 
 def to_float(arr, place, binarize=None):
@@ -171,3 +207,45 @@ def ragged_rows_error(rows, estimator_name, item, unit):
             else "is not a list of numbers")
     return ValueError(f"{estimator_name} got a list of lists (scikit-learn's 2-D format, every "
                       f"row a {item} of length one) whose row {k} {what}")
+
+
+def trace_columns(trace, feature_names):
+    """One trace as a boolean array and its column names (name -> index, or None).
+
+    Parameters
+    ----------
+    trace : array-like of shape (T, n_props) or pandas.DataFrame
+    feature_names : sequence or None
+        Column names; a DataFrame's columns when None.
+
+    Returns
+    -------
+    columns : dict or None
+        Column name -> index, when the trace has names.
+    arr : ndarray of shape (T, n_props), bool
+
+    Raises
+    ------
+    ValueError
+        For a trace that is not a non-empty 2-D 0/1 array, or names of the wrong length.
+    """
+    if hasattr(trace, "columns") and hasattr(trace, "to_numpy"):
+        names = list(trace.columns) if feature_names is None else list(feature_names)
+        arr = trace.to_numpy()
+    else:
+        names = None if feature_names is None else list(feature_names)
+        arr = np.asarray(trace)
+    if arr.ndim != 2 or arr.shape[0] < 1:
+        raise ValueError(f"a trace must be a non-empty 2-D array (T, n_props), got {arr.shape}")
+    if arr.dtype.kind == "f" and np.isnan(arr).any():
+        raise ValueError("the trace contains NaN")
+    if not np.isin(arr, (0, 1)).all():
+        raise ValueError("the trace has values other than 0/1 (booleans)")
+    arr = arr.astype(bool)
+    if names is not None:
+        if len(names) != arr.shape[1]:
+            raise ValueError(
+                f"feature_names has {len(names)} entries for a trace of {arr.shape[1]} columns"
+            )
+        return {n: i for i, n in enumerate(names)}, arr
+    return None, arr

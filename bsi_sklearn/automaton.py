@@ -1,67 +1,134 @@
-"""Export of a `Specification`: LTLf text for other tools and a DFA built with flloat.
+"""Export of a `Specification`: LTLf text for other tools and its DFA (see ``dfa.py``).
 
 The template's clauses (``G p``, ``pi -> F w``, ``pi_a -> (!w_b U w_a)``) mean the same on a
 finite trace read as it is (LTLf, as flloat and LTLf2DFA read it) and on the infinite trace
 whose last state repeats forever (LTL, as Spot reads it, and as this project evaluates
 demonstrations): repeating the last state adds no step where ``p`` is false, no first ``w``
-and no ``w_b`` before a first ``w_a``. So the same formula text serves both, and the DFA
-accepts a trace exactly when :meth:`Specification.satisfied_by` holds.
+and no ``w_b`` before a first ``w_a``. So the same formula text serves both, and the DFA (built by
+the project, flloat its cross-check in the tests) accepts a trace exactly when
+:meth:`Specification.satisfied_by` holds.
 """
 
 from __future__ import annotations
 
 import re
-from functools import lru_cache
+from collections.abc import Mapping
 
 import numpy as np
 
+from bsi_sklearn._trace_values import trace_columns
 from bsi_sklearn.param_validation import StrOptions, validate_params
 
-__all__ = ["DIALECTS", "SpecificationAutomaton", "to_ltlf"]
+__all__ = ["DIALECTS", "SpecificationAutomaton", "ltlf_atom_problem", "spot_atom", "to_ltlf"]
 
 DIALECTS = ("spot", "ltlf2dfa")
-_LTLF2DFA_ATOM = re.compile(r"[a-z][a-z0-9_]*\Z")
-_SPOT_ATOM = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
-# Words the parsers read as operators or constants, never as atoms.
-_RESERVED = {"true", "false", "tt", "ff", "last", "end", "G", "F", "X", "U", "R", "W", "M",
-             "WX", "A", "E", "xor"}
+
+# Spot's scanner (spot/parsetl/scantl.ll) reads an unquoted atomic proposition as
+# [a-zA-EH-WYZ_.][a-zA-Z0-9_.]* (or F, G, X followed by a digit): a word starting with F, G or
+# X is an operator applied to the rest. Before that rule it reads 1, 0 and true / false in any
+# case as constants and the words U, R, V, W, M, xor, first_match as operators. Anything else is
+# written in double quotes, where a backslash escapes the next character.
+_SPOT_PLAIN = re.compile(r"[a-zA-EH-WYZ_][a-zA-Z0-9_]*\Z")
+_SPOT_WORDS = {"U", "R", "V", "W", "M", "xor", "first_match"}
+# flloat's and LTLf2DFA's lexers (flloat/parser/ltlf.lark) read [a-z][a-z0-9_]* as an atom but
+# try the keywords first, case-insensitively, on any prefix: "lastly" is LAST then "ly".
+_LTLF_ATOM = re.compile(r"[a-z][a-z0-9_]*\Z")
+_LTLF_PREFIXES = ("true", "false", "last", "end")
+_LTLF_WORDS = {"tt", "ff"}
 
 
-def _atom_text(ident, dialect, atoms):
-    if atoms is not None and ident in atoms:
-        return str(atoms[ident])
-    text = str(ident)
-    if dialect == "ltlf2dfa":
-        if not _LTLF2DFA_ATOM.match(text) or text in _RESERVED:
+def spot_atom(name):
+    r"""``name`` as a Spot atomic proposition: plain when Spot reads it so, else quoted.
+
+    Examples
+    --------
+    >>> print(spot_atom("safe"), spot_atom("GPS_ok"), spot_atom("True"), spot_atom("V"))
+    safe "GPS_ok" "True" "V"
+    >>> print(spot_atom('say "hi"'), spot_atom("a\\b"))
+    "say \"hi\"" "a\\b"
+    """
+    text = str(name)
+    if _SPOT_PLAIN.match(text) and text not in _SPOT_WORDS and \
+            text.lower() not in ("true", "false"):
+        return text
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def ltlf_atom_problem(name):
+    """Why flloat / LTLf2DFA cannot read ``name`` as an atom (``None`` when they can)."""
+    text = str(name)
+    if not _LTLF_ATOM.match(text):
+        return "atoms are lowercase letters, digits and underscores, starting with a letter"
+    if text in _LTLF_WORDS:
+        return f"{text!r} is a constant"
+    for word in _LTLF_PREFIXES:
+        if text.startswith(word):
+            return (f"the parser reads the keyword {word!r} at its start (no atom may start "
+                    "with true, false, last or end)")
+    return None
+
+
+def _atom_table(idents, dialect, atoms):
+    """Identifier -> atom text for every proposition of a formula, checked to be distinct."""
+    table = {}
+    for ident in idents:
+        given = atoms is not None and ident in atoms
+        if given:
+            text = atoms[ident]
+        elif dialect == "ltlf2dfa" and isinstance(ident, (int, np.integer)) \
+                and not isinstance(ident, (bool, np.bool_)):
+            text = f"p{int(ident)}"  # column indices: flloat atoms cannot start with a digit
+        else:
+            text = ident
+        if dialect == "spot":
+            table[ident] = spot_atom(text)
+            continue
+        problem = ltlf_atom_problem(text)
+        if problem is not None:
+            source = f"atoms[{ident!r}] = {text!r}" if given else f"proposition {ident!r}"
             raise ValueError(
-                f"proposition {ident!r} is not an LTLf2DFA atom (lowercase letters, digits "
-                "and underscores, starting with a letter, not a keyword); pass "
+                f"{source} is not an LTLf2DFA / flloat atom: {problem}; pass "
                 f"atoms={{{ident!r}: 'p0', ...}} to rename it"
             )
-        return text
-    if _SPOT_ATOM.match(text) and text not in _RESERVED:
-        return text
-    if '"' in text:
-        raise ValueError(f"proposition {ident!r} contains a double quote; rename it with atoms")
-    return f'"{text}"'
+        table[ident] = str(text)
+    seen = {}
+    for ident, text in table.items():
+        if text in seen:
+            raise ValueError(f"propositions {seen[text]!r} and {ident!r} are both written "
+                             f"{text!r}; pass atoms= to name them apart")
+        seen[text] = ident
+    return table
 
 
 def to_ltlf(specification, dialect="spot", atoms=None):
-    """The specification as formula text for Spot or LTLf2DFA (flloat reads the latter).
+    r"""The specification as formula text for Spot or LTLf2DFA (flloat reads the latter).
 
     Parameters
     ----------
     specification : Specification
     dialect : {"spot", "ltlf2dfa"}, default="spot"
-        ``"spot"`` writes atoms that are not plain identifiers in double quotes;
-        ``"ltlf2dfa"`` needs atoms matching ``[a-z][a-z0-9_]*``.
+        ``"spot"`` writes in double quotes (a backslash before ``\`` and ``"``) every atom
+        Spot would read as something else: a word starting with F, G or X (an operator
+        applied to the rest), ``true`` / ``false`` in any case, ``U``, ``R``, ``V``, ``W``,
+        ``M``, ``xor``, and anything but letters, digits and underscores.
+        ``"ltlf2dfa"`` writes atoms as they are when flloat reads them so
+        (``[a-z][a-z0-9_]*``, not starting with ``true``, ``false``, ``last`` or ``end``,
+        not ``tt`` / ``ff``), integer propositions (column indices) as ``p0, p1, ...``, and
+        raises a ``ValueError`` for any other name: rename it with ``atoms``.
     atoms : mapping, default=None
-        Proposition identifier -> atom text, for identifiers the dialect cannot write.
+        Proposition identifier -> atom text, for identifiers the dialect cannot write; the
+        same rules apply to the text given.
 
     Returns
     -------
     text : str
-        ``true`` for the empty specification.
+        ``true`` for the empty specification. Parsed by Spot or flloat, it is the same
+        formula over the same atoms.
+
+    Raises
+    ------
+    ValueError
+        For a name ``"ltlf2dfa"`` cannot write, or two propositions written alike.
 
     Examples
     --------
@@ -70,21 +137,26 @@ def to_ltlf(specification, dialect="spot", atoms=None):
     ...                      conditions={"a": "a_ok"})
     >>> to_ltlf(spec)
     'G(safe) & (a_ok -> F(a)) & (a_ok -> (!(b) U (a)))'
-    >>> to_ltlf(Specification(globals=[0, "Threat-1"]), dialect="spot")
-    'G("0") & G("Threat-1")'
+    >>> to_ltlf(Specification(globals=[0, "Threat-1", "Fuel"]), dialect="spot")
+    'G("0") & G("Fuel") & G("Threat-1")'
+    >>> to_ltlf(Specification(globals=[0], eventuals=[1, 2]), dialect="ltlf2dfa")
+    'G(p0) & F(p1) & F(p2)'
     """
     validate_params({"dialect": dialect}, {"dialect": [StrOptions(DIALECTS)]}, "to_ltlf")
+    if atoms is not None and not isinstance(atoms, Mapping):
+        raise ValueError(f"to_ltlf: atoms must be a mapping identifier -> atom text, got "
+                         f"{type(atoms).__name__}")
     cond = specification.conditions
-
-    def atom(ident):
-        return _atom_text(ident, dialect, atoms)
+    idents = (set(specification.globals) | set(specification.eventuals)
+              | {x for o in specification.orders for x in o} | set(cond.values()))
+    table = _atom_table(sorted(idents, key=_key), dialect, atoms)
 
     def guarded(w, body):
-        return f"({atom(cond[w])} -> {body})" if w in cond else body
+        return f"({table[cond[w]]} -> {body})" if w in cond else body
 
-    parts = [f"G({atom(p)})" for p in sorted(specification.globals, key=_key)]
-    parts += [guarded(w, f"F({atom(w)})") for w in sorted(specification.eventuals, key=_key)]
-    parts += [guarded(a, f"(!({atom(b)}) U ({atom(a)}))")
+    parts = [f"G({table[p]})" for p in sorted(specification.globals, key=_key)]
+    parts += [guarded(w, f"F({table[w]})") for w in sorted(specification.eventuals, key=_key)]
+    parts += [guarded(a, f"(!({table[b]}) U ({table[a]}))")
               for a, b in sorted(specification.orders, key=lambda p: (_key(p[0]), _key(p[1])))]
     return " & ".join(parts) if parts else "true"
 
@@ -96,8 +168,10 @@ def _key(x):
 class SpecificationAutomaton:
     """A deterministic finite automaton accepting the traces that satisfy a specification.
 
-    Built with `flloat <https://github.com/whitemech/flloat>`_ (the optional extra
-    ``bsi-sklearn[automata]``); usually obtained from :meth:`Specification.to_automaton`.
+    Built by the project (:mod:`bsi_sklearn.dfa`): each clause is a small automaton and the
+    specification's is their product, minimised; usually obtained from
+    :meth:`Specification.to_automaton`. No optional package is needed; flloat, given
+    :attr:`formula`, builds the same language (the tests check it).
 
     Parameters
     ----------
@@ -107,12 +181,13 @@ class SpecificationAutomaton:
     ----------
     specification : Specification
     formula : str
-        The LTLf text given to flloat; propositions are renamed ``p0, p1, ...`` (in the order
-        of :attr:`propositions`), so any identifiers work.
+        The formula as LTLf2DFA / flloat text, propositions renamed ``p0, p1, ...`` (in the
+        order of :attr:`propositions`), so any identifiers work.
     propositions : list
         The identifiers the formula mentions.
-    dfa : pythomata.SymbolicDFA
-        flloat's automaton; its alphabet is the set of assignments of the atoms.
+    dfa : bsi_sklearn.dfa.DFA
+        The minimal automaton: ``dfa.n_states``, ``dfa.delta``, ``dfa.accepting``,
+        ``dfa.to_dot()``.
 
     Examples
     --------
@@ -122,9 +197,13 @@ class SpecificationAutomaton:
     >>> dfa = spec.to_automaton()
     >>> dfa.accepts(np.array([[1, 0], [1, 1]])), dfa.accepts(np.array([[0, 1], [1, 0]]))
     (True, False)
+    >>> dfa.dfa.n_states
+    4
     """
 
     def __init__(self, specification):
+        from bsi_sklearn.dfa import specification_dfa
+
         self.specification = specification
         spec = specification
         idents = set(spec.globals) | set(spec.eventuals) | {x for o in spec.orders for x in o}
@@ -132,11 +211,15 @@ class SpecificationAutomaton:
         self.propositions = sorted(idents, key=_key)
         self._atoms = {ident: f"p{k}" for k, ident in enumerate(self.propositions)}
         self.formula = to_ltlf(spec, dialect="ltlf2dfa", atoms=self._atoms)
-        self.dfa = _build_dfa(self.formula)
+        self.dfa = specification_dfa(spec)
 
     def __repr__(self):
         return (f"SpecificationAutomaton({self.specification.to_ltl()}, "
-                f"n_states={len(self.dfa.states)})")
+                f"n_states={self.dfa.n_states})")
+
+    def to_dot(self):
+        """The automaton in Graphviz DOT (accepting states doubled, edges labelled)."""
+        return self.dfa.to_dot(name=self.specification.to_ltl())
 
     def accepts(self, trace, feature_names=None):
         """Whether the automaton accepts ``trace`` (read as a finite word, step by step).
@@ -154,33 +237,19 @@ class SpecificationAutomaton:
         accepted : bool
             Equal to ``specification.satisfied_by(trace, feature_names)``.
         """
-        from bsi_sklearn.specification import _trace_columns
-
-        columns, arr = _trace_columns(trace, feature_names)
+        columns, arr = trace_columns(trace, feature_names)
         cols = {}
         for ident in self.propositions:  # the column rule of Specification.satisfied_by
             is_int = isinstance(ident, (int, np.integer))
             if columns is not None and ident in columns:
-                cols[ident] = columns[ident]
+                cols[ident] = arr[:, columns[ident]]
             elif (columns is None or is_int) and is_int and 0 <= ident < arr.shape[1]:
-                cols[ident] = int(ident)
+                cols[ident] = arr[:, int(ident)]
             else:
                 raise ValueError(
                     f"proposition {ident!r} is not a column of the trace"
                     + ("" if columns is not None else f" ({arr.shape[1]} columns); pass "
                        "feature_names")
                 )
-        word = [{self._atoms[i]: bool(row[c]) for i, c in cols.items()} for row in arr]
-        return bool(self.dfa.accepts(word))
-
-
-@lru_cache(maxsize=256)
-def _build_dfa(formula):
-    try:
-        from flloat.parser.ltlf import LTLfParser
-    except ImportError:
-        raise ImportError(
-            "Specification.to_automaton needs flloat: pip install 'bsi-sklearn[automata]' "
-            "(or pip install flloat)"
-        ) from None
-    return LTLfParser()(formula).to_automaton()
+        state = self.dfa.run(self.dfa.letters(cols, arr.shape[0]))
+        return bool(self.dfa.accepting[state])

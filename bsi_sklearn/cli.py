@@ -21,16 +21,24 @@ SUBCOMMANDS = {
 }
 
 
-def build_parser():
-    """The argument parser of ``bsi`` (subcommand modules add their own arguments)."""
+def build_parser(argv=None):
+    """The argument parser of ``bsi`` (subcommand modules add their own arguments).
+
+    Parameters
+    ----------
+    argv : list of str, default=None
+        The arguments to be parsed: only the module of the subcommand they name is imported.
+        ``None`` imports them all.
+    """
     return build_parser_from(
-        "bsi", "Bayesian Specification Inference from demonstrations.", SUBCOMMANDS
+        "bsi", "Bayesian Specification Inference from demonstrations.", SUBCOMMANDS, argv
     )
 
 
 def main(argv=None):
     """Entry point of the ``bsi`` console script; returns the exit status."""
-    return run_command(build_parser(), argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    return run_command(build_parser(argv), argv)
 
 
 if __name__ == "__main__":  # pragma: no cover

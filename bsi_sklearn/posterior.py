@@ -1,8 +1,7 @@
 """`Posterior`: a categorical distribution over unique canonical specifications."""
 
-import json
 import numbers
-from pathlib import Path
+import os
 
 import numpy as np
 import pandas as pd
@@ -15,16 +14,20 @@ from bsi_sklearn.clauses import (
     n_clauses,
     pack_rows,
 )
+from bsi_sklearn.io.posterior_file import (
+    MAX_LISTED,
+    SCHEMA,
+    SCHEMA_VERSION,
+    dump_posterior,
+    parse_posterior,
+    read_posterior,
+    write_posterior,
+)
 from bsi_sklearn.param_validation import Interval, validate_params
-from bsi_sklearn.roles import Roles
 from bsi_sklearn.specification import Specification
-from bsi_sklearn.traces import Traces, check_traces
+from bsi_sklearn.traces import Traces, check_consistent_traces, check_traces
 
 __all__ = ["Posterior", "SCHEMA", "SCHEMA_VERSION"]
-
-#: Name and version of the JSON form of a posterior (:meth:`Posterior.to_json`).
-SCHEMA = "bsi-sklearn/posterior"
-SCHEMA_VERSION = 1
 
 
 @njit(cache=True, nogil=True)
@@ -272,24 +275,47 @@ class Posterior:
         p1 = np.clip(_vote(self._masks, self.probabilities, self._truth_words(X)), 0.0, 1.0)
         return np.column_stack([1.0 - p1, p1])
 
+    @property
+    def feature_names_in_(self):
+        """The propositions' names when they are strings (the columns of the fitted frames).
+
+        ``None`` when the propositions are column indices. Demonstrations given as
+        DataFrames must have exactly these columns, in this order, as for a fitted
+        :class:`~bsi_sklearn.BSIClassifier`.
+        """
+        names = self.roles.names
+        if all(isinstance(n, str) for n in names):
+            return np.asarray(names, dtype=object)
+        return None
+
     def _truth_words(self, X):
-        traces = X if isinstance(X, Traces) else check_traces(X, estimator_name="Posterior")
-        n_props = len(self.roles.names)
-        if traces.n_props != n_props:
-            raise ValueError(
-                f"X has {traces.n_props} propositions, but the posterior was inferred over "
-                f"{n_props}"
-            )
+        if isinstance(X, Traces):  # already checked by the caller (the classifier)
+            traces = X
+            if traces.n_props != len(self.roles.names):
+                raise ValueError(
+                    f"X has {traces.n_props} propositions, but the posterior was inferred "
+                    f"over {len(self.roles.names)}"
+                )
+        else:
+            traces = check_traces(X, estimator_name="Posterior")
+            check_consistent_traces(traces, len(self.roles.names), self.feature_names_in_,
+                                    "Posterior")
         return pack_rows(clause_truth(traces, self.roles))
 
     # ------------------------------------------------------------------ JSON
-    def to_json(self, path=None):
-        """The posterior as JSON: names, roles, specifications, probabilities, marginals.
+    def to_json(self, path=None, *, max_specifications=MAX_LISTED):
+        """The posterior as JSON text (the format of ``docs/posterior-schema.json``).
 
         Parameters
         ----------
         path : str or path-like, default=None
-            File to write; the text is returned either way.
+            File to write, in one step (a temporary file renamed over it, so a failed write
+            leaves the previous file intact); the text is returned either way.
+        max_specifications : int or None, default=10_000
+            Most specifications listed: the most probable ones, their probabilities
+            renormalised, and the mass of the others added to ``dropped_mass`` (as exact
+            inference does with ``tol``). ``None`` lists them all. The file grows by about
+            150 bytes a listed specification.
 
         Returns
         -------
@@ -298,8 +324,15 @@ class Posterior:
             (the proposition identifiers), ``roles`` (global candidates, subtasks,
             ``[subtask, condition]`` pairs), ``specifications`` (``globals``, ``eventuals``,
             ``orders`` as ``[a, b]`` pairs, and the ``ltl`` text), ``probabilities``,
-            ``clause_marginals`` (``[clause key, probability]``) and ``dropped_mass``.
-            Floats are written exactly, so :meth:`from_json` gives identical predictions.
+            ``clause_marginals`` (``[clause key, probability]``, over the whole posterior)
+            and ``dropped_mass``. Floats are written exactly, so when every specification is
+            listed :meth:`from_json` gives identical predictions; otherwise they differ by at
+            most the mass left out.
+
+        Raises
+        ------
+        ValueError
+            When ``path`` is a folder, or its folder is missing or is a file.
 
         Examples
         --------
@@ -310,45 +343,37 @@ class Posterior:
         >>> again = Posterior.from_json(post.to_json())
         >>> bool((again.predict_proba(X) == post.predict_proba(X)).all())
         True
+        >>> short = Posterior.from_json(post.to_json(max_specifications=1))
+        >>> len(short), bool(short.dropped_mass > 0)
+        (1, True)
         """
-        r = self.roles
-        plain = _plain
-        doc = {
-            "schema": SCHEMA,
-            "version": SCHEMA_VERSION,
-            "names": [plain(n) for n in r.names],
-            "roles": {
-                "global_candidates": [plain(n) for n in r.global_names()],
-                "subtasks": [plain(n) for n in r.subtask_names()],
-                "conditions": [[plain(w), plain(c)] for w, c in r.condition_names().items()],
-            },
-            "specifications": [
-                {"globals": sorted((plain(p) for p in s.globals), key=_json_key),
-                 "eventuals": sorted((plain(w) for w in s.eventuals), key=_json_key),
-                 "orders": sorted(([plain(a), plain(b)] for a, b in s.orders),
-                                  key=lambda o: (_json_key(o[0]), _json_key(o[1]))),
-                 "ltl": s.to_ltl()}
-                for s in self.specifications
-            ],
-            "probabilities": self.probabilities.tolist(),
-            "clause_marginals": [[[plain(x) for x in key], float(v)]
-                                 for key, v in zip(self.clause_keys(),
-                                                   self._marginals[self._clause_slots()])],
-            "dropped_mass": self.dropped_mass,
-        }
-        text = json.dumps(doc, indent=1)
+        validate_params(
+            {"max_specifications": max_specifications},
+            {"max_specifications": [Interval(numbers.Integral, 1, None, closed="left"), None]},
+            "Posterior.to_json")
+        k = len(self) if max_specifications is None else min(len(self), max_specifications)
+        probs, dropped = self.probabilities[:k], self.dropped_mass
+        if k < len(self):
+            kept = float(probs.sum())
+            probs = probs / kept
+            dropped = 1.0 - (1.0 - dropped) * kept
+        text = dump_posterior(self.roles, [self._build_spec(i) for i in range(k)], probs,
+                              self.clause_keys(), self._marginals[self._clause_slots()],
+                              dropped)
         if path is not None:
-            Path(path).write_text(text + "\n", encoding="utf-8")
-        return text
+            write_posterior(path, text)
+        return text.rstrip("\n")
 
     @classmethod
-    def from_json(cls, source):
-        """Read a posterior written by :meth:`to_json`.
+    def from_json(cls, text):
+        """Read a posterior from the JSON text written by :meth:`to_json`.
 
         Parameters
         ----------
-        source : str or path-like
-            The JSON text, or the path of a file holding it.
+        text : str, bytes or path-like
+            The JSON text. A ``str`` is always text, never a file name; a
+            :class:`pathlib.Path` (any ``os.PathLike``) is read as a file, as
+            :meth:`read_json` does.
 
         Returns
         -------
@@ -357,62 +382,70 @@ class Posterior:
         Raises
         ------
         ValueError
-            When the text is not a posterior of this schema and version, or is inconsistent
-            (an unknown proposition, orders that are not a forest, probabilities that do not
-            match the specifications).
+            Naming the field, when the text is not JSON or breaks a rule of the format
+            (``docs/posterior-schema.json``): another schema or version, a missing or unknown
+            field, an unknown proposition, orders that are not a forest, probabilities that
+            are not a distribution (negative, not numbers, not summing to 1, not in
+            decreasing order), a specification listed twice.
+
+        Examples
+        --------
+        >>> Posterior.from_json("posterior.json")
+        Traceback (most recent call last):
+        ...
+        ValueError: Posterior.from_json: not JSON (Expecting value: line 1 column 1 (char 0)); \
+a str is the JSON text: to read a file, pass a pathlib.Path or call Posterior.read_json(path)
         """
-        if isinstance(source, Path) or (isinstance(source, str)
-                                        and not source.lstrip().startswith("{")):
-            source = Path(source).read_text(encoding="utf-8")
+        if isinstance(text, os.PathLike):
+            return cls.read_json(text)
+        if not isinstance(text, (str, bytes, bytearray)):
+            raise ValueError("Posterior.from_json: expected the JSON text as str or bytes (or "
+                             f"a pathlib.Path), got {type(text).__name__}")
         try:
-            doc = json.loads(source)
-        except json.JSONDecodeError as exc:
-            raise ValueError(f"Posterior.from_json: not JSON ({exc})") from None
-        if not isinstance(doc, dict) or doc.get("schema") != SCHEMA:
-            got = doc.get("schema") if isinstance(doc, dict) else type(doc).__name__
-            raise ValueError(f"Posterior.from_json: expected schema {SCHEMA!r}, got {got!r}")
-        if doc.get("version") != SCHEMA_VERSION:
-            raise ValueError(
-                f"Posterior.from_json: schema version {doc.get('version')!r} is not supported; "
-                f"this bsi-sklearn reads version {SCHEMA_VERSION}"
-            )
-        names = list(doc["names"])
-        roles_doc = doc["roles"]
+            doc = parse_posterior(text)
+        except ValueError as exc:
+            if not str(exc).startswith("Posterior.from_json: not JSON"):
+                raise
+            raise ValueError(f"{exc}; a str is the JSON text: to read a file, pass a "
+                             "pathlib.Path or call Posterior.read_json(path)") from None
+        return cls._from_document(doc, "Posterior.from_json")
 
-        def index(ident, where):
-            if ident not in names:
-                raise ValueError(f"Posterior.from_json: {where} names unknown proposition "
-                                 f"{ident!r}")
-            return names.index(ident)
+    @classmethod
+    def read_json(cls, path):
+        """Read a posterior from a file written by :meth:`to_json`.
 
-        g = [index(p, "roles.global_candidates") for p in roles_doc["global_candidates"]]
-        s = [index(w, "roles.subtasks") for w in roles_doc["subtasks"]]
-        cond = np.full(len(s), -1, dtype=np.int64)
-        for w, c in roles_doc["conditions"]:
-            cond[s.index(index(w, "roles.conditions"))] = index(c, "roles.conditions")
-        roles = Roles(np.asarray(g, dtype=np.int64), np.asarray(s, dtype=np.int64), cond, names)
-        specs = doc["specifications"]
-        probs = np.asarray(doc["probabilities"], dtype=float)
-        if len(probs) != len(specs) or len(specs) == 0:
-            raise ValueError(f"Posterior.from_json: {len(specs)} specifications but "
-                             f"{len(probs)} probabilities")
-        g_names, s_names = roles.global_names(), roles.subtask_names()
-        structures = np.full((len(specs), len(s)), -1, dtype=np.int64)
-        tau = np.zeros((len(specs), len(g)), dtype=bool)
-        w1 = np.zeros((len(specs), len(s)), dtype=bool)
-        for h, spec in enumerate(specs):
-            where = f"specification {h}"
-            for p in spec["globals"]:
-                tau[h, _position(g_names, p, where)] = True
-            for w in spec["eventuals"]:
-                w1[h, _position(s_names, w, where)] = True
-            structures[h] = _forest([(_position(s_names, a, where), _position(s_names, b, where))
-                                     for a, b in spec["orders"]], len(s), where)
-        keys = [tuple(k) for k, _ in doc["clause_marginals"]]
-        post = cls(structures, tau, w1, probs, roles, dropped_mass=doc["dropped_mass"])
-        if keys != post.clause_keys():
-            raise ValueError("Posterior.from_json: clause_marginals do not follow the roles")
-        post._marginals[post._clause_slots()] = [v for _, v in doc["clause_marginals"]]
+        Parameters
+        ----------
+        path : str or path-like
+
+        Returns
+        -------
+        posterior : Posterior
+
+        Raises
+        ------
+        FileNotFoundError
+            When there is no such file.
+        ValueError
+            Naming the file and the field: a folder, a file that is not UTF-8 JSON, or one
+            that breaks a rule of the format (see :meth:`from_json`).
+        """
+        return cls._from_document(read_posterior(path), f"Posterior.read_json: {str(path)!r}")
+
+    @classmethod
+    def _from_document(cls, doc, who):
+        post = cls(doc.structures, doc.tau_masks, doc.w1_masks, doc.probabilities, doc.roles,
+                   dropped_mass=doc.dropped_mass)
+        expected, keys = post.clause_keys(), doc.marginal_keys
+        if len(keys) != len(expected):
+            raise ValueError(f"{who}: clause_marginals: {len(keys)} entries for the "
+                             f"{len(expected)} candidate clauses of the roles")
+        for k, (key, want) in enumerate(zip(keys, expected)):
+            if key != want:
+                raise ValueError(f"{who}: clause_marginals[{k}]: the key {list(key)!r} should "
+                                 f"be {list(want)!r} (the candidate clauses of the roles: G, "
+                                 "then F, then U)")
+        post._marginals[post._clause_slots()] = doc.marginals
         return post
 
     # ------------------------------------------------------------------ internals
@@ -436,35 +469,3 @@ class Posterior:
         )
 
 
-def _plain(ident):
-    """A proposition identifier as a JSON value (numpy scalars to Python)."""
-    return ident.item() if isinstance(ident, np.generic) else ident
-
-
-def _json_key(x):
-    return (type(x).__name__, x)
-
-
-def _position(names, ident, where):
-    if ident not in names:
-        raise ValueError(f"Posterior.from_json: {where} names {ident!r}, which is not a "
-                         "candidate of its clause kind")
-    return names.index(ident)
-
-
-def _forest(pairs, n, where):
-    """Parent array of the forest whose ancestor->descendant pairs are ``pairs``."""
-    ancestors = [set() for _ in range(n)]
-    for a, b in pairs:
-        ancestors[b].add(a)
-    parent = np.full(n, -1, dtype=np.int64)
-    for v in range(n):
-        # In a forest the ancestors of v form a chain: its parent has one ancestor fewer.
-        closest = [a for a in ancestors[v] if len(ancestors[a]) == len(ancestors[v]) - 1]
-        if ancestors[v] and (len(closest) != 1 or ancestors[closest[0]] | {closest[0]}
-                             != ancestors[v]):
-            raise ValueError(f"Posterior.from_json: the orders of {where} are not a forest "
-                             "(every ancestor -> descendant pair)")
-        if closest:
-            parent[v] = closest[0]
-    return parent

@@ -146,7 +146,9 @@ def resolve_roles(global_candidates, subtasks, conditions, n_props, feature_name
     Raises
     ------
     ValueError
-        Naming the parameter and the proposition at fault.
+        Naming the parameter and the proposition at fault (an unknown proposition, one
+        listed twice, a condition for a proposition that is not a subtask, a subtask that is
+        its own condition).
 
     Examples
     --------
@@ -173,5 +175,12 @@ def resolve_roles(global_candidates, subtasks, conditions, n_props, feature_name
                 raise ValueError(f"conditions: {w!r} is not one of the subtasks")
             if c is None:
                 continue
-            cond[position[wi]] = _resolve_one(c, names, f"conditions[{w!r}]")
+            ci = _resolve_one(c, names, f"conditions[{w!r}]")
+            if ci == wi:
+                raise ValueError(
+                    f"conditions[{w!r}]: subtask {names[wi]!r} cannot be its own condition "
+                    f"(the clause would read {names[wi]} -> F({names[wi]}), which always "
+                    "holds); give another proposition, or None for no condition"
+                )
+            cond[position[wi]] = ci
     return Roles(g, s, cond, names)

@@ -6,6 +6,8 @@ from collections.abc import Hashable, Iterable, Mapping
 
 import numpy as np
 
+from bsi_sklearn._trace_values import trace_columns
+
 __all__ = ["Specification", "transitive_closure"]
 
 
@@ -217,23 +219,19 @@ class Specification:
         return to_ltlf(self, dialect=dialect, atoms=atoms)
 
     def to_automaton(self):
-        """A DFA (built with flloat) accepting exactly the traces that satisfy the formula.
+        """The minimal DFA accepting exactly the traces that satisfy the formula.
 
         Returns
         -------
         automaton : bsi_sklearn.automaton.SpecificationAutomaton
-            ``automaton.accepts(trace)`` equals :meth:`satisfied_by`.
-
-        Raises
-        ------
-        ImportError
-            When flloat is not installed (``pip install 'bsi-sklearn[automata]'``).
+            ``automaton.accepts(trace)`` equals :meth:`satisfied_by`; ``automaton.to_dot()``
+            exports it.
 
         Notes
         -----
-        flloat's construction grows quickly with the number of clauses: about a second for
-        four clauses, several for six, minutes for a dozen. Monitor large specifications with
-        :meth:`BSIClassifier.monitor` instead.
+        Built by the project as the product of the clauses' small automata (no optional
+        package): milliseconds when the subtasks are ordered; the size grows as 2^k with k
+        mutually unordered eventual subtasks, as any DFA of the formula must.
         """
         from bsi_sklearn.automaton import SpecificationAutomaton
 
@@ -254,7 +252,7 @@ class Specification:
         -------
         satisfied : bool
         """
-        columns, arr = _trace_columns(trace, feature_names)
+        columns, arr = trace_columns(trace, feature_names)
 
         def col(ident):
             if columns is not None and ident in columns:
@@ -306,26 +304,3 @@ def _fmt(ident, latex):
         text = text.replace("\\", r"\textbackslash{}").replace("_", r"\_")
         return rf"\mathit{{{text}}}"
     return text
-
-
-def _trace_columns(trace, feature_names):
-    if hasattr(trace, "columns") and hasattr(trace, "to_numpy"):
-        names = list(trace.columns) if feature_names is None else list(feature_names)
-        arr = trace.to_numpy()
-    else:
-        names = None if feature_names is None else list(feature_names)
-        arr = np.asarray(trace)
-    if arr.ndim != 2 or arr.shape[0] < 1:
-        raise ValueError(f"a trace must be a non-empty 2-D array (T, n_props), got {arr.shape}")
-    if arr.dtype.kind == "f" and np.isnan(arr).any():
-        raise ValueError("the trace contains NaN")
-    if not np.isin(arr, (0, 1)).all():
-        raise ValueError("the trace has values other than 0/1 (booleans)")
-    arr = arr.astype(bool)
-    if names is not None:
-        if len(names) != arr.shape[1]:
-            raise ValueError(
-                f"feature_names has {len(names)} entries for a trace of {arr.shape[1]} columns"
-            )
-        return {n: i for i, n in enumerate(names)}, arr
-    return None, arr

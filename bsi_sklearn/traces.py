@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bsi_sklearn._long_format_split import traces_from_frame
 from bsi_sklearn._trace_values import (
     NonNumericTraceError,
     Place,
@@ -268,8 +269,6 @@ def check_traces(X, *, binarize=None, estimator_name="estimator", numeric=False,
 
 def _long_frame(frame, binarize, estimator_name, numeric, words):
     """A long-format frame (``demo_id``, optional ``t``) split into demonstrations."""
-    from bsi_sklearn.io.long_format import traces_from_frame
-
     if "label" in frame.columns:
         raise ValueError(
             f"{estimator_name} got a long-format frame with a 'label' column; split it first: "

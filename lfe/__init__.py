@@ -1,22 +1,9 @@
-"""Large-force exercise (LFE) domain: simulator, commander annotations, proposition extractor."""
+"""Large-force exercise (LFE) domain: simulator, commander annotations, proposition extractor.
 
-from lfe.annotate import (
-    MISSION_OBJECTIVES,
-    PHASE_NAMES,
-    annotate_scenario,
-    annotate_scenarios,
-    phase_labels,
-)
-from lfe.dataset import LFEDataset, load_lfe_dataset, make_lfe_dataset, random_scenario_config
-from lfe.extractor import (
-    PROPOSITION_DESCRIPTIONS,
-    PROPOSITION_SETS,
-    LFEPropositionExtractor,
-    proposition_roles,
-)
-from lfe.plots import plot_scenario_map, plot_timeline
-from lfe.scenario import Scenario, check_scenario, check_scenarios
-from lfe.simulator import ScenarioConfig, simulate_scenario
+Names are imported on first use (the command line's ``--help`` stays fast).
+"""
+
+import importlib
 
 __all__ = [
     "LFEDataset",
@@ -40,3 +27,38 @@ __all__ = [
     "random_scenario_config",
     "simulate_scenario",
 ]
+
+_MODULES = {
+    "LFEDataset": "lfe.dataset",
+    "LFEPropositionExtractor": "lfe.extractor",
+    "MISSION_OBJECTIVES": "lfe.annotate",
+    "PHASE_NAMES": "lfe.annotate",
+    "PROPOSITION_DESCRIPTIONS": "lfe.extractor",
+    "PROPOSITION_SETS": "lfe.extractor",
+    "Scenario": "lfe.scenario",
+    "ScenarioConfig": "lfe.simulator",
+    "annotate_scenario": "lfe.annotate",
+    "annotate_scenarios": "lfe.annotate",
+    "check_scenario": "lfe.scenario",
+    "check_scenarios": "lfe.scenario",
+    "load_lfe_dataset": "lfe.dataset",
+    "make_lfe_dataset": "lfe.dataset",
+    "phase_labels": "lfe.annotate",
+    "plot_scenario_map": "lfe.plots",
+    "plot_timeline": "lfe.plots",
+    "proposition_roles": "lfe.extractor",
+    "random_scenario_config": "lfe.dataset",
+    "simulate_scenario": "lfe.simulator",
+}
+
+
+def __getattr__(name):
+    if name in _MODULES:
+        value = getattr(importlib.import_module(_MODULES[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'lfe' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_MODULES))

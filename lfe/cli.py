@@ -1,7 +1,7 @@
 """The ``bsi-lfe`` command line: ``simulate``, ``compare``, ``study`` and ``report`` subcommands.
 
 Each subcommand lives in its own module exposing ``add_arguments(parser)`` and ``run(args)``;
-this file only wires them, importing a module when the parser is built.
+this file only wires them, importing a module when its subcommand runs.
 """
 
 import sys
@@ -23,16 +23,25 @@ SUBCOMMANDS = {
 }
 
 
-def build_parser():
-    """The argument parser of ``bsi-lfe`` (subcommand modules add their own arguments)."""
+def build_parser(argv=None):
+    """The argument parser of ``bsi-lfe`` (subcommand modules add their own arguments).
+
+    Parameters
+    ----------
+    argv : list of str, default=None
+        The arguments to be parsed: only the module of the subcommand they name is imported.
+        ``None`` imports them all.
+    """
     return build_parser_from(
-        "bsi-lfe", "Large-force-exercise domain of Bayesian Specification Inference.", SUBCOMMANDS
+        "bsi-lfe", "Large-force-exercise domain of Bayesian Specification Inference.",
+        SUBCOMMANDS, argv
     )
 
 
 def main(argv=None):
     """Entry point of the ``bsi-lfe`` console script; returns the exit status."""
-    return run_command(build_parser(), argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    return run_command(build_parser(argv), argv)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -10,9 +10,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from bsi_sklearn import Specification
-from bsi_sklearn.automaton import _build_dfa, to_ltlf
-
-pytest.importorskip("flloat")
+from bsi_sklearn.automaton import to_ltlf
 
 NAMES = ["safe", "a", "b", "c_ok"]
 SPECS = {
@@ -51,12 +49,69 @@ _SMALL_SPECS = st.builds(
 )
 
 
-@settings(max_examples=8, deadline=None)
+@settings(max_examples=60, deadline=None)
 @given(spec=_SMALL_SPECS, traces=st.lists(TRACES, min_size=1, max_size=6))
 def test_random_specifications_agree_with_satisfied_by(spec, traces):
     dfa = spec.to_automaton()
     for trace in traces:  # integer identifiers are column indices
         assert dfa.accepts(trace) is spec.satisfied_by(trace)
+
+
+def _flloat_accepts(automaton, trace):
+    """flloat's reading of the automaton's formula (its own DFA construction)."""
+    from flloat.parser.ltlf import LTLfParser
+
+    formula = LTLfParser()(automaton.formula)
+    word = [{f"p{k}": bool(row[int(i)]) for k, i in enumerate(automaton.propositions)}
+            for row in trace]
+    return formula.truth(word, 0)
+
+
+@settings(max_examples=30, deadline=None)
+@given(spec=_SMALL_SPECS, traces=st.lists(TRACES, min_size=1, max_size=4))
+def test_the_project_dfa_agrees_with_flloat(spec, traces):
+    pytest.importorskip("flloat")
+    dfa = spec.to_automaton()
+    for trace in traces:
+        assert dfa.accepts(trace) is _flloat_accepts(dfa, trace)
+
+
+def test_the_project_dfa_is_the_minimal_one_flloat_builds():
+    pytest.importorskip("flloat")
+    from flloat.parser.ltlf import LTLfParser
+
+    for spec in [SPECS["full"], SPECS["chain"], Specification(eventuals=["a", "b"]),
+                 Specification(globals=["safe"], orders=[("a", "b")],
+                               conditions={"a": "c_ok"})]:
+        ours = spec.to_automaton()
+        theirs = LTLfParser()(ours.formula).to_automaton().minimize()
+        # flloat's minimal DFA has no sink for the empty word's start; compare up to that.
+        assert abs(ours.dfa.n_states - len(theirs.states)) <= 1, (spec, ours.dfa.n_states,
+                                                                  len(theirs.states))
+
+
+def _chain_spec(n_globals, n_subtasks):
+    subtasks = [f"w{k}" for k in range(n_subtasks)]
+    return Specification(globals=[f"g{k}" for k in range(n_globals)], eventuals=subtasks,
+                         orders=[(subtasks[i], subtasks[i + 1]) for i in range(n_subtasks - 1)],
+                         conditions={"w0": "start"})
+
+
+def test_a_20_clause_automaton_is_fast():
+    import time
+
+    spec = _chain_spec(5, 6)  # 5 G + 6 F + 15 ordered pairs (closed) = 26 clauses
+    assert spec.n_conjuncts >= 20
+    start = time.perf_counter()
+    dfa = spec.to_automaton()
+    took = time.perf_counter() - start
+    assert took < 0.5, took  # about 10 ms on an idle machine; shared cores are slower
+    rng = np.random.default_rng(0)
+    names = sorted(dfa.propositions)
+    for _ in range(200):
+        trace = rng.random((int(rng.integers(1, 12)), len(names))) < 0.8
+        assert dfa.accepts(trace, feature_names=names) is spec.satisfied_by(
+            trace, feature_names=names)
 
 
 def test_to_ltlf_dialects():
@@ -67,7 +122,7 @@ def test_to_ltlf_dialects():
     assert Specification().to_ltlf(dialect="ltlf2dfa") == "true"
     odd = Specification(globals=["Threat-1", 0, "G"], eventuals=["x"])
     assert odd.to_ltlf() == 'G("0") & G("G") & G("Threat-1") & F(x)'
-    with pytest.raises(ValueError, match="proposition 0 is not an LTLf2DFA atom"):
+    with pytest.raises(ValueError, match="proposition 'G' is not an LTLf2DFA / flloat atom"):
         odd.to_ltlf(dialect="ltlf2dfa")
     renamed = odd.to_ltlf(dialect="ltlf2dfa", atoms={"Threat-1": "threat_1", 0: "p0",
                                                      "G": "g"})
@@ -103,9 +158,20 @@ def test_accepts_errors():
         dfa.accepts(np.full((1, 4), 2), feature_names=NAMES)
 
 
-def test_missing_flloat_is_a_clear_import_error(monkeypatch):
+def test_the_automaton_needs_no_flloat(monkeypatch):
+    monkeypatch.setitem(sys.modules, "flloat", None)
     monkeypatch.setitem(sys.modules, "flloat.parser.ltlf", None)
-    _build_dfa.cache_clear()
-    with pytest.raises(ImportError, match=r"pip install 'bsi-sklearn\[automata\]'"):
-        Specification(globals=["zz_never_cached"]).to_automaton()
-    assert to_ltlf(Specification(globals=["a"])) == "G(a)"  # text export needs nothing
+    dfa = Specification(globals=["a"], eventuals=["b"]).to_automaton()
+    assert dfa.accepts(pd.DataFrame([[1, 0], [1, 1]], columns=["a", "b"]))
+    assert to_ltlf(Specification(globals=["a"])) == "G(a)"
+
+
+def test_dot_export():
+    dfa = SPECS["full"].to_automaton()
+    dot = dfa.to_dot()
+    assert dot.startswith('digraph "G(safe) & F(a) & (c_ok -> F(b)) & (!b U a)" {')
+    assert dot.count("doublecircle") == int(dfa.dfa.accepting.sum())
+    assert dot.count(" -> ") >= dfa.dfa.n_states + 1 and "label=" in dot
+    empty = Specification().to_automaton()
+    assert empty.dfa.n_states == 1 and empty.accepts(np.ones((1, 1)))
+    assert 'label="true"' in empty.to_dot()

@@ -88,6 +88,18 @@ def test_roles():
         resolve_roles(None, None, [1], 3)
 
 
+@pytest.mark.parametrize("conditions, names", [({2: 2}, None), ({"c": "c"}, ["a", "b", "c"]),
+                                               ({"c": 2}, ["a", "b", "c"])])
+def test_a_subtask_is_not_its_own_condition(conditions, names):
+    # Issue 21: {2: 2} was accepted and gave the clause (2 -> F(2)), which always holds.
+    with pytest.raises(ValueError, match=r"conditions\[.*\]: subtask .* cannot be its own "
+                                         "condition"):
+        resolve_roles(None, None, conditions, 3, names)
+    with pytest.raises(ValueError, match="cannot be its own condition"):
+        BSIClassifier(conditions=conditions).fit(
+            [pd.DataFrame(np.eye(3, dtype=int), columns=names or range(3))])
+
+
 @pytest.mark.parametrize(
     "params, match",
     [
@@ -174,3 +186,12 @@ def test_messages_name_the_column_demonstration_and_step():
         check_traces(np.array([[0, 1], [1, 0], [1, 5]]))
     with pytest.raises(ValueError, match="duplicate column names"):
         check_traces([pd.DataFrame([[1, 0]], columns=["a", "a"])])
+
+
+def test_a_time_column_gets_time_advice_not_binarize():
+    frame = pd.DataFrame({"time": [0.5, 1.0, 1.5], "a": [1, 0, 1]})
+    with pytest.raises(ValueError, match="looks like a time stamp") as exc:
+        BSIClassifier().fit([frame])
+    assert "set binarize" not in str(exc.value)
+    with pytest.raises(ValueError, match="set binarize=<threshold>"):
+        BSIClassifier().fit([pd.DataFrame({"speed": [3.0, 1.0], "a": [1, 0]})])

@@ -6,9 +6,27 @@ random draws, compare the posteriors with the ground truth, and write tables (CS
 and figures (PNG) that put the paper's claims beside the measured values. The command line
 is ``bsi reproduce synthetic|dinner``; ``bsi reproduce active``
 (:mod:`bsi_sklearn.experiments.active`) compares active-learning query strategies.
+
+Names are imported on first use (the command line's ``--help`` stays fast).
 """
 
-from bsi_sklearn.experiments.dinner import run_dinner
-from bsi_sklearn.experiments.synthetic import run_synthetic
+import importlib
 
 __all__ = ["run_dinner", "run_synthetic"]
+
+_MODULES = {
+    "run_dinner": "bsi_sklearn.experiments.dinner",
+    "run_synthetic": "bsi_sklearn.experiments.synthetic",
+}
+
+
+def __getattr__(name):
+    if name in _MODULES:
+        value = getattr(importlib.import_module(_MODULES[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'bsi_sklearn.experiments' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_MODULES))

@@ -1,13 +1,15 @@
 """Write a file in one step: to a temporary name beside it, then renamed over it.
 
 A writer interrupted half-way (an exception, a killed process) leaves no partial file at the
-destination, only, at worst, a hidden temporary file.
+destination, only, at worst, a hidden temporary file. The file gets the mode a plain ``open``
+would give it: the umask's for a new file, the old file's when it replaces one.
 """
 
 from __future__ import annotations
 
 import os
-import tempfile
+import secrets
+import stat
 from pathlib import Path
 
 __all__ = ["write_atomic"]
@@ -40,9 +42,11 @@ def write_atomic(path, data, encoding="utf-8"):
     """
     path = Path(path)
     raw = data.encode(encoding) if isinstance(data, str) else bytes(data)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
+    fd, tmp = _create_beside(path)
     try:
         with os.fdopen(fd, "wb") as fh:
+            if path.is_file():  # keep the mode of the file it replaces, as open() would
+                os.chmod(fh.fileno(), stat.S_IMODE(path.stat().st_mode))
             fh.write(raw)
         os.replace(tmp, path)
     except BaseException:
@@ -50,3 +54,15 @@ def write_atomic(path, data, encoding="utf-8"):
             os.unlink(tmp)
         raise
     return path
+
+
+def _create_beside(path):
+    """Open a new hidden file beside ``path``: mode 0o666 less the umask, as ``open`` does."""
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
+    for _ in range(100):
+        tmp = path.parent / f".{path.name}.{secrets.token_hex(6)}.tmp"
+        try:
+            return os.open(tmp, flags, 0o666), str(tmp)
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"no free temporary name beside {str(path)!r}")

@@ -5,19 +5,18 @@ from __future__ import annotations
 import os
 import re
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from bsi_sklearn.io._atomic import write_atomic
+from bsi_sklearn.io._scarlet_formulas import scarlet_target
 from bsi_sklearn.ltl import Formula, parse_ltl
 from bsi_sklearn.traces import check_traces
 
 __all__ = ["TraceFile", "read_trace_file", "load_trace_file", "write_trace_file"]
 
 _SEPARATOR = "---"
-_SCARLET_NAME = re.compile(r"^f-(\d+)-")
 _DEFAULT_OPERATORS = ("G", "F", "!", "U", "&", "|", "->", "X")
 
 
@@ -45,6 +44,15 @@ class TraceFile:
         Where the target came from: ``"file"`` or ``"<formulas.txt path>:<line>"``.
     path : str or None
         The file read.
+    loop_starts : tuple
+        For every trace of :attr:`X` (positives, then negatives), the step where its loop
+        starts for a samples2LTL lasso trace ``steps::k``, else None. A lasso ``u v``
+        (``v`` from step ``k`` on, repeated forever) is read as its listed steps, ``u`` then
+        one copy of ``v``: every clause of the BSI template has the same truth value on both
+        (``G p`` and ``F p`` see the same states, and the first ``w_a`` with any ``w_b``
+        before it lies within ``u v``). A general formula, such as a file's target, may not.
+    lengths : tuple of int or None
+        The trace lengths a Scarlet benchmark was generated with (its ``formulas.txt`` line).
     """
 
     positives: list
@@ -56,6 +64,8 @@ class TraceFile:
     target: Formula | None = None
     target_source: str | None = None
     path: str | None = None
+    loop_starts: tuple = ()
+    lengths: tuple | None = None
 
     @property
     def n_props(self):
@@ -129,8 +139,22 @@ def _check_separators(lines, lineno, stripped):
 _WELL_FORMED = re.compile(r"[01](?:,[01])*(?:;[01](?:,[01])*)*")
 
 
+def _parse_lasso(lines, lineno, text, n_props):
+    """One trace line, finite or a lasso ``steps::k`` -> (bool array, n_props, k or None)."""
+    steps, sep, start = text.strip().partition("::")
+    if not sep:
+        return (*_parse_trace(lines, lineno, steps, n_props), None)
+    if "::" in start:
+        raise lines.error(lineno, "a second '::' in a lasso trace 'steps::start'")
+    arr, n_props = _parse_trace(lines, lineno, steps, n_props)
+    if not re.fullmatch(r"\d+", start.strip()) or not int(start) < len(arr):
+        raise lines.error(lineno, f"the lasso start {start.strip()!r} after '::' must be a "
+                                  f"step of the trace, 0 to {len(arr) - 1}")
+    return arr, n_props, int(start)
+
+
 def _parse_trace(lines, lineno, text, n_props):
-    """One trace line ``0,1;1,1;...`` -> bool array (T, n_props)."""
+    """One finite trace line ``0,1;1,1;...`` -> bool array (T, n_props)."""
     stripped = text.strip()
     if _WELL_FORMED.fullmatch(stripped):
         # Fast path: every other byte is a 0/1 digit; steps must all have n_props values.
@@ -144,9 +168,6 @@ def _parse_trace(lines, lineno, text, n_props):
             return (digits == ord("1")).reshape(n_steps, width), width
     if not stripped:
         raise lines.error(lineno, "empty trace (a trace needs at least one time step)")
-    if "::" in stripped:
-        raise lines.error(lineno, "lasso (infinite) traces 'steps::start' are not supported; "
-                                  "only finite traces are")
     steps = stripped.split(";")
     rows = []
     for s, step in enumerate(steps):
@@ -180,34 +201,6 @@ def _one_line(lines, section, what, blame):
         raise lines.error(k, f"the {what} section must hold exactly one line, found "
                              f"{len(content)}")
     return content[0]
-
-
-def _scarlet_target(path, formulas):
-    if formulas is None or path is None:
-        return None, None
-    match = _SCARLET_NAME.match(Path(path).name)
-    if formulas == "auto":
-        if match is None:
-            return None, None
-        here = Path(path).resolve().parent
-        candidates = [here / "formulas.txt", here.parent / "formulas.txt"]
-        found = [c for c in candidates if c.is_file()]
-        if not found:
-            return None, None
-        formulas = found[0]
-    elif match is None:
-        raise ValueError(f"{path}: formulas was given, but the file name does not start with "
-                         "'f-NN-' (NN is the line of the target in the formulas file)")
-    number = int(match.group(1))
-    text = Path(formulas).read_text()
-    flines = _Lines(text, str(formulas))
-    if not 1 <= number <= len(flines.lines):
-        raise ValueError(f"{path}: the target is line {number} of {formulas}, which has "
-                         f"{len(flines.lines)} lines")
-    try:
-        return parse_ltl(flines.lines[number - 1]), f"{formulas}:{number}"
-    except ValueError as exc:
-        raise flines.error(number, f"target formula: {exc}") from None
 
 
 def read_trace_file(path, *, formulas="auto"):
@@ -277,12 +270,13 @@ def _parse_trace_text(text, path, formulas="auto"):
         raise lines.error(blame[5], "too many '---' separators (at most 5: positives, "
                                     "negatives, operators, depth, target, alphabet)")
     n_props = None
-    traces = []
+    traces, loops = [], []
     for section in sections[:2]:
         parsed = []
         for lineno, t in section:
-            arr, n_props = _parse_trace(lines, lineno, t, n_props)
+            arr, n_props, loop = _parse_lasso(lines, lineno, t, n_props)
             parsed.append(arr)
+            loops.append(loop)
         traces.append(parsed)
     if n_props is None:
         raise ValueError(f"{name}: the file holds no traces (positives and negatives are "
@@ -326,16 +320,33 @@ def _parse_trace_text(text, path, formulas="auto"):
         if unknown:
             raise lines.error(target_line, f"the target mentions {unknown}, which are not "
                                            f"among the propositions {feature_names}")
-    else:
-        target, source = _scarlet_target(path, formulas)
-        if target is not None:
+    lengths = None
+    if target is None:
+        found = scarlet_target(path, formulas)
+        if found is not None:
+            target, source, lengths = found.formula, found.source, found.lengths
+            feature_names = _names_from_formulas(name, found, alphabet, feature_names)
             unknown = sorted(target.atoms - set(feature_names))
             if unknown:
                 raise ValueError(f"{name}: the target {source} mentions {unknown}, which are "
                                  f"not among the propositions {feature_names}")
     return TraceFile(positives=traces[0], negatives=traces[1], feature_names=feature_names,
                      operators=operators, depth=depth, alphabet=alphabet, target=target,
-                     target_source=source, path=None if path is None else str(path))
+                     target_source=source, path=None if path is None else str(path),
+                     loop_starts=tuple(loops), lengths=lengths)
+
+
+def _names_from_formulas(name, found, alphabet, feature_names):
+    """The propositions' names when ``formulas.txt`` gives an alphabet (it must agree)."""
+    if found.alphabet is None:
+        return feature_names
+    if alphabet is not None and tuple(alphabet) != found.alphabet:
+        raise ValueError(f"{name}: its alphabet {list(alphabet)} differs from "
+                         f"{list(found.alphabet)} given by {found.source}")
+    if len(found.alphabet) != len(feature_names):
+        raise ValueError(f"{name}: {found.source} names {len(found.alphabet)} propositions "
+                         f"{list(found.alphabet)}, but the traces have {len(feature_names)}")
+    return list(found.alphabet)
 
 
 def load_trace_file(path, *, formulas="auto"):

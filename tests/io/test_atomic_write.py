@@ -33,3 +33,19 @@ def test_an_existing_file_is_replaced_whole(tmp_path):
     assert path.read_text().startswith("demo_id,t,x0,x1,label\n")
     assert "old" not in path.read_text()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv"]
+
+
+def test_new_files_get_the_umask_mode_and_replaced_files_keep_theirs(tmp_path):
+    import os
+
+    old = os.umask(0o027)
+    try:
+        new = write_atomic(tmp_path / "new.txt", "x")
+        kept = tmp_path / "kept.txt"
+        kept.write_text("old")
+        os.chmod(kept, 0o600)
+        write_atomic(kept, "new")
+    finally:
+        os.umask(old)
+    assert new.stat().st_mode & 0o777 == 0o640  # not mkstemp's 0o600
+    assert kept.stat().st_mode & 0o777 == 0o600 and kept.read_text() == "new"

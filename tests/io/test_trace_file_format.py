@@ -107,7 +107,10 @@ def test_accepts_crlf_final_newline_and_empty_negatives(tmp_path):
     ("1,0\n---\n0,0\n---\nG\n---\na,b,c", 7, "the alphabet has 3 names but"),
     ("1,0\n---\n0,0\n---\nG\n---\na,a", 7, "empty or repeated"),
     ("1,0\n---\n0,0\n---\nG\nF", 6, "operators section must hold exactly one line"),
-    ("1,0::1\n---\n0,0\n---\nG", 1, "lasso"),
+    ("1,0::1\n---\n0,0\n---\nG", 1, r"the lasso start '1' after '::' must be a step of the "
+                                     r"trace, 0 to 0"),
+    ("1,0;0,1::x\n---\n0,0\n---\nG", 1, "the lasso start 'x'"),
+    ("1,0;0,1::0::1\n---\n0,0\n---\nG", 1, "a second '::'"),
     ("1,0\n---\nhello world\n---\nG", 3,
      r"'hello world' is not a trace: unexpected character\(s\) 'dehlorw'; expected time steps "
      r"separated by ';' and the 0/1 propositions of a step by ','"),
@@ -169,3 +172,97 @@ def test_write_trace_file_rejects_bad_labels():
         write_trace_file(io.StringIO(), X, [1], target=3)
     with pytest.raises(ValueError, match="demonstration 0"):
         write_trace_file(io.StringIO(), [pd.DataFrame({"a": [0.5]})], [1])
+
+
+# ------------------------------------------------------------------ Scarlet's formulas lines
+SCARLET_PQ = "1,0;0,0\n0,0\n---\n1,1;0,1\n---\nF,G,!,&,|\n---\np,q"
+
+
+def test_scarlet_formulas_line_with_alphabet_and_lengths(tmp_path):
+    # Issue 21: Scarlet's RQ1 folders write 'formula;alphabet;lengths' on a formulas.txt line.
+    (tmp_path / "formulas.txt").write_text("G(!(p));p,q;8,10,12\nG(->(q, G(!(p))));p,q;8\n")
+    tf = read_trace_file(write(tmp_path, SCARLET_PQ, "f-01-nw-2.trace"))
+    assert tf.target == parse_ltl("G(!p)") and tf.lengths == (8, 10, 12)
+    assert tf.feature_names == ["p", "q"] and tf.target_source.endswith("formulas.txt:1")
+    np.testing.assert_array_equal(tf.target.evaluate(tf.X), [False, True, False])
+    # without an alphabet section, the formulas line names the columns
+    no_alphabet = SCARLET_PQ.rsplit("\n---\n", 1)[0]
+    tf = read_trace_file(write(tmp_path, no_alphabet, "f-02-nw-2.trace"))
+    assert tf.feature_names == ["p", "q"] and tf.alphabet is None and tf.lengths == (8,)
+
+
+@pytest.mark.parametrize("line, message", [
+    ("G(!(p));p,q;8;9", ".*found 4 fields"),
+    ("G(!(p));p,p;8", "alphabet 'p,p' has empty or repeated names"),
+    ("G(!(r));p,q;8", r"the formula mentions \['r'\], which are not in its alphabet"),
+    ("G(!(p));p,q;8,x", "trace lengths '8,x' are not positive integers"),
+    ("G(!(p);p,q;8", "target formula"),
+])
+def test_bad_scarlet_formulas_lines_name_the_line(tmp_path, line, message):
+    (tmp_path / "formulas.txt").write_text(f"F(p)\n{line}\n")
+    with pytest.raises(ValueError, match=rf"formulas.txt, line 2: {message}"):
+        read_trace_file(write(tmp_path, SCARLET_PQ, "f-02-x.trace"))
+
+
+def test_scarlet_alphabet_must_agree_with_the_file(tmp_path):
+    (tmp_path / "formulas.txt").write_text("G(!(p));q,p;8\nF(a);a,b,c;8\n")
+    with pytest.raises(ValueError, match=r"its alphabet \['p', 'q'\] differs from \['q', 'p'\]"):
+        read_trace_file(write(tmp_path, SCARLET_PQ, "f-01-x.trace"))
+    no_alphabet = SCARLET_PQ.rsplit("\n---\n", 1)[0]
+    with pytest.raises(ValueError, match=r"names 3 propositions .* but the traces have 2"):
+        read_trace_file(write(tmp_path, no_alphabet, "f-02-x.trace"))
+
+
+# ------------------------------------------------------------------ samples2LTL lasso traces
+def test_lasso_traces_are_read_with_their_loop_start(tmp_path):
+    text = "1,1;1,0;0,1::1\n1,0\n---\n0,1;1,1::0\n---\nG,F\n---\n1\n---\nF(x0)"
+    tf = read_trace_file(write(tmp_path, text))
+    assert tf.loop_starts == (1, None, 0)
+    assert [t.shape for t in tf.positives + tf.negatives] == [(3, 2), (1, 2), (2, 2)]
+    X, y, _ = load_trace_file(tmp_path / "demo.trace")
+    assert [len(x) for x in X] == [3, 1, 2]
+
+
+def _brute_force(spec, trace, names):
+    """The template's clauses read on an infinite word given as a long finite prefix."""
+    col = {n: trace[:, k] for k, n in enumerate(names)}
+    cond = spec.conditions
+    if not all(col[p].all() for p in spec.globals):
+        return False
+    for w in spec.eventuals:
+        if (w not in cond or col[cond[w]][0]) and not col[w].any():
+            return False
+    for a, b in spec.orders:
+        if a in cond and not col[cond[a]][0]:
+            continue
+        hits = np.flatnonzero(col[a])
+        if not len(hits) or col[b][:hits[0]].any():
+            return False
+    return True
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from bsi_sklearn import Specification  # noqa: E402
+
+LASSO_NAMES = ["a", "b", "c"]
+SPECS = st.builds(
+    lambda g, e, o, c: Specification(globals=g, eventuals=e, orders=o,
+                                     conditions={"a": "c"} if c else None),
+    st.lists(st.sampled_from(LASSO_NAMES), max_size=2, unique=True),
+    st.lists(st.sampled_from(LASSO_NAMES), max_size=2, unique=True),
+    st.sampled_from([[], [("a", "b")], [("b", "a")], [("a", "c")]]),
+    st.booleans())
+
+
+@settings(max_examples=200, deadline=None)
+@given(spec=SPECS, steps=st.lists(st.lists(st.booleans(), min_size=3, max_size=3), min_size=1,
+                                  max_size=6), data=st.data())
+def test_a_lasso_read_as_u_then_v_is_exact_for_the_template(spec, steps, data):
+    # The finite reading of u v (last state repeating) against the lasso u v v v ... unrolled.
+    start = data.draw(st.integers(0, len(steps) - 1))
+    trace = np.array(steps, dtype=bool)
+    unrolled = np.concatenate([trace[:start]] + [trace[start:]] * 8)
+    assert spec.satisfied_by(trace, feature_names=LASSO_NAMES) == _brute_force(
+        spec, unrolled, LASSO_NAMES)

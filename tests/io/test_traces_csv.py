@@ -84,7 +84,7 @@ def test_reader_sorts_time_and_keeps_demo_order():
     ("demo_id,t,a\n0,0,1\n0,0.5,1\n", r"line 3: time 0.5 is not an integer"),
     ("demo_id,t,a,label\n0,0,1,1\n0,1,1,0\n", r"line 3: the label of demonstration 0"),
     ("demo_id,t,a,label\n0,0,1,\n", r"line 2: the label of demonstration 0 is missing"),
-    ("demo_id,a\n0,1\n", r"no 't' column"),
+    ("a,t\n0,1\n", r"no 'demo_id' column"),
     ("demo_id,t\n0,0\n", r"no proposition columns"),
     ("demo_id,t,a\n", r"no rows"),
     ("demo_id,t,a\n,0,1\n", r"line 2: missing 'demo_id'"),
@@ -118,3 +118,35 @@ def test_writer_errors():
         write_traces_csv(X, "out.csv")
     with pytest.raises(ValueError, match="demonstration 0, step 0, proposition 0 has value 2"):
         traces_to_frame([np.full((1, 1), 2)])
+
+
+def test_the_time_column_is_optional_as_in_the_python_api():
+    # Issue 21: check_traces takes a long frame without 't'; the CSV reader required it.
+    text = "demo_id,a,b,label\nrun1,1,0,1\nrun1,0,1,1\nrun0,1,1,0\n"
+    X, y, ids = read_traces_csv(io.StringIO(text), return_ids=True)
+    assert [x.to_numpy().tolist() for x in X] == [[[True, False], [False, True]],
+                                                  [[True, True]]]
+    assert y.tolist() == [1, 0] and ids.tolist() == ["run1", "run0"]
+    assert list(X[0].columns) == ["a", "b"]
+
+
+def test_ids_follow_the_demonstrations():
+    X, y, ids = read_traces_csv(io.StringIO("demo_id,t,a\n7,0,1\n3,0,0\n7,1,1\n"),
+                                return_ids=True)
+    assert ids.tolist() == [7, 3] and [len(x) for x in X] == [2, 1] and y is None
+
+
+@pytest.mark.parametrize("csv, column", [
+    ("demo_id,t,time,a\n0,0,0.5,1\n0,1,1.0,0\n", "time"),
+    ("demo_id,t,stamp,a\n0,0,1700000000,1\n0,1,1700000001,0\n", "stamp"),
+])
+def test_a_time_column_is_named_as_such_not_sent_to_binarize(csv, column):
+    # Issue 21: a timestamp column got the advice to binarize it.
+    with pytest.raises(ValueError, match=rf"proposition '{column}' has value .*the column looks "
+                                         r"like a time stamp"):
+        read_traces_csv(io.StringIO(csv))
+
+
+def test_other_numeric_columns_keep_their_message():
+    with pytest.raises(ValueError, match=r"has value 3\.0; values must be 0 or 1$"):
+        read_traces_csv(io.StringIO("demo_id,t,speed\n0,0,3.0\n0,1,1.0\n"))

@@ -316,3 +316,17 @@ def test_mcmc_report_states_the_chains_agreement():
     assert rep.inference["max_missed_mass"] == pytest.approx(missed) and missed < 0.05
     assert (f"Posterior mass the least thorough MCMC chain never visited: {missed:.3f}"
             in rep.markdown())
+
+
+def test_report_files_get_the_umask_mode(report, tmp_path):
+    # Issue 21: report files were written with mode 0600 (mkstemp's), not the umask's.
+    import os
+
+    old = os.umask(0o022)
+    try:
+        html = report.to_html(tmp_path / "r.html")
+        md = report.to_markdown(tmp_path / "md")
+    finally:
+        os.umask(old)
+    files = [html, *md.parent.iterdir()]
+    assert {f.stat().st_mode & 0o777 for f in files} == {0o644}
