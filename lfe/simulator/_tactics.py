@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from lfe.simulator._geometry import norm, orbit_point
+from lfe.simulator._geometry import mean_position, norm, orbit_point
 from lfe.simulator.config import (
     AAM_RANGE,
     BINGO,
@@ -96,7 +96,7 @@ class Tactics:
             (ph_s == PH["push"]) | (ph_s == PH["on_target"]) | (ph_s == PH["defensive"]))]
         self.screen = None
         if len(ingress) and t >= self.striker_push:
-            centre = pos[ingress].mean(axis=0)
+            centre = mean_position(pos[ingress])
             ahead = self.target - centre
             dist = norm(*ahead)
             self.screen = centre + (SCREEN_AHEAD * ahead / dist if dist > 1e-9 else 0.0)
