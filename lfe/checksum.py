@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import platform
 import struct
 
 import numpy as np
@@ -29,7 +30,14 @@ from lfe.scenario import (
     WEAPON_COLUMNS,
 )
 
-__all__ = ["annotation_bytes", "dataset_digest", "default_checksums", "scenario_bytes"]
+__all__ = [
+    "RECORDED",
+    "annotation_bytes",
+    "dataset_digest",
+    "machine",
+    "scenario_bytes",
+    "study_repeat_digest",
+]
 
 _VERSION = b"bsi-sklearn-lfe-checksum 1\n"
 _TABLES = (("tracks", TRACK_COLUMNS, _FLOAT_TRACK), ("weapons", WEAPON_COLUMNS, _FLOAT_WEAPON),
@@ -137,43 +145,59 @@ def dataset_digest(dataset, *, annotations=()):
     return h.hexdigest()
 
 
-def default_checksums(seed=0, *, n_scenarios=24, noise=0.04, time_noise=10.0):
-    """Digests of the built-in dataset and of the default study's first repeat.
+def study_repeat_digest(seed=0, repeat=0):
+    """Digest of one repeat of the default ``bsi-lfe study --seed SEED``.
+
+    The repeat's missions (:func:`lfe._study_cells.repeat_dataset`: the default study's
+    training pool and test set, 72 + 200 missions), their noise-free verdicts and phase
+    times, then their annotations at each of the study's default noise rates with the study's
+    time noise and label seed.
 
     Parameters
     ----------
     seed : int, default=0
-        Seed of the dataset (:func:`lfe.make_lfe_dataset`) and of the study
-        (``bsi-lfe study --seed``).
-    n_scenarios : int, default=24
-    noise, time_noise : float, default=0.04, 10.0
-        The dataset's judgement noise (:func:`lfe.make_lfe_dataset`).
+        The study's seed.
+    repeat : int, default=0
 
     Returns
     -------
-    checksums : list of (str, str, str)
-        ``(what, digest, summary)``: ``"dataset"`` (``make_lfe_dataset`` with these
-        arguments) and ``"study repeat 0"`` (the missions of repeat 0 of the default
-        ``bsi-lfe study --seed SEED``, their noise-free verdicts and phase times, and their
-        annotations at each of the study's default noise rates).
+    digest : str
+    summary : str
+        What was hashed, in words.
     """
     from lfe._study_cells import TIME_NOISE, repeat_dataset, repeat_seeds
-    from lfe.dataset import make_lfe_dataset
     from lfe.study import DEFAULTS
 
-    dataset = make_lfe_dataset(n_scenarios, random_state=seed, noise=noise,
-                               time_noise=time_noise)
-    out = [("dataset", dataset_digest(dataset),
-            f"make_lfe_dataset({n_scenarios}, random_state={seed}, noise={noise:g}, "
-            f"time_noise={time_noise:g}): {dataset!r}")]
-    seeds = repeat_seeds(seed, 0)
+    seeds = repeat_seeds(seed, repeat)
     n_pool, test_size = max(DEFAULTS["sizes"]), DEFAULTS["test_size"]
-    repeat = repeat_dataset(n_pool, test_size, seeds["dataset_seed"])
-    extra = [annotate_scenarios(repeat.scenarios, noise=rate, time_noise=TIME_NOISE,
+    dataset = repeat_dataset(n_pool, test_size, seeds["dataset_seed"])
+    extra = [annotate_scenarios(dataset.scenarios, noise=rate, time_noise=TIME_NOISE,
                                 random_state=seeds["label_seed"])
              for rate in DEFAULTS["noise"]]
-    out.append(("study repeat 0", dataset_digest(repeat, annotations=extra),
-                f"bsi-lfe study --seed {seed}, repeat 0: {n_pool} + {test_size} missions "
-                f"(dataset seed {seeds['dataset_seed']}, label seed {seeds['label_seed']}), "
-                f"annotated at noise {', '.join(f'{r:g}' for r in DEFAULTS['noise'])}"))
-    return out
+    rates = ", ".join(f"{r:g}" for r in DEFAULTS["noise"])
+    summary = (f"bsi-lfe study --seed {seed}, repeat {repeat}: {n_pool} + {test_size} missions "
+               f"(seed {seeds['dataset_seed']}), labels at noise {rates} "
+               f"(seed {seeds['label_seed']})")
+    return dataset_digest(dataset, annotations=extra), summary
+
+
+#: The digests of the built-in dataset (``make_lfe_dataset()``) and of repeat 0 of the default
+#: study (:func:`study_repeat_digest`), recorded on an Intel Xeon (x86-64, AVX-512); every
+#: IEEE-754 machine must print the same (``bsi-lfe simulate --checksum``).
+RECORDED = {
+    "dataset": None,
+    "study repeat 0": None,
+}
+
+
+def machine():
+    """The CPU, platform, Python and numpy versions, in one line (to quote with a digest)."""
+    cpu = platform.processor() or ""
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as fh:
+            names = [line.split(":", 1)[1].strip() for line in fh if line.startswith("model name")]
+        cpu = names[0] if names else cpu
+    except OSError:
+        pass
+    return (f"{cpu or 'unknown CPU'}, {platform.machine()}, {platform.system()}, "
+            f"Python {platform.python_version()}, numpy {np.__version__}")
