@@ -1,9 +1,9 @@
 """Checksums of simulated missions: a canonical byte form of a dataset and its sha256.
 
-The simulator is bit-identical on every IEEE-754 machine (:mod:`lfe.detmath`, :mod:`lfe.draws`), so
-two machines that print the same digest hold the same missions, bit for bit. ``bsi-lfe
-simulate --checksum`` prints the digests of the built-in dataset and of the default study's
-first repeat; ``tests/lfe/test_lfe_checksum.py`` records them.
+The simulator is bit-identical on every IEEE-754 machine (:mod:`lfe.detmath`,
+:mod:`lfe.draws`), so two machines that print the same digest hold the same missions, bit for
+bit. ``bsi-lfe simulate --checksum`` prints the digests of the built-in dataset and of the
+default study's first repeat; ``tests/lfe/test_lfe_checksum.py`` records them.
 
 The canonical form does not depend on pandas' or numpy's version: every float is written as
 its IEEE-754 binary64 bits (little-endian; ``-0.0`` and ``0.0`` differ), every integer as a
