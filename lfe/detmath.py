@@ -229,25 +229,25 @@ def _sincos_scalar(x):
 
 def _sincos_array(x):
     x = np.array(x, dtype=np.float64)  # a copy, never a view of the caller's data
-    with np.errstate(all="ignore"):
-        ax = np.abs(x)
-        fn = np.rint(x * _INVPIO2)
-        fn = np.where(ax <= _PIO4, 0.0, fn)
-        medium = ax < _MEDIUM
-        fn = np.where(medium, fn, 0.0)
-        y0, y1 = _reduce_medium(x, fn)
-        n = fn.astype(np.int64) & 3
-        for k in np.flatnonzero(~medium.ravel()):
-            idx = np.unravel_index(k, x.shape)
-            if np.isfinite(x[idx]):
-                n[idx], y0[idx], y1[idx] = _reduce_big(float(x[idx]))
-        s, c = _sin_kernel(y0, y1), _cos_kernel(y0, y1)
-    sin = np.choose(n, (s, c, -s, -c))
-    cos = np.choose(n, (c, -s, -c, s))
-    bad = ~np.isfinite(x)
-    sin[bad] = np.nan
-    cos[bad] = np.nan
-    return sin, cos
+    ax = np.abs(x)
+    if not ax.max(initial=0.0) < _MEDIUM:  # huge, infinite or NaN elements: set them aside
+        bad = ~(ax < _MEDIUM)
+        ax[bad] = 0.0
+        big = x[bad]
+        x[bad] = 0.0
+    else:
+        bad = None
+    fn = np.where(ax <= _PIO4, 0.0, np.rint(x * _INVPIO2))
+    y0, y1 = _reduce_medium(x, fn)
+    n = fn.astype(np.int64) & 3
+    if bad is not None:
+        reduced = [_reduce_big(v) if math.isfinite(v) else (0, math.nan, math.nan)
+                   for v in big.tolist()]
+        n[bad] = [r[0] for r in reduced]
+        y0[bad] = [r[1] for r in reduced]
+        y1[bad] = [r[2] for r in reduced]
+    s, c = _sin_kernel(y0, y1), _cos_kernel(y0, y1)
+    return np.choose(n, (s, c, -s, -c)), np.choose(n, (c, -s, -c, s))
 
 
 def sincos(x):
