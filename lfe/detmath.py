@@ -105,16 +105,14 @@ _LG = (6.666666666666735130e-01,  # 0x3FE55555 55555593
 _SQRT_HALF = 0.70710678118654757274  # 0x3FE6A09E 667F3BCD
 
 
-#: Arrays of at most this many elements go through the scalar path (same bits, less overhead).
-_SMALL = 64
+_SMALL = 64  # atan2 of at most this many elements: the scalar path (same bits, faster)
 
 
 def _is_array(x):
     return isinstance(x, (np.ndarray, list, tuple))
 
 
-# ------------------------------------------------------------------ kernels (floats or arrays)
-# Written once for both paths, so a scalar and an array element go through the same operations.
+# ----- kernels, written once for floats and arrays: an element goes through the same operations
 
 def _sin_kernel(x, y):
     """sin(x + y) for |x| <= ~pi/4, y the tail of the reduced argument (k_sin.c)."""
