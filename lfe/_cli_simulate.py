@@ -1,4 +1,4 @@
-"""``bsi-lfe simulate``: simulate, annotate and save a dataset of LFE missions."""
+"""``bsi-lfe simulate``: simulate, annotate and save a dataset of LFE missions, or checksum it."""
 
 from numbers import Integral
 from pathlib import Path
@@ -20,8 +20,14 @@ def add_arguments(parser):
                              "(default: 0.04)")
     parser.add_argument("--time-noise", type=float, default=10.0,
                         help="standard deviation (s) of the marked phase times (default: 10)")
-    parser.add_argument("--out", required=True, metavar="DIR",
-                        help="output directory (CSV tables and JSON, see LFEDataset.save)")
+    parser.add_argument("--out", metavar="DIR",
+                        help="output directory (CSV tables and JSON, see LFEDataset.save); "
+                             "required unless --checksum")
+    parser.add_argument("--checksum", action="store_true",
+                        help="print the sha256 of the dataset (the built-in one by default) "
+                             "and of repeat 0 of 'bsi-lfe study --seed SEED' (about 30 s): "
+                             "machines that print the same digests simulate the same "
+                             "missions, bit for bit")
 
 
 _OPTION_CONSTRAINTS = {
@@ -35,18 +41,48 @@ _OPTION_CONSTRAINTS = {
 def _check_args(args):
     # Checked before simulating, so a typo fails at once and writes nothing.
     check_options(args, _OPTION_CONSTRAINTS)
+    if args.out is None:
+        if not getattr(args, "checksum", False):
+            raise ValueError("--out DIR is required (unless --checksum)")
+        return None
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out {out} is a file, not a directory")
     return out
 
 
+def _is_default(args):
+    return (args.n_scenarios, args.seed, args.noise, args.time_noise) == (24, 0, 0.04, 10.0)
+
+
+def _print_checksums(args, dataset):
+    from lfe.checksum import RECORDED, dataset_digest, machine, study_repeat_digest
+
+    def verdict(what, digest, default):
+        if not default or RECORDED.get(what) is None:
+            return ""
+        return ("  (the recorded value)" if digest == RECORDED[what] else
+                f"  DIFFERS from the recorded {RECORDED[what]}")
+
+    print(f"sha256 of the missions ({machine()}):")
+    digest = dataset_digest(dataset)
+    print(f"dataset         {digest}{verdict('dataset', digest, _is_default(args))}")
+    print(f"                make_lfe_dataset({args.n_scenarios}, random_state={args.seed}, "
+          f"noise={args.noise:g}, time_noise={args.time_noise:g}): {dataset!r}")
+    digest, summary = study_repeat_digest(args.seed, 0)
+    print(f"study repeat 0  {digest}{verdict('study repeat 0', digest, args.seed == 0)}")
+    print(f"                {summary}")
+
+
 def run(args):
-    """Simulate the dataset, write it to ``args.out`` and print a summary."""
+    """Simulate the dataset; write it to ``args.out`` and/or print its checksums."""
     out = _check_args(args)
     dataset = make_lfe_dataset(args.n_scenarios, random_state=args.seed, noise=args.noise,
                                time_noise=args.time_noise)
-    path = dataset.save(out)
-    print(repr(dataset))
-    print(f"written to {path}")
+    if out is not None:
+        path = dataset.save(out)
+        print(repr(dataset))
+        print(f"written to {path}")
+    if getattr(args, "checksum", False):
+        _print_checksums(args, dataset)
     return 0

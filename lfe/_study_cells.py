@@ -37,6 +37,8 @@ __all__ = [
     "derive_seed",
     "draw_training_set",
     "network_settings",
+    "repeat_dataset",
+    "repeat_seeds",
     "run_cell",
     "search_grid",
     "simulate_repeat",
@@ -75,11 +77,48 @@ def derive_seed(*key):
     return int(np.random.SeedSequence([int(k) for k in key]).generate_state(1)[0] & 0x7FFFFFFF)
 
 
+def repeat_seeds(seed, repeat):
+    """The seeds of one repeat of a study: ``{"dataset_seed": ..., "label_seed": ...}``.
+
+    Parameters
+    ----------
+    seed : int
+        The study's seed (``bsi-lfe study --seed``).
+    repeat : int
+        The repeat, from 0.
+
+    Returns
+    -------
+    seeds : dict
+    """
+    return {"dataset_seed": derive_seed(seed, repeat, 0),
+            "label_seed": derive_seed(seed, repeat, 1)}
+
+
+def repeat_dataset(n_pool, test_size, dataset_seed):
+    """A repeat's missions: one :func:`lfe.make_lfe_dataset` run, noise-free verdicts.
+
+    Parameters
+    ----------
+    n_pool, test_size : int
+        Missions of the training pool (the first ``n_pool``) and of the test set.
+    dataset_seed : int
+        Seed of the missions.
+
+    Returns
+    -------
+    dataset : LFEDataset
+    """
+    return make_lfe_dataset(n_pool + test_size, random_state=dataset_seed, noise=0.0,
+                            time_noise=0.0)
+
+
 def simulate_repeat(*, n_pool, test_size, noises, propositions, dataset_seed, label_seed):
     """Simulate one repeat: a training pool and a test set, labels at every noise rate.
 
     The ``n_pool + test_size`` missions come from one :func:`lfe.make_lfe_dataset` run seeded
-    with ``dataset_seed`` (the first ``n_pool`` are the training pool, the rest the test set).
+    with ``dataset_seed`` (:func:`repeat_dataset`; the first ``n_pool`` are the training pool,
+    the rest the test set).
     The commander's rule without noise gives the clean verdicts (the ceiling row and the
     stratification of the training sets); :func:`lfe.annotate_scenarios` with ``label_seed``
     gives the verdicts and phase times at each noise rate, so the missions are the same at
@@ -103,8 +142,7 @@ def simulate_repeat(*, n_pool, test_size, noises, propositions, dataset_seed, la
         per-step phase labels; ``props[propositions]`` proposition traces; ``roles[...]``;
         ``flight`` flight-phase features; ``n_pool``.
     """
-    dataset = make_lfe_dataset(n_pool + test_size, random_state=dataset_seed, noise=0.0,
-                               time_noise=0.0)
+    dataset = repeat_dataset(n_pool, test_size, dataset_seed)
     objectives = list(MISSION_OBJECTIVES)
     data = {"n_pool": n_pool, "clean": dataset.labels[objectives].to_numpy(),
             "labels": {}, "phases": {}, "props": {}, "roles": {}}

@@ -14,6 +14,7 @@ import pandas as pd
 from sklearn.utils import check_random_state
 
 from bsi_sklearn.param_validation import Interval, validate_params
+from lfe.draws import normal
 from lfe.scenario import check_scenarios, memoised
 
 __all__ = [
@@ -291,7 +292,7 @@ def annotate_scenarios(scenarios, *, noise=0.0, time_noise=0.0, min_target_hits=
                     verdicts[name] = 1 - verdicts[name]
         marks = np.array([times[p] for p in PHASE_NAMES])
         if time_noise > 0:
-            marks = marks + rng.normal(0.0, time_noise, size=len(marks))
+            marks = marks + normal(rng, 0.0, time_noise, size=len(marks))
             marks = np.sort(np.clip(np.round(marks), 0.0, t_end))
         ids.append(sc.scenario_id)
         label_rows.append([verdicts[m] for m in MISSION_OBJECTIVES])

@@ -19,6 +19,7 @@ from lfe.annotate import (
     PHASE_NAMES,
     annotate_scenarios,
 )
+from lfe.draws import uniform
 from lfe.scenario import (
     _FLOAT_SITE,
     _FLOAT_TRACK,
@@ -90,13 +91,13 @@ def random_scenario_config(random_state=None):
         hostile_missiles=int(rng.randint(2, 5)),
         sead_harms=int(rng.randint(1, 4)),
         sam_missiles=int(rng.randint(4, 11)),
-        pk_escort=round(float(rng.uniform(0.4, 0.7)), 3),
-        pk_hostile=round(float(rng.uniform(0.35, 0.6)), 3),
-        pk_harm=round(float(rng.uniform(0.4, 0.7)), 3),
-        pk_sam=round(float(rng.uniform(0.2, 0.45)), 3),
-        pk_bomb=round(float(rng.uniform(0.15, 0.45)), 3),
-        hostile_withdraw_fraction=round(float(rng.uniform(0.4, 0.8)), 3),
-        hostile_alert_fraction=round(float(rng.uniform(0.0, 0.5)), 3),
+        pk_escort=round(float(uniform(rng, 0.4, 0.7)), 3),
+        pk_hostile=round(float(uniform(rng, 0.35, 0.6)), 3),
+        pk_harm=round(float(uniform(rng, 0.4, 0.7)), 3),
+        pk_sam=round(float(uniform(rng, 0.2, 0.45)), 3),
+        pk_bomb=round(float(uniform(rng, 0.15, 0.45)), 3),
+        hostile_withdraw_fraction=round(float(uniform(rng, 0.4, 0.8)), 3),
+        hostile_alert_fraction=round(float(uniform(rng, 0.0, 0.5)), 3),
     )
 
 

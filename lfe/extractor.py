@@ -11,6 +11,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn.param_validation import Interval, StrOptions, validate_params
 from lfe.annotate import PHASE_NAMES, phase_labels
+from lfe.detmath import hypot
 from lfe.scenario import FLIGHT_PHASES, ROLES, check_scenarios, memoised
 
 __all__ = [
@@ -528,7 +529,7 @@ def _propositions(state, columns):
         live_h = alive[:, hostile]
         dx = state.x[:, strikers, None] - state.x[:, None, hostile]
         dy = state.y[:, strikers, None] - state.y[:, None, hostile]
-        near = (np.hypot(dx, dy) <= _CLEAR_RADIUS) & live_s[:, :, None] & live_h[:, None, :]
+        near = (hypot(dx, dy) <= _CLEAR_RADIUS) & live_s[:, :, None] & live_h[:, None, :]
         out["strikers_clear_of_fighters"] = ~near.any(axis=(1, 2))
         out["sam_threat_briefed"] = np.full(len(g), len(sam_ids) > 0)
         out["light_air_threat_briefed"] = np.full(len(g), n_h <= _LIGHT_AIR_THREAT)

@@ -26,6 +26,7 @@ from lfe._study_cells import (
     derive_seed,
     draw_training_set,
     network_settings,
+    repeat_seeds,
     run_cell,
     search_grid,
     simulate_repeat,
@@ -216,8 +217,7 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
     config_path.write_text(json.dumps(config, indent=1, sort_keys=True) + "\n")
 
     start = time.perf_counter()
-    seeds = {r: {"dataset_seed": derive_seed(seed, r, 0), "label_seed": derive_seed(seed, r, 1)}
-             for r in range(repeats)}
+    seeds = {r: repeat_seeds(seed, r) for r in range(repeats)}
     # repeat by repeat (an interrupted run keeps whole repeats), largest sets first
     todo = [(r, nz, ps, n) for r in range(repeats) for n in reversed(sizes) for nz in noise
             for ps in propositions if not (cells_dir / _cell_name(nz, ps, n, r)).exists()]
