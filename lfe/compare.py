@@ -259,8 +259,15 @@ class ComparisonResult:
         -------
         paths : dict
             File kind -> path.
+
+        Raises
+        ------
+        OSError
+            Naming the file that could not be written; the files are written all or none.
         """
         import matplotlib.pyplot as plt
+
+        from bsi_sklearn.io import write_files_atomic
 
         out = Path(out)
         out.mkdir(parents=True, exist_ok=True)
@@ -272,14 +279,22 @@ class ComparisonResult:
             "times": out / "times.csv",
             "map_f1": out / "map_f1.csv",
         }
-        self.table.to_csv(paths["f1_csv"], float_format="%.6g")
-        paths["f1_md"].write_text(self.to_markdown(), encoding="utf-8")
-        paths["f1_tex"].write_text(self.to_latex(), encoding="utf-8")
-        self.times.to_csv(paths["times"], float_format="%.4f")
-        self.map_f1.to_csv(paths["map_f1"], index=False, float_format="%.6g")
         fig = self.plot()
-        fig.savefig(paths["f1_png"], dpi=120)
-        plt.close(fig)
+        png = io.BytesIO()
+        try:
+            fig.savefig(png, format="png", dpi=120)
+        finally:
+            plt.close(fig)
+        # all or nothing: a failed write (read-only folder, full disk) leaves the previous
+        # files whole, with no temporary file
+        write_files_atomic({
+            paths["f1_csv"]: self.table.to_csv(float_format="%.6g"),
+            paths["f1_md"]: self.to_markdown(),
+            paths["f1_tex"]: self.to_latex(),
+            paths["f1_png"]: png.getvalue(),
+            paths["times"]: self.times.to_csv(float_format="%.4f"),
+            paths["map_f1"]: self.map_f1.to_csv(index=False, float_format="%.6g"),
+        })
         return paths
 
 

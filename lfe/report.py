@@ -111,17 +111,28 @@ def write_reports(reports, out):
     -------
     pathlib.Path
         The path of ``index.html``.
+
+    Raises
+    ------
+    OSError
+        Naming the file that could not be written; the files are written all or none.
     """
+    from bsi_sklearn.io import write_files_atomic
+
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    rows = []
+    rows, files = [], {}
     for objective, report in reports.items():
         folder = out / objective
-        report.to_markdown(folder)
-        report.to_html(folder / "report.html")
+        folder.mkdir(exist_ok=True)
+        files.update(report.markdown_files(folder))
+        files[folder / "report.html"] = report.html()
         rows.append(_index_row(objective, report))
     index = out / "index.html"
-    index.write_text(_index_html(rows), encoding="utf-8")
+    files[index] = _index_html(rows)
+    # all or nothing: a failed write (read-only folder, full disk) leaves the previous
+    # reports whole, with no temporary file
+    write_files_atomic(files)
     return index
 
 

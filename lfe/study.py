@@ -10,16 +10,17 @@ network. See :func:`study` and the README.
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import numbers
-import os
 import time
 from pathlib import Path
 
 import pandas as pd
 from sklearn.utils.parallel import Parallel, delayed
 
+from bsi_sklearn.io import write_atomic, write_files_atomic
 from lfe._study_cells import (
     ROWS,
     bsi_settings,
@@ -213,7 +214,7 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
             raise ValueError(f"{out} holds a study with other arguments (see {config_path}); "
                              "give another --out or delete it")
     cells_dir.mkdir(parents=True, exist_ok=True)
-    config_path.write_text(json.dumps(config, indent=1, sort_keys=True) + "\n")
+    write_atomic(config_path, json.dumps(config, indent=1, sort_keys=True) + "\n")
 
     start = time.perf_counter()
     seeds = {r: {"dataset_seed": derive_seed(seed, r, 0), "label_seed": derive_seed(seed, r, 1)}
@@ -239,9 +240,8 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
         for cell, rows in outputs:
             path = cells_dir / _cell_name(cell["noise"], cell["propositions"],
                                           cell["n_train"], cell["repeat"])
-            tmp = path.with_suffix(".tmp")
-            tmp.write_text(json.dumps({"cell": cell, "rows": rows}) + "\n")
-            os.replace(tmp, path)  # a cell file is complete or absent
+            # a cell file is complete or absent, and a failed write leaves no temporary file
+            write_atomic(path, json.dumps({"cell": cell, "rows": rows}) + "\n")
             bar.update()
         del data
     return _write(out, config, command, time.perf_counter() - start)
@@ -271,23 +271,31 @@ def _write(out, config, command, elapsed):
     table = summarise(runs)
     paired = paired_differences(runs)
     paths = {"config.json": out / "config.json"}
+    files = {}
     for name, frame in (("study.csv", table), ("study_paired.csv", paired),
                         ("study_runs.csv", runs)):
         paths[name] = out / name
-        frame.to_csv(paths[name], index=False, float_format="%.6g")
+        files[paths[name]] = frame.to_csv(index=False, float_format="%.6g")
     paths["study_times.csv"] = out / "study_times.csv"
-    pd.DataFrame(times).to_csv(paths["study_times.csv"], index=False, float_format="%.3f")
+    files[paths["study_times.csv"]] = pd.DataFrame(times).to_csv(index=False,
+                                                                 float_format="%.3f")
     paths["study.md"] = out / "study.md"
     config = {**config, "command": command}
-    paths["study.md"].write_text(study_markdown(table, paired, config))
+    files[paths["study.md"]] = study_markdown(table, paired, config)
     import matplotlib.pyplot as plt
 
     for objective in MISSION_OBJECTIVES:
         fig = plot_learning_curves(table, objective)
         paths[f"learning_curve_{objective}.png"] = out / f"learning_curve_{objective}.png"
-        fig.savefig(paths[f"learning_curve_{objective}.png"], dpi=110,
-                    metadata={"Software": None})
-        plt.close(fig)
+        png = io.BytesIO()
+        try:
+            fig.savefig(png, format="png", dpi=110, metadata={"Software": None})
+        finally:
+            plt.close(fig)
+        files[paths[f"learning_curve_{objective}.png"]] = png.getvalue()
+    # all or nothing: a failed write (read-only folder, full disk) leaves the previous
+    # tables and figures whole, with no temporary file
+    write_files_atomic(files)
     paths["elapsed"] = elapsed
     return paths
 
