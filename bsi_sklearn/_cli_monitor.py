@@ -10,8 +10,6 @@ when two inputs share a name), ``<demo>`` the demonstration's ``demo_id`` (CSV) 
 
 import io as _io
 
-import numpy as np
-
 from bsi_sklearn._cli_files import (
     add_format_argument,
     check_input,
@@ -55,6 +53,8 @@ def run(args):
     written all or none (:func:`~bsi_sklearn.io.write_files_atomic`): a bad input or a failed
     write (read-only folder, full disk) leaves ``--out`` as it was.
     """
+    import numpy as np
+
     from bsi_sklearn.io import write_files_atomic
     from bsi_sklearn.monitor_figure import monitor_frame, plot_monitor
     from bsi_sklearn.posterior import Posterior

@@ -29,6 +29,7 @@ from bsi_sklearn.param_validation import (
     check_options,
     validate_params,
 )
+from lfe._cli_compare import QUICK, add_arguments
 from lfe.annotate import MISSION_OBJECTIVES
 from lfe.dataset import LFEDataset, load_lfe_dataset, make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
@@ -70,7 +71,7 @@ PAPER_MAP_F1 = {"BSI (Prior 2)": {"MO1": 0.959, "MO2": 0.918, "MO3": 0.959}}
 
 # The paper's proposition set: 8.3 million hypotheses under Prior 2 and 34.4 million under
 # Prior 3, each enumerated exactly in a few seconds.
-_QUICK = dict(n_scenarios=8, n_splits=2)
+_QUICK = QUICK  # the --quick sizes, with the command line's arguments (lfe._cli_compare)
 _QUICK_BASELINE = dict(hidden_size=16, max_epochs=15, patience=5)
 # inference stays "auto" (exact within its work budget); shorter chains only if it samples
 _QUICK_BSI = dict(inference="auto", n_samples=300, n_chains=2, burn_in=50)
@@ -606,30 +607,6 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
 
 
 # ---------------------------------------------------------------------- command line
-def add_arguments(parser):
-    """Arguments of ``bsi-lfe compare``."""
-    parser.add_argument("--out", default="results", metavar="DIR",
-                        help="output directory (default: results)")
-    parser.add_argument("--quick", action="store_true",
-                        help=f"{_QUICK['n_scenarios']} simulated scenarios (unless --dataset), "
-                             f"{_QUICK['n_splits']} folds, small baselines and short MCMC runs: "
-                             "a smoke test, not the paper's result")
-    parser.add_argument("--dataset", metavar="DIR", default=None,
-                        help="a dataset written by 'bsi-lfe simulate' (default: the built-in "
-                             "24 scenarios)")
-    parser.add_argument("--n-scenarios", type=int, default=None, metavar="N",
-                        help="simulate N scenarios (seed 0) instead of the built-in dataset")
-    parser.add_argument("--folds", type=int, default=None, metavar="K",
-                        help="cross-validation folds (default: 4, the paper's; 2 with --quick)")
-    parser.add_argument("--seed", type=int, default=0,
-                        help="seed of the folds and of every model (default: 0)")
-    parser.add_argument("--n-jobs", type=int, default=None,
-                        help="parallel fitting processes (default: 1; -1: every core); the "
-                             "tables do not depend on it")
-    parser.add_argument("--verbose", type=int, default=1,
-                        help="0: no progress bar (default: 1)")
-
-
 _OPTION_CONSTRAINTS = {
     "n_scenarios": [Interval(Integral, 1, None, closed="left"), None],
     "folds": [Interval(Integral, 2, None, closed="left"), None],

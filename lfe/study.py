@@ -21,6 +21,7 @@ import pandas as pd
 from sklearn.utils.parallel import Parallel, delayed
 
 from bsi_sklearn.io import write_atomic, write_files_atomic
+from lfe._cli_study import DEFAULTS, QUICK, add_arguments
 from lfe._study_cells import (
     ROWS,
     bsi_settings,
@@ -38,11 +39,6 @@ from lfe.extractor import PROPOSITION_SETS
 
 __all__ = ["DEFAULTS", "MAX_POOL", "QUICK", "add_arguments", "run", "study"]
 
-#: The default study: 5 sizes x 10 repeats x 2 noise rates x 2 proposition sets.
-DEFAULTS = dict(sizes=(6, 12, 18, 36, 72), repeats=10, test_size=200, noise=(0.0, 0.04),
-                propositions=("paper", "extended"))
-#: ``--quick``: a smoke test in about a minute (small networks, short MCMC runs).
-QUICK = dict(sizes=(4, 8), repeats=2, test_size=12, noise=(0.04,), propositions=("paper",))
 #: Largest training pool a repeat simulates (the largest allowed training size).
 MAX_POOL = 500
 _MAX_TEST = 5000
@@ -309,36 +305,6 @@ def _list(kind):
             raise ValueError(f"cannot read {text!r} as a comma-separated list of "
                              f"{kind.__name__}") from None
     return parse
-
-
-def add_arguments(parser):
-    """Arguments of ``bsi-lfe study``."""
-    d, q = DEFAULTS, QUICK
-    parser.add_argument("--sizes", type=str, default=None, metavar="N,N,...",
-                        help=f"training sizes (default: {','.join(map(str, d['sizes']))}; "
-                             f"--quick: {','.join(map(str, q['sizes']))})")
-    parser.add_argument("--repeats", type=int, default=None,
-                        help=f"independent simulated datasets (default: {d['repeats']}; "
-                             f"--quick: {q['repeats']})")
-    parser.add_argument("--test-size", type=int, default=None,
-                        help=f"fresh test missions per repeat (default: {d['test_size']}; "
-                             f"--quick: {q['test_size']})")
-    parser.add_argument("--noise", type=str, default=None, metavar="P,P,...",
-                        help="label-noise rates, each verdict flipped with this probability "
-                             "(default: 0,0.04; --quick: 0.04)")
-    parser.add_argument("--propositions", type=str, default=None, metavar="SET,...",
-                        help="proposition sets (default: paper,extended; --quick: paper)")
-    parser.add_argument("--n-jobs", type=int, default=None,
-                        help="parallel workers (default: 1; -1: every core); the files do not "
-                             "depend on it")
-    parser.add_argument("--seed", type=int, default=0,
-                        help="root of every seed (default: 0)")
-    parser.add_argument("--out", default="study", metavar="DIR",
-                        help="output directory; a rerun with the same arguments resumes "
-                             "(default: study)")
-    parser.add_argument("--quick", action="store_true",
-                        help="small sizes, networks and MCMC runs: a smoke test, not a result")
-    parser.add_argument("--verbose", type=int, default=1, help="0: no progress bar")
 
 
 def run(args):
