@@ -1,10 +1,12 @@
-"""``bsi fit FILE...``: fit BSI on trace files and print the MAP specification and posterior."""
+"""``bsi fit FILE...``: fit BSI on trace files and print the MAP specification and posterior.
+
+The parser needs nothing heavy: numpy, pandas and BSI are imported when the command runs, so
+that ``bsi fit --help`` is quick.
+"""
 
 import argparse
 import re
 from numbers import Integral
-
-import numpy as np
 
 from bsi_sklearn._cli_files import (
     add_format_argument,
@@ -12,9 +14,6 @@ from bsi_sklearn._cli_files import (
     load_demonstrations,
     unique_stems,
 )
-from bsi_sklearn.io.posterior_file import MAX_LISTED
-from bsi_sklearn.param_validation import Interval, check_options
-from bsi_sklearn.roles import resolve_roles
 
 __all__ = ["add_arguments", "run", "parse_conditions"]
 
@@ -169,6 +168,7 @@ def add_arguments(parser):
 
 def _option_constraints():
     from bsi_sklearn.classifier import BSIClassifier
+    from bsi_sklearn.param_validation import Interval
 
     return {
         "n_samples": BSIClassifier._parameter_constraints["n_samples"],
@@ -184,6 +184,8 @@ def _pos_label(token, y):
     """``--pos-label`` as a value of the labels' type (an integer for integer labels)."""
     if token is None or y is None:
         return None
+    import numpy as np
+
     values = np.unique(y).tolist()
     if token in values or not values:
         return token
@@ -210,6 +212,8 @@ def _outputs(args):
 
 def _save(posterior, out):
     """Write ``posterior`` to ``out`` in one step; the line that says so."""
+    from bsi_sklearn.io.posterior_file import MAX_LISTED
+
     try:
         posterior.to_json(out)
     except OSError as exc:
@@ -232,6 +236,8 @@ def _proposition(token, names):
 
 def _roles(args, names, path):
     """The role options resolved against one file's propositions (as estimator parameters)."""
+    from bsi_sklearn.roles import resolve_roles
+
     def props(tokens):
         return None if tokens is None else [_proposition(t, names) for t in tokens]
 
@@ -255,7 +261,10 @@ def _roles(args, names, path):
 
 def run(args):
     """Fit on every file (one model per file) and print the results."""
+    import numpy as np
+
     from bsi_sklearn.classifier import BSIClassifier
+    from bsi_sklearn.param_validation import check_options
 
     check_options(args, _option_constraints())
     if args.conditions is not None:

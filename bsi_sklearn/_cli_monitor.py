@@ -10,8 +10,6 @@ when two inputs share a name), ``<demo>`` the demonstration's ``demo_id`` (CSV) 
 
 import io as _io
 
-import numpy as np
-
 from bsi_sklearn._cli_files import (
     add_format_argument,
     check_input,
@@ -49,8 +47,15 @@ def _check_propositions(posterior, X, path, posterior_path):
 
 
 def run(args):
-    """Monitor every demonstration and write its table and plot; prints one line each."""
-    from bsi_sklearn.io._atomic import write_atomic
+    """Monitor every demonstration and write its table and plot; prints one line each.
+
+    Every input is read and monitored before anything is written, and the outputs are
+    written all or none (:func:`~bsi_sklearn.io.write_files_atomic`): a bad input or a failed
+    write (read-only folder, full disk) leaves ``--out`` as it was.
+    """
+    import numpy as np
+
+    from bsi_sklearn.io import write_files_atomic
     from bsi_sklearn.monitor_figure import monitor_frame, plot_monitor
     from bsi_sklearn.posterior import Posterior
 
@@ -58,6 +63,7 @@ def run(args):
     posterior = Posterior.read_json(args.posterior)
     stems = unique_stems(args.files)
     out = check_output_dir(args.out, "--out")
+    files, lines = {}, []
     for path, stem in zip(args.files, stems):
         X, _, _, ids = load_demonstrations(path, args.format)
         _check_propositions(posterior, X, path, args.posterior)
@@ -69,16 +75,21 @@ def run(args):
             except ValueError as exc:
                 raise ValueError(f"{path}, demonstration {demo!r}: {exc}") from None
             base = out / f"{stem}_{name}_monitor"
-            write_atomic(base.with_suffix(".csv"), frame.to_csv(index=False))
+            files[base.with_suffix(".csv")] = frame.to_csv(index=False)
             if not args.no_plot:
                 ax = plot_monitor(frame, title=f"{path}, demonstration {demo}")
                 png = _io.BytesIO()
                 ax.figure.savefig(png, format="png", dpi=90)
-                write_atomic(base.with_suffix(".png"), png.getvalue())
+                files[base.with_suffix(".png")] = png.getvalue()
             end = frame.iloc[-1]
             first = frame.loc[frame["p_violated"] >= 0.5, "step"]
-            print(f"{path} [{demo}]: {len(frame) - 1} steps, P(satisfied) at the end "
-                  f"{end['p_satisfied']:.3f}"
-                  + (f", mostly violated from step {int(first.iloc[0])}" if len(first) else "")
-                  + f" -> {base.name}.csv")
+            lines.append(f"{path} [{demo}]: {len(frame) - 1} steps, P(satisfied) at the end "
+                         f"{end['p_satisfied']:.3f}"
+                         + (f", mostly violated from step {int(first.iloc[0])}"
+                            if len(first) else "")
+                         + f" -> {base.name}.csv")
+    write_files_atomic(files)
+    for line in lines:
+        print(line)
     return 0
+

@@ -187,7 +187,7 @@ class SpecificationAutomaton:
         The identifiers the formula mentions.
     dfa : bsi_sklearn.dfa.DFA
         The minimal automaton: ``dfa.n_states``, ``dfa.delta``, ``dfa.accepting``,
-        ``dfa.to_dot()``.
+        ``dfa.to_dot()``, ``dfa.to_hoa()``.
 
     Examples
     --------
@@ -220,6 +220,14 @@ class SpecificationAutomaton:
     def to_dot(self):
         """The automaton in Graphviz DOT (accepting states doubled, edges labelled)."""
         return self.dfa.to_dot(name=self.specification.to_ltl())
+
+    def to_hoa(self):
+        """The automaton in the HOA v1 format (:meth:`bsi_sklearn.dfa.DFA.to_hoa`).
+
+        The propositions are the ``AP:``, edges have explicit labels, accepting states are in
+        acceptance set 0; the automaton is read over finite words.
+        """
+        return self.dfa.to_hoa(name=self.specification.to_ltl())
 
     def accepts(self, trace, feature_names=None):
         """Whether the automaton accepts ``trace`` (read as a finite word, step by step).

@@ -115,6 +115,66 @@ class DFA:
         lines.append("}")
         return "\n".join(lines) + "\n"
 
+    def to_hoa(self, name="specification"):
+        """The automaton in the Hanoi Omega-Automata format, version 1 (HOA v1).
+
+        The propositions are the ``AP:`` (the globals, then the other atoms, each once; the
+        letter bit "every global holds" is their conjunction), every edge has an explicit
+        label, and the accepting states are in acceptance set 0 (``Acceptance: 1 Inf(0)``,
+        state-based). HOA describes automata over infinite words; this one is read over
+        finite words: a finite trace is accepted when its run ends in a state of set 0, as
+        the lower-case (informative) header item ``finite-words:`` says.
+
+        Parameters
+        ----------
+        name : str, default="specification"
+            The automaton's ``name:``.
+
+        Returns
+        -------
+        text : str
+
+        Examples
+        --------
+        >>> from bsi_sklearn import Specification
+        >>> print(specification_dfa(Specification(eventuals=["a"])).to_hoa("F(a)"), end="")
+        HOA: v1
+        name: "F(a)"
+        tool: "bsi-sklearn"
+        States: 2
+        Start: 0
+        AP: 1 "a"
+        acc-name: Buchi
+        Acceptance: 1 Inf(0)
+        properties: trans-labels explicit-labels state-acc deterministic complete
+        finite-words: "a finite trace is accepted when its run ends in acceptance set 0"
+        --BODY--
+        State: 0
+        [!0] 0
+        [0] 1
+        State: 1 {0}
+        [t] 1
+        --END--
+        """
+        aps = list(dict.fromkeys([*map(str, self.globals), *map(str, self.atoms)]))
+        index = {ap: k for k, ap in enumerate(aps)}
+        bits = [" & ".join(str(index[str(g)]) for g in self.globals)] if self.globals else []
+        bits += [str(index[str(a)]) for a in self.atoms]
+        lines = ["HOA: v1", f"name: {_quote(name)}", 'tool: "bsi-sklearn"',
+                 f"States: {self.n_states}", "Start: 0",
+                 " ".join([f"AP: {len(aps)}", *map(_quote, aps)]),
+                 "acc-name: Buchi", "Acceptance: 1 Inf(0)",
+                 "properties: trans-labels explicit-labels state-acc deterministic complete",
+                 'finite-words: "a finite trace is accepted when its run ends in acceptance '
+                 'set 0"', "--BODY--"]
+        for s in range(self.n_states):
+            lines.append(f"State: {s}" + (" {0}" if self.accepting[s] else ""))
+            for target in np.unique(self.delta[s]):
+                label = _guard(np.flatnonzero(self.delta[s] == target), len(bits), bits)
+                lines.append(f"[{'t' if label == 'true' else label}] {int(target)}")
+        lines.append("--END--")
+        return "\n".join(lines) + "\n"
+
 
 def _quote(text):
     return '"' + str(text).replace("\\", "\\\\").replace('"', '\\"') + '"'

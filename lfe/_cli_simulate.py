@@ -1,11 +1,9 @@
-"""``bsi-lfe simulate``: simulate, annotate and save a dataset of LFE missions, or checksum it."""
+"""``bsi-lfe simulate``: simulate, annotate and save a dataset of LFE missions, or checksum it.
 
-from numbers import Integral
+Nothing heavy is imported until the command runs (``--help`` stays quick).
+"""
+
 from pathlib import Path
-
-from bsi_sklearn.param_validation import Interval, check_options
-from lfe.annotate import _ANNOTATE_CONSTRAINTS
-from lfe.dataset import make_lfe_dataset
 
 __all__ = ["add_arguments", "run"]
 
@@ -30,17 +28,25 @@ def add_arguments(parser):
                              "missions, bit for bit")
 
 
-_OPTION_CONSTRAINTS = {
-    "n_scenarios": [Interval(Integral, 1, None, closed="left")],
-    "seed": [Interval(Integral, 0, 2**32 - 1, closed="both")],
-    "noise": _ANNOTATE_CONSTRAINTS["noise"],
-    "time_noise": _ANNOTATE_CONSTRAINTS["time_noise"],
-}
+def _option_constraints():
+    from numbers import Integral
+
+    from bsi_sklearn.param_validation import Interval
+    from lfe.annotate import _ANNOTATE_CONSTRAINTS
+
+    return {
+        "n_scenarios": [Interval(Integral, 1, None, closed="left")],
+        "seed": [Interval(Integral, 0, 2**32 - 1, closed="both")],
+        "noise": _ANNOTATE_CONSTRAINTS["noise"],
+        "time_noise": _ANNOTATE_CONSTRAINTS["time_noise"],
+    }
 
 
 def _check_args(args):
+    from bsi_sklearn.param_validation import check_options
+
     # Checked before simulating, so a typo fails at once and writes nothing.
-    check_options(args, _OPTION_CONSTRAINTS)
+    check_options(args, _option_constraints())
     if args.out is None:
         if not getattr(args, "checksum", False):
             raise ValueError("--out DIR is required (unless --checksum)")
@@ -76,6 +82,8 @@ def _print_checksums(args, dataset):
 
 def run(args):
     """Simulate the dataset; write it to ``args.out`` and/or print its checksums."""
+    from lfe.dataset import make_lfe_dataset
+
     out = _check_args(args)
     dataset = make_lfe_dataset(args.n_scenarios, random_state=args.seed, noise=args.noise,
                                time_noise=args.time_noise)

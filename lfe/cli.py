@@ -1,7 +1,9 @@
 """The ``bsi-lfe`` command line: ``simulate``, ``compare``, ``study`` and ``report`` subcommands.
 
-Each subcommand lives in its own module exposing ``add_arguments(parser)`` and ``run(args)``;
-this file only wires them, importing a module when its subcommand runs.
+Each subcommand's arguments live in a light module exposing ``add_arguments(parser)`` and
+``run(args)`` (``lfe._cli_*``: nothing heavy imported, so that ``--help`` is quick); ``run``
+imports the subcommand's real module. This file only wires them, importing a module when its
+subcommand is chosen.
 """
 
 import sys
@@ -14,11 +16,11 @@ __all__ = ["main"]
 # name -> (module, help)
 SUBCOMMANDS = {
     "simulate": ("lfe._cli_simulate", "simulate and annotate a dataset of LFE missions"),
-    "compare": ("lfe.compare",
+    "compare": ("lfe._cli_compare",
                 "BSI vs the LSTM baselines on the LFE missions (the paper's F1 table)"),
-    "study": ("lfe.study",
+    "study": ("lfe._cli_study",
               "learning curves of BSI and the networks with 95% intervals over repeats"),
-    "report": ("lfe.report",
+    "report": ("lfe._cli_report",
                "interpretability report of the MAP specification per mission objective"),
 }
 

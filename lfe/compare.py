@@ -29,6 +29,7 @@ from bsi_sklearn.param_validation import (
     check_options,
     validate_params,
 )
+from lfe._cli_compare import QUICK, add_arguments
 from lfe.annotate import MISSION_OBJECTIVES
 from lfe.dataset import LFEDataset, load_lfe_dataset, make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
@@ -70,7 +71,7 @@ PAPER_MAP_F1 = {"BSI (Prior 2)": {"MO1": 0.959, "MO2": 0.918, "MO3": 0.959}}
 
 # The paper's proposition set: 8.3 million hypotheses under Prior 2 and 34.4 million under
 # Prior 3, each enumerated exactly in a few seconds.
-_QUICK = dict(n_scenarios=8, n_splits=2)
+_QUICK = QUICK  # the --quick sizes, with the command line's arguments (lfe._cli_compare)
 _QUICK_BASELINE = dict(hidden_size=16, max_epochs=15, patience=5)
 # inference stays "auto" (exact within its work budget); shorter chains only if it samples
 _QUICK_BSI = dict(inference="auto", n_samples=300, n_chains=2, burn_in=50)
@@ -259,8 +260,15 @@ class ComparisonResult:
         -------
         paths : dict
             File kind -> path.
+
+        Raises
+        ------
+        OSError
+            Naming the file that could not be written; the files are written all or none.
         """
         import matplotlib.pyplot as plt
+
+        from bsi_sklearn.io import write_files_atomic
 
         out = Path(out)
         out.mkdir(parents=True, exist_ok=True)
@@ -272,14 +280,22 @@ class ComparisonResult:
             "times": out / "times.csv",
             "map_f1": out / "map_f1.csv",
         }
-        self.table.to_csv(paths["f1_csv"], float_format="%.6g")
-        paths["f1_md"].write_text(self.to_markdown(), encoding="utf-8")
-        paths["f1_tex"].write_text(self.to_latex(), encoding="utf-8")
-        self.times.to_csv(paths["times"], float_format="%.4f")
-        self.map_f1.to_csv(paths["map_f1"], index=False, float_format="%.6g")
         fig = self.plot()
-        fig.savefig(paths["f1_png"], dpi=120)
-        plt.close(fig)
+        png = io.BytesIO()
+        try:
+            fig.savefig(png, format="png", dpi=120)
+        finally:
+            plt.close(fig)
+        # all or nothing: a failed write (read-only folder, full disk) leaves the previous
+        # files whole, with no temporary file
+        write_files_atomic({
+            paths["f1_csv"]: self.table.to_csv(float_format="%.6g"),
+            paths["f1_md"]: self.to_markdown(),
+            paths["f1_tex"]: self.to_latex(),
+            paths["f1_png"]: png.getvalue(),
+            paths["times"]: self.times.to_csv(float_format="%.4f"),
+            paths["map_f1"]: self.map_f1.to_csv(index=False, float_format="%.6g"),
+        })
         return paths
 
 
@@ -591,30 +607,6 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
 
 
 # ---------------------------------------------------------------------- command line
-def add_arguments(parser):
-    """Arguments of ``bsi-lfe compare``."""
-    parser.add_argument("--out", default="results", metavar="DIR",
-                        help="output directory (default: results)")
-    parser.add_argument("--quick", action="store_true",
-                        help=f"{_QUICK['n_scenarios']} simulated scenarios (unless --dataset), "
-                             f"{_QUICK['n_splits']} folds, small baselines and short MCMC runs: "
-                             "a smoke test, not the paper's result")
-    parser.add_argument("--dataset", metavar="DIR", default=None,
-                        help="a dataset written by 'bsi-lfe simulate' (default: the built-in "
-                             "24 scenarios)")
-    parser.add_argument("--n-scenarios", type=int, default=None, metavar="N",
-                        help="simulate N scenarios (seed 0) instead of the built-in dataset")
-    parser.add_argument("--folds", type=int, default=None, metavar="K",
-                        help="cross-validation folds (default: 4, the paper's; 2 with --quick)")
-    parser.add_argument("--seed", type=int, default=0,
-                        help="seed of the folds and of every model (default: 0)")
-    parser.add_argument("--n-jobs", type=int, default=None,
-                        help="parallel fitting processes (default: 1; -1: every core); the "
-                             "tables do not depend on it")
-    parser.add_argument("--verbose", type=int, default=1,
-                        help="0: no progress bar (default: 1)")
-
-
 _OPTION_CONSTRAINTS = {
     "n_scenarios": [Interval(Integral, 1, None, closed="left"), None],
     "folds": [Interval(Integral, 2, None, closed="left"), None],

@@ -167,7 +167,9 @@ class LFEDataset:
 
         Files: ``tracks.csv``, ``weapons.csv``, ``sites.csv`` (every scenario, with a
         ``scenario_id`` column), ``meta.json`` (one object per scenario, in order),
-        ``labels.csv``, ``phases.csv`` and ``dataset.json`` (format and ``info``).
+        ``labels.csv``, ``phases.csv`` and ``dataset.json`` (format and ``info``). The files
+        are written all or none: when one cannot be written (a read-only folder, a full disk),
+        the directory keeps its previous files and no temporary file.
 
         Parameters
         ----------
@@ -177,9 +179,17 @@ class LFEDataset:
         Returns
         -------
         path : Path
+
+        Raises
+        ------
+        OSError
+            Naming the file that could not be written.
         """
+        from bsi_sklearn.io import write_files_atomic
+
         path = Path(path)
         path.mkdir(parents=True, exist_ok=True)
+        files = {}
         for table in ("tracks", "weapons", "sites"):
             frames = []
             for sc in self.scenarios:
@@ -187,15 +197,18 @@ class LFEDataset:
                 frames.append(frame.assign(scenario_id=sc.scenario_id))
             data = pd.concat(frames, ignore_index=True)
             data = data[["scenario_id", *_COLUMNS[table]]]
-            data.to_csv(path / f"{table}.csv", index=False)
-        with open(path / "meta.json", "w", encoding="utf-8") as fh:
-            json.dump([sc.meta for sc in self.scenarios], fh, indent=1, default=_json_default)
+            files[path / f"{table}.csv"] = data.to_csv(index=False)
+        files[path / "meta.json"] = json.dumps([sc.meta for sc in self.scenarios], indent=1,
+                                               default=_json_default)
         # the index is written as scenario_id whatever its name, as load reads it
-        self.labels.to_csv(path / "labels.csv", index_label="scenario_id")
-        self.phases.to_csv(path / "phases.csv", index_label="scenario_id")
-        with open(path / "dataset.json", "w", encoding="utf-8") as fh:
-            json.dump({"format": _FORMAT, "version": _FORMAT_VERSION,
-                       "n_scenarios": len(self), "info": self.info}, fh, indent=1)
+        files[path / "labels.csv"] = self.labels.to_csv(index_label="scenario_id")
+        files[path / "phases.csv"] = self.phases.to_csv(index_label="scenario_id")
+        files[path / "dataset.json"] = json.dumps(
+            {"format": _FORMAT, "version": _FORMAT_VERSION, "n_scenarios": len(self),
+             "info": self.info}, indent=1)
+        # all or nothing: a failed write (read-only folder, full disk) leaves the previous
+        # dataset whole, with no temporary file
+        write_files_atomic(files)
         return path
 
     @classmethod

@@ -7,13 +7,12 @@ from numbers import Integral
 from pathlib import Path
 
 from bsi_sklearn.classifier import BSIClassifier
-from bsi_sklearn.likelihood import LIKELIHOODS
 from bsi_sklearn.param_validation import Interval, check_options
-from bsi_sklearn.priors import PRIORS
 from bsi_sklearn.report import explain
+from lfe._cli_report import QUICK, add_arguments
 from lfe.annotate import MISSION_OBJECTIVES
 from lfe.dataset import load_lfe_dataset, make_lfe_dataset
-from lfe.extractor import PROPOSITION_DESCRIPTIONS, PROPOSITION_SETS, LFEPropositionExtractor
+from lfe.extractor import PROPOSITION_DESCRIPTIONS, LFEPropositionExtractor
 
 __all__ = ["OBJECTIVE_TITLES", "add_arguments", "explain_objectives", "run", "write_reports"]
 
@@ -24,9 +23,7 @@ OBJECTIVE_TITLES = {
     "MO3": "Friendly attrition does not exceed 25%",
 }
 
-# The paper's proposition set has 8,296,448 hypotheses under Prior 2: exact enumeration takes a
-# few seconds, so the default run is exact; larger sets fall back to MCMC.
-_QUICK = dict(n_scenarios=8, n_samples=300, n_chains=2, burn_in=50)
+_QUICK = QUICK  # the --quick settings, with the command line's arguments (lfe._cli_report)
 
 
 def explain_objectives(dataset=None, *, objectives=MISSION_OBJECTIVES, propositions="paper",
@@ -111,17 +108,28 @@ def write_reports(reports, out):
     -------
     pathlib.Path
         The path of ``index.html``.
+
+    Raises
+    ------
+    OSError
+        Naming the file that could not be written; the files are written all or none.
     """
+    from bsi_sklearn.io import write_files_atomic
+
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    rows = []
+    rows, files = [], {}
     for objective, report in reports.items():
         folder = out / objective
-        report.to_markdown(folder)
-        report.to_html(folder / "report.html")
+        folder.mkdir(exist_ok=True)
+        files.update(report.markdown_files(folder))
+        files[folder / "report.html"] = report.html()
         rows.append(_index_row(objective, report))
     index = out / "index.html"
-    index.write_text(_index_html(rows), encoding="utf-8")
+    files[index] = _index_html(rows)
+    # all or nothing: a failed write (read-only folder, full disk) leaves the previous
+    # reports whole, with no temporary file
+    write_files_atomic(files)
     return index
 
 
@@ -156,28 +164,6 @@ def _index_html(rows):
         "<th>P(MAP)</th><th>unique specifications</th><th>weighted F1 (MAP, training)</th>"
         "</tr></thead>\n<tbody>\n" + "\n".join(rows) + "\n</tbody></table>\n</body>\n</html>\n"
     )
-
-
-def add_arguments(parser):
-    """Arguments of ``bsi-lfe report``."""
-    parser.add_argument("--out", default="lfe_report", metavar="DIR",
-                        help="output directory (default: lfe_report)")
-    parser.add_argument("--quick", action="store_true",
-                        help=f"{_QUICK['n_scenarios']} simulated scenarios (unless "
-                             "--dataset) and a short MCMC run: a smoke test, not the paper's "
-                             "result")
-    parser.add_argument("--dataset", metavar="DIR", default=None,
-                        help="a dataset written by 'bsi-lfe simulate' (default: built-in)")
-    parser.add_argument("--objectives", nargs="+", default=list(MISSION_OBJECTIVES),
-                        metavar="MO", help="objectives to explain (default: all)")
-    parser.add_argument("--propositions", choices=list(PROPOSITION_SETS), default="paper")
-    parser.add_argument("--prior", choices=PRIORS, default="sets_of_chains")
-    parser.add_argument("--likelihood", choices=LIKELIHOODS, default="cb")
-    parser.add_argument("--inference", choices=["auto", "exact", "mcmc"], default="auto")
-    parser.add_argument("--n-samples", type=int, default=10_000,
-                        help="MCMC samples per chain (when sampling)")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--n-jobs", type=int, default=None)
 
 
 _OPTION_CONSTRAINTS = {

@@ -10,16 +10,18 @@ network. See :func:`study` and the README.
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import numbers
-import os
 import time
 from pathlib import Path
 
 import pandas as pd
 from sklearn.utils.parallel import Parallel, delayed
 
+from bsi_sklearn.io import write_atomic, write_files_atomic
+from lfe._cli_study import DEFAULTS, QUICK, add_arguments
 from lfe._study_cells import (
     ROWS,
     bsi_settings,
@@ -38,11 +40,6 @@ from lfe.extractor import PROPOSITION_SETS
 
 __all__ = ["DEFAULTS", "MAX_POOL", "QUICK", "add_arguments", "run", "study"]
 
-#: The default study: 5 sizes x 10 repeats x 2 noise rates x 2 proposition sets.
-DEFAULTS = dict(sizes=(6, 12, 18, 36, 72), repeats=10, test_size=200, noise=(0.0, 0.04),
-                propositions=("paper", "extended"))
-#: ``--quick``: a smoke test in about a minute (small networks, short MCMC runs).
-QUICK = dict(sizes=(4, 8), repeats=2, test_size=12, noise=(0.04,), propositions=("paper",))
 #: Largest training pool a repeat simulates (the largest allowed training size).
 MAX_POOL = 500
 _MAX_TEST = 5000
@@ -214,7 +211,7 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
             raise ValueError(f"{out} holds a study with other arguments (see {config_path}); "
                              "give another --out or delete it")
     cells_dir.mkdir(parents=True, exist_ok=True)
-    config_path.write_text(json.dumps(config, indent=1, sort_keys=True) + "\n")
+    write_atomic(config_path, json.dumps(config, indent=1, sort_keys=True) + "\n")
 
     start = time.perf_counter()
     seeds = {r: repeat_seeds(seed, r) for r in range(repeats)}
@@ -239,9 +236,8 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
         for cell, rows in outputs:
             path = cells_dir / _cell_name(cell["noise"], cell["propositions"],
                                           cell["n_train"], cell["repeat"])
-            tmp = path.with_suffix(".tmp")
-            tmp.write_text(json.dumps({"cell": cell, "rows": rows}) + "\n")
-            os.replace(tmp, path)  # a cell file is complete or absent
+            # a cell file is complete or absent, and a failed write leaves no temporary file
+            write_atomic(path, json.dumps({"cell": cell, "rows": rows}) + "\n")
             bar.update()
         del data
     return _write(out, config, command, time.perf_counter() - start)
@@ -271,23 +267,31 @@ def _write(out, config, command, elapsed):
     table = summarise(runs)
     paired = paired_differences(runs)
     paths = {"config.json": out / "config.json"}
+    files = {}
     for name, frame in (("study.csv", table), ("study_paired.csv", paired),
                         ("study_runs.csv", runs)):
         paths[name] = out / name
-        frame.to_csv(paths[name], index=False, float_format="%.6g")
+        files[paths[name]] = frame.to_csv(index=False, float_format="%.6g")
     paths["study_times.csv"] = out / "study_times.csv"
-    pd.DataFrame(times).to_csv(paths["study_times.csv"], index=False, float_format="%.3f")
+    files[paths["study_times.csv"]] = pd.DataFrame(times).to_csv(index=False,
+                                                                 float_format="%.3f")
     paths["study.md"] = out / "study.md"
     config = {**config, "command": command}
-    paths["study.md"].write_text(study_markdown(table, paired, config))
+    files[paths["study.md"]] = study_markdown(table, paired, config)
     import matplotlib.pyplot as plt
 
     for objective in MISSION_OBJECTIVES:
         fig = plot_learning_curves(table, objective)
         paths[f"learning_curve_{objective}.png"] = out / f"learning_curve_{objective}.png"
-        fig.savefig(paths[f"learning_curve_{objective}.png"], dpi=110,
-                    metadata={"Software": None})
-        plt.close(fig)
+        png = io.BytesIO()
+        try:
+            fig.savefig(png, format="png", dpi=110, metadata={"Software": None})
+        finally:
+            plt.close(fig)
+        files[paths[f"learning_curve_{objective}.png"]] = png.getvalue()
+    # all or nothing: a failed write (read-only folder, full disk) leaves the previous
+    # tables and figures whole, with no temporary file
+    write_files_atomic(files)
     paths["elapsed"] = elapsed
     return paths
 
@@ -301,36 +305,6 @@ def _list(kind):
             raise ValueError(f"cannot read {text!r} as a comma-separated list of "
                              f"{kind.__name__}") from None
     return parse
-
-
-def add_arguments(parser):
-    """Arguments of ``bsi-lfe study``."""
-    d, q = DEFAULTS, QUICK
-    parser.add_argument("--sizes", type=str, default=None, metavar="N,N,...",
-                        help=f"training sizes (default: {','.join(map(str, d['sizes']))}; "
-                             f"--quick: {','.join(map(str, q['sizes']))})")
-    parser.add_argument("--repeats", type=int, default=None,
-                        help=f"independent simulated datasets (default: {d['repeats']}; "
-                             f"--quick: {q['repeats']})")
-    parser.add_argument("--test-size", type=int, default=None,
-                        help=f"fresh test missions per repeat (default: {d['test_size']}; "
-                             f"--quick: {q['test_size']})")
-    parser.add_argument("--noise", type=str, default=None, metavar="P,P,...",
-                        help="label-noise rates, each verdict flipped with this probability "
-                             "(default: 0,0.04; --quick: 0.04)")
-    parser.add_argument("--propositions", type=str, default=None, metavar="SET,...",
-                        help="proposition sets (default: paper,extended; --quick: paper)")
-    parser.add_argument("--n-jobs", type=int, default=None,
-                        help="parallel workers (default: 1; -1: every core); the files do not "
-                             "depend on it")
-    parser.add_argument("--seed", type=int, default=0,
-                        help="root of every seed (default: 0)")
-    parser.add_argument("--out", default="study", metavar="DIR",
-                        help="output directory; a rerun with the same arguments resumes "
-                             "(default: study)")
-    parser.add_argument("--quick", action="store_true",
-                        help="small sizes, networks and MCMC runs: a smoke test, not a result")
-    parser.add_argument("--verbose", type=int, default=1, help="0: no progress bar")
 
 
 def run(args):

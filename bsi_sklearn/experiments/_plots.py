@@ -60,10 +60,15 @@ def plot_band(ax, summary, metric, *, label, color=None, linestyle="-", marker="
 
 
 def save_figure(fig, path, dpi=90):
-    """Save as PNG (small: these figures are committed) and return the path."""
+    """Save as PNG (small: these figures are committed) in one step and return the path."""
+    import io
+
+    from bsi_sklearn.io._atomic import write_atomic
+
     path = Path(path)
-    fig.savefig(path, dpi=dpi)
-    return path
+    png = io.BytesIO()
+    fig.savefig(png, format="png", dpi=dpi)
+    return write_atomic(path, png.getvalue())
 
 
 def decorate(ax, title, ylabel):

@@ -25,6 +25,7 @@ from bsi_sklearn.datasets import make_poi_threat_demos
 from bsi_sklearn.experiments._claims import Claim, claims_frame
 from bsi_sklearn.experiments._plots import new_figure, save_figure
 from bsi_sklearn.experiments.tables import markdown_table
+from bsi_sklearn.io._atomic import write_files_atomic
 from bsi_sklearn.metrics import expected_similarity
 
 __all__ = ["STRATEGIES", "active_learning_curve", "run_active"]
@@ -252,16 +253,16 @@ def _write(out, result):
     out.mkdir(parents=True, exist_ok=True)
     files = [out / "active_curves.csv", out / "active_summary.csv", out / "active_claims.csv",
              out / "active_config.json", out / "active_report.md", out / "active_curves.png"]
-    result.curves.to_csv(files[0], index=False)
-    result.summary.to_csv(files[1], index=False)
-    result.claims.to_csv(files[2], index=False)
-    files[3].write_text(json.dumps(result.config, indent=1) + "\n")
+    contents = {files[0]: result.curves.to_csv(index=False),
+                files[1]: result.summary.to_csv(index=False),
+                files[2]: result.claims.to_csv(index=False),
+                files[3]: json.dumps(result.config, indent=1) + "\n"}
     needed = result.labels_needed.pivot(index=["scenario", "seed"], columns="strategy",
                                         values="labels_to_truth").reset_index()
     table = result.summary[["scenario", "strategy", "n_labels", "map_correct_mean", "entropy_mean",
                             "entropy_ci95", "expected_similarity_mean",
                             "expected_similarity_ci95"]]
-    files[4].write_text("\n\n".join([
+    contents[files[4]] = "\n\n".join([
         "# Active learning: entropy sampling vs random queries",
         __doc__.split("\n\n", 1)[1].strip(),
         f"Configuration: `{json.dumps(result.config)}`.",
@@ -272,6 +273,7 @@ def _write(out, result):
         "## Posterior after each label (mean and 95% half-interval over seeds)",
         markdown_table(table, floatfmt=".3f"),
         "![curves](active_curves.png)",
-    ]) + "\n")
+    ]) + "\n"
+    write_files_atomic(contents)  # all or nothing
     save_figure(_figure(result.summary), files[5])
     return files

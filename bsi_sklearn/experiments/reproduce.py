@@ -4,16 +4,40 @@ from __future__ import annotations
 
 from numbers import Integral
 
-import pandas as pd
-
-from bsi_sklearn.param_validation import NONZERO_INTEGER, Interval, option_type
-
 __all__ = ["add_arguments", "run"]
 
 EXPERIMENTS = ("synthetic", "dinner", "active")
 
-_positive_int = option_type(int, [Interval(Integral, 1, None, closed="left")])
-_n_jobs = option_type(int, [NONZERO_INTEGER])
+
+def _checked(convert, constraints):
+    """:func:`~bsi_sklearn.param_validation.option_type`, built when an option is parsed.
+
+    ``bsi_sklearn.param_validation`` loads numpy, which ``bsi reproduce --help`` does not need.
+    """
+
+    def parse(text):
+        from bsi_sklearn.param_validation import option_type
+
+        return option_type(convert, constraints())(text)
+
+    parse.__name__ = convert.__name__  # argparse's "invalid int value: ..."
+    return parse
+
+
+def _positive():
+    from bsi_sklearn.param_validation import Interval
+
+    return [Interval(Integral, 1, None, closed="left")]
+
+
+def _nonzero():
+    from bsi_sklearn.param_validation import NONZERO_INTEGER
+
+    return [NONZERO_INTEGER]
+
+
+_positive_int = _checked(int, _positive)
+_n_jobs = _checked(int, _nonzero)
 
 
 def add_arguments(parser):
@@ -67,6 +91,8 @@ def run(args):
 
 
 def _print(args, result, out):
+    import pandas as pd
+
     if args.verbose:
         claims = result.claims[["id", "measured", "status"]]
         with pd.option_context("display.max_colwidth", 90, "display.width", 160):

@@ -53,6 +53,7 @@ from bsi_sklearn.experiments.tables import (
     supervised_table,
     write_outputs,
 )
+from bsi_sklearn.io._atomic import write_atomic
 
 __all__ = [
     "SIZES",
@@ -290,8 +291,7 @@ def run_synthetic(out=None, *, quick=False, sizes=None, n_repeats=None, scenario
         if alternative_priors:
             for name, frame in (("results", alt_results), ("summary", alt_summary)):
                 path = out / f"synthetic_alt_priors_{name}.csv"
-                frame.to_csv(path, index=False)
-                files.append(path)
+                files.append(write_atomic(path, frame.to_csv(index=False)))
         files += figure_files
     return Bunch(results=results, summary=summary, claims=claims_frame(claims),
                  alt_results=alt_results, alt_summary=alt_summary, figures=figures,

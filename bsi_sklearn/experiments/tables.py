@@ -94,24 +94,25 @@ def write_outputs(out, prefix, *, results, summary, claims, config, sections):
     Files: ``<prefix>_results.csv`` (one row per fit), ``<prefix>_summary.csv`` (mean and
     spread per setting and size), ``<prefix>_claims.csv`` and ``.md`` (the paper's claims
     beside ours), ``<prefix>_config.json`` (sizes, repeats, inference settings, run time) and
-    ``<prefix>_report.md`` (claims, configuration and the ``sections``: (title, text) pairs).
+    ``<prefix>_report.md`` (claims, configuration and the ``sections``: (title, text) pairs),
+    all or none: a failed write raises an ``OSError`` naming the file and changes nothing.
     """
+    from bsi_sklearn.io._atomic import write_files_atomic
+
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    files = []
+    contents = {}
 
     def path(name):
-        p = out / f"{prefix}_{name}"
-        files.append(p)
-        return p
+        return out / f"{prefix}_{name}"
 
-    results.to_csv(path("results.csv"), index=False)
-    summary.to_csv(path("summary.csv"), index=False)
+    contents[path("results.csv")] = results.to_csv(index=False)
+    contents[path("summary.csv")] = summary.to_csv(index=False)
     claims_df = claims_frame(claims)
-    claims_df.to_csv(path("claims.csv"), index=False)
+    contents[path("claims.csv")] = claims_df.to_csv(index=False)
     claims_md = markdown_table(claims_df[["id", "experiment", "paper", "measured", "status"]])
-    path("claims.md").write_text(claims_md + "\n")
-    path("config.json").write_text(json.dumps(config, indent=2, default=str) + "\n")
+    contents[path("claims.md")] = claims_md + "\n"
+    contents[path("config.json")] = json.dumps(config, indent=2, default=str) + "\n"
     lines = [f"# {config['title']}", "", "## The paper's claims and ours", "", claims_md, "",
              "Criteria:", ""]
     lines += [f"- **{c.id}**: {c.criterion}" for c in claims]
@@ -119,7 +120,9 @@ def write_outputs(out, prefix, *, results, summary, claims, config, sections):
     lines += [f"- {key}: {value}" for key, value in config.items() if key != "title"]
     for title, text in sections:
         lines += ["", f"## {title}", "", text]
-    path("report.md").write_text("\n".join(lines) + "\n")
+    contents[path("report.md")] = "\n".join(lines) + "\n"
+    # all or nothing: a failed write (read-only folder, full disk) leaves the previous files
+    files = write_files_atomic(contents)
     return files
 
 

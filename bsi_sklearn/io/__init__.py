@@ -1,21 +1,13 @@
 """Reading and writing traces: ``.trace`` files (samples2LTL / Scarlet) and long-format CSV.
 
 ``bsi_sklearn.io.trace_file`` holds the ``.trace`` format, ``bsi_sklearn.io.long_format`` the
-long format (one row per time step) of DataFrames and CSV files.
+long format (one row per time step) of DataFrames and CSV files; :func:`write_atomic` and
+:func:`write_files_atomic` write files in one step (all or none). The names are imported on
+first use, so that the light parts (``bsi_sklearn.io._atomic``, the posterior file's
+constants) load without pandas.
 """
 
-from bsi_sklearn.io.long_format import (
-    read_traces_csv,
-    traces_from_frame,
-    traces_to_frame,
-    write_traces_csv,
-)
-from bsi_sklearn.io.trace_file import (
-    TraceFile,
-    load_trace_file,
-    read_trace_file,
-    write_trace_file,
-)
+import importlib
 
 __all__ = [
     "TraceFile",
@@ -26,4 +18,31 @@ __all__ = [
     "write_traces_csv",
     "traces_from_frame",
     "traces_to_frame",
+    "write_atomic",
+    "write_files_atomic",
 ]
+
+_MODULES = {
+    "TraceFile": "bsi_sklearn.io.trace_file",
+    "read_trace_file": "bsi_sklearn.io.trace_file",
+    "load_trace_file": "bsi_sklearn.io.trace_file",
+    "write_trace_file": "bsi_sklearn.io.trace_file",
+    "read_traces_csv": "bsi_sklearn.io.long_format",
+    "write_traces_csv": "bsi_sklearn.io.long_format",
+    "traces_from_frame": "bsi_sklearn.io.long_format",
+    "traces_to_frame": "bsi_sklearn.io.long_format",
+    "write_atomic": "bsi_sklearn.io._atomic",
+    "write_files_atomic": "bsi_sklearn.io._atomic",
+}
+
+
+def __getattr__(name):
+    if name in _MODULES:
+        value = getattr(importlib.import_module(_MODULES[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'bsi_sklearn.io' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_MODULES))

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bsi_sklearn.io._atomic import write_atomic
+from bsi_sklearn.io._atomic import write_atomic, write_files_atomic
 from bsi_sklearn.report import figures
 from bsi_sklearn.report.document import (
     Code,
@@ -289,19 +289,41 @@ class SpecificationReport:
     def to_markdown(self, directory):
         """Write ``report.md`` and its PNG figures into ``directory`` (created if needed).
 
+        The files are written all or none: when one cannot be written (a read-only folder, a
+        full disk), the folder keeps its previous files and no temporary file.
+
         Returns
         -------
         pathlib.Path
             The path of ``report.md``.
+
+        Raises
+        ------
+        OSError
+            Naming the file that could not be written.
         """
         directory = Path(directory)
         directory.mkdir(parents=True, exist_ok=True)
+        files = self.markdown_files(directory)
+        write_files_atomic(files)
+        return directory / "report.md"
+
+    def markdown_files(self, directory):
+        """The files :meth:`to_markdown` writes: ``{path: bytes or str}``, ``report.md`` last.
+
+        Parameters
+        ----------
+        directory : str or path-like
+
+        Returns
+        -------
+        files : dict
+        """
+        directory = Path(directory)
         doc, pngs = self._document()
-        for name, data in pngs.items():
-            write_atomic(directory / f"{name}.png", data)
-        path = directory / "report.md"
-        write_atomic(path, render_markdown(doc, {n: f"{n}.png" for n in pngs}))
-        return path
+        files = {directory / f"{name}.png": data for name, data in pngs.items()}
+        files[directory / "report.md"] = render_markdown(doc, {n: f"{n}.png" for n in pngs})
+        return files
 
     def html(self):
         """The report as one self-contained HTML document (figures embedded as base64 PNG)."""
@@ -309,7 +331,15 @@ class SpecificationReport:
         return render_html(doc, pngs, self.title)
 
     def to_html(self, path):
-        """Write the self-contained HTML report to ``path``; returns it as a ``Path``."""
+        """Write the self-contained HTML report to ``path``; returns it as a ``Path``.
+
+        Written in one step: a failed write leaves the previous file, and no temporary file.
+
+        Raises
+        ------
+        OSError
+            Naming ``path`` when it cannot be written.
+        """
         path = Path(path)
         if path.parent != Path(""):
             path.parent.mkdir(parents=True, exist_ok=True)

@@ -179,3 +179,28 @@ def test_dask_local_cluster_matches_local(tiny_run, tmp_path):
         ran = client.run(lambda: "lfe._study_cells" in __import__("sys").modules)
     _same_files(out, tmp_path)
     assert len(ran) == 2 and any(ran.values())
+
+
+@pytest.mark.parametrize("kind", ["EROFS", "full:1", "full:4"])
+def test_a_failed_write_leaves_the_previous_study(tiny_run, tmp_path, kind):
+    # Before: the tables, study.md and the figures were written one by one, in place, so a
+    # disk that filled up half-way left new tables beside the previous figures.
+    import errno
+
+    from _faults import full_after, read_only, snapshot, temporaries
+
+    out, _ = tiny_run
+    copy = tmp_path / "copy"
+    shutil.copytree(out, copy)
+    for path in copy.iterdir():  # the outputs (not the cells nor config.json, which resume)
+        if path.is_file() and path.name != "config.json":
+            path.write_bytes(b"previous " + path.name.encode())
+    before = snapshot(copy)
+    fault = (read_only(copy, errno.EROFS) if kind == "EROFS"
+             else full_after(copy, int(kind[5:])))
+    with fault:
+        status, _, err = _run([*TINY, "--out", str(copy)])
+    assert status == 2
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
+    assert str(copy) in err and ".tmp" not in err
+    assert snapshot(copy) == before and temporaries(copy) == []

@@ -1,0 +1,51 @@
+"""``bsi-lfe report``'s arguments, in a module that imports nothing heavy.
+
+``bsi-lfe report --help`` builds its parser from here without loading BSI, the LFE simulator
+or matplotlib; :func:`run` imports :mod:`lfe.report` when the command runs. The choices are
+written out here; ``tests/test_cli_help.py`` checks them against the modules they come from.
+"""
+
+__all__ = ["LIKELIHOOD_CHOICES", "OBJECTIVE_CHOICES", "PRIOR_CHOICES",
+           "PROPOSITION_SET_CHOICES", "QUICK", "add_arguments", "run"]
+
+#: ``lfe.annotate.MISSION_OBJECTIVES``.
+OBJECTIVE_CHOICES = ("MO1", "MO2", "MO3")
+#: The keys of ``lfe.extractor.PROPOSITION_SETS``.
+PROPOSITION_SET_CHOICES = ("paper", "extended")
+#: ``bsi_sklearn.priors.PRIORS`` and ``bsi_sklearn.likelihood.LIKELIHOODS``.
+PRIOR_CHOICES = ("linear_chain", "sets_of_chains", "forest")
+LIKELIHOOD_CHOICES = ("cb", "ci")
+
+#: ``--quick``: the simulated scenarios (unless ``--dataset``) and a short MCMC run. The
+#: paper's proposition set has 8,296,448 hypotheses under Prior 2: exact enumeration takes a
+#: few seconds, so the default run is exact; larger sets fall back to MCMC.
+QUICK = dict(n_scenarios=8, n_samples=300, n_chains=2, burn_in=50)
+
+
+def add_arguments(parser):
+    """Arguments of ``bsi-lfe report``."""
+    parser.add_argument("--out", default="lfe_report", metavar="DIR",
+                        help="output directory (default: lfe_report)")
+    parser.add_argument("--quick", action="store_true",
+                        help=f"{QUICK['n_scenarios']} simulated scenarios (unless "
+                             "--dataset) and a short MCMC run: a smoke test, not the paper's "
+                             "result")
+    parser.add_argument("--dataset", metavar="DIR", default=None,
+                        help="a dataset written by 'bsi-lfe simulate' (default: built-in)")
+    parser.add_argument("--objectives", nargs="+", default=list(OBJECTIVE_CHOICES),
+                        metavar="MO", help="objectives to explain (default: all)")
+    parser.add_argument("--propositions", choices=PROPOSITION_SET_CHOICES, default="paper")
+    parser.add_argument("--prior", choices=PRIOR_CHOICES, default="sets_of_chains")
+    parser.add_argument("--likelihood", choices=LIKELIHOOD_CHOICES, default="cb")
+    parser.add_argument("--inference", choices=["auto", "exact", "mcmc"], default="auto")
+    parser.add_argument("--n-samples", type=int, default=10_000,
+                        help="MCMC samples per chain (when sampling)")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--n-jobs", type=int, default=None)
+
+
+def run(args):
+    """Fit, explain and write the reports (:func:`lfe.report.run`)."""
+    from lfe import report
+
+    return report.run(args)

@@ -1,0 +1,95 @@
+"""``--help`` of every command and subcommand is quick and loads nothing heavy (issue 21).
+
+The parsers live in light modules (``bsi_sklearn._cli_*``, ``lfe._cli_*``, the experiments'
+``reproduce``) that import numpy, pandas, scikit-learn, numba, matplotlib or torch only when
+a command runs. Before: ``bsi-lfe simulate|compare|study|report --help`` took 1.5-2 s and
+loaded scikit-learn (and numba, matplotlib), ``bsi fit --help`` 0.6 s with pandas.
+"""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+HEAVY = ("torch", "matplotlib", "sklearn", "numba", "pandas", "scipy")
+
+_SCRIPT = """
+import sys, time
+start = time.perf_counter()
+from {module} import main
+try:
+    main({argv!r})
+except SystemExit as exc:
+    code = exc.code
+took = time.perf_counter() - start
+heavy = sorted(m for m in {heavy!r} if m in sys.modules)
+print("CODE", code, "HEAVY", heavy, "TOOK", took)
+"""
+
+
+def _commands():
+    from bsi_sklearn.cli import SUBCOMMANDS as BSI
+    from lfe.cli import SUBCOMMANDS as LFE
+
+    yield "bsi_sklearn.cli", []
+    for name in BSI:
+        yield "bsi_sklearn.cli", [name]
+    yield "lfe.cli", []
+    for name in LFE:
+        yield "lfe.cli", [name]
+
+
+@pytest.mark.parametrize("module, argv", list(_commands()),
+                         ids=lambda v: " ".join(v) if isinstance(v, list) else v)
+def test_help_is_quick_and_loads_nothing_heavy(module, argv):
+    script = _SCRIPT.format(module=module, argv=[*argv, "--help"], heavy=HEAVY)
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                         env=env, timeout=300)
+    assert "CODE 0 HEAVY [] TOOK" in out.stdout, out.stdout + out.stderr
+    assert "usage:" in out.stdout
+    took = float(out.stdout.split("TOOK")[1])
+    assert took < 1.0, took  # about 0.03 s here
+
+
+def test_report_choices_are_the_modules():
+    from bsi_sklearn.likelihood import LIKELIHOODS
+    from bsi_sklearn.priors import PRIORS
+    from lfe import _cli_report
+    from lfe.annotate import MISSION_OBJECTIVES
+    from lfe.extractor import PROPOSITION_SETS
+
+    assert _cli_report.OBJECTIVE_CHOICES == tuple(MISSION_OBJECTIVES)
+    assert _cli_report.PROPOSITION_SET_CHOICES == tuple(PROPOSITION_SETS)
+    assert _cli_report.PRIOR_CHOICES == tuple(PRIORS)
+    assert _cli_report.LIKELIHOOD_CHOICES == tuple(LIKELIHOODS)
+
+
+def test_study_and_compare_settings_have_one_home():
+    from lfe import _cli_compare, _cli_report, _cli_study, compare, report, study
+    from lfe.extractor import PROPOSITION_SETS
+
+    assert study.DEFAULTS is _cli_study.DEFAULTS and study.QUICK is _cli_study.QUICK
+    assert compare._QUICK is _cli_compare.QUICK and report._QUICK is _cli_report.QUICK
+    for settings in (study.DEFAULTS, study.QUICK):
+        assert set(settings["propositions"]) <= set(PROPOSITION_SETS)
+    # the modules keep their command-line names
+    for module, light in ((study, _cli_study), (compare, _cli_compare), (report, _cli_report)):
+        assert module.add_arguments is light.add_arguments
+
+
+def test_light_run_reaches_the_real_command(monkeypatch):
+    import argparse
+
+    import lfe.study
+    from lfe import _cli_study
+
+    seen = []
+    monkeypatch.setattr(lfe.study, "run", lambda args: seen.append(args) or 0)
+    parser = argparse.ArgumentParser()
+    _cli_study.add_arguments(parser)
+    args = parser.parse_args(["--quick"])
+    assert _cli_study.run(args) == 0 and seen == [args]
