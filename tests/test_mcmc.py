@@ -117,8 +117,8 @@ def test_convergence_warning_when_a_chain_misses_mass(problem):
 
 def test_convergence_warning_on_split_rhat(problem):
     X, y, roles = problem
-    clf, caught = _fit_recording(X, y, inference="mcmc", likelihood="ci", n_samples=200,
-                                 random_state=0, **roles)
+    clf, _ = _fit_recording(X, y, inference="mcmc", likelihood="ci", n_samples=200,
+                            random_state=0, **roles)
     assert clf.mcmc_diagnostics_["rhat"] < 1.05
     for rhat, n_warnings in [(1.2, 1), (np.inf, 1), (np.nan, 0), (1.05, 0)]:
         clf.mcmc_diagnostics_.update(rhat=rhat, max_missed_mass=0.0)

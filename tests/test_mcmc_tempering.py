@@ -90,7 +90,8 @@ def test_ladder_rule():
     scale = max(-model.log_eps, demos.n_pos * np.log(2))
     assert betas[0] == 1.0 and betas[-1] == pytest.approx(1 / scale)
     assert len(betas) == 1 + int(np.ceil(np.log2(scale)))
-    assert np.all(np.diff(betas) < 0) and np.all(betas[1:-1] == 0.5 ** np.arange(1, len(betas) - 1))
+    assert np.all(np.diff(betas) < 0)
+    assert np.all(betas[1:-1] == 0.5 ** np.arange(1, len(betas) - 1))
     assert temperature_ladder(demos, model, 1).tolist() == [1.0]
     three = temperature_ladder(demos, model, 3)
     assert three[0] == 1.0 and three[-1] == pytest.approx(1 / scale)
