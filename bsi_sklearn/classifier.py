@@ -132,12 +132,26 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     log_epsilon_ : float
         ``log(epsilon)`` used by the likelihood.
     mcmc_diagnostics_ : dict or None
-        For MCMC: ``acceptance_rate`` (fraction of steps that changed the state, per chain and
-        mean), ``rhat`` (split-R-hat of the log posterior across chains), ``n_visited``,
-        ``sample_frequencies`` (frequency of each posterior specification among the samples),
-        ``missed_mass_per_chain`` (the reported posterior mass each chain never visited: the
-        total variation between that chain's own reweighted posterior and the reported one)
-        and ``max_missed_mass``, their maximum. ``None`` after exact inference.
+        For MCMC (``None`` after exact inference):
+
+        - ``rhat``: split-R-hat of the chains' log posteriors (``inf`` when chains sit on
+          different values, ``nan`` with fewer than 4 samples);
+        - ``missed_mass_per_chain``, ``max_missed_mass``: the mass each chain never visited,
+          among the states the chains visited (the total variation between that chain's own
+          reweighted posterior and theirs);
+        - ``optimum_log_posterior``: the log posterior (unnormalised) of a deterministic
+          optimum (a beam search over one-block changes from the hypothesis without clauses);
+          ``best_visited_log_posterior``: the best state the chains recorded;
+          ``optimum_gap``: the first less the second;
+        - ``betas``: the tempering ladder; ``swap_rate`` (chains x rung pairs): accepted
+          swaps; ``burn_in_per_chain``: sweeps each chain discarded;
+        - ``acceptance_rate`` (and ``_per_chain``): fraction of the beta = 1 replica's block
+          updates that changed its state; ``n_updates``: block updates of all replicas;
+        - ``n_visited``: states the chains recorded; ``n_added``: states of ``posterior_``
+          they did not (the optimum and the completed neighbourhood);
+          ``sample_frequencies``: each specification's frequency among the samples (0 for
+          added ones); ``log_posterior_traces`` (chains x samples); ``seeds``, ``n_chains``,
+          ``n_samples``, ``burn_in``.
 
     See Also
     --------
@@ -146,15 +160,21 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     Notes
     -----
     The MCMC sampler discovers the posterior's support; the probabilities it reports are the
-    exact posterior restricted to the specifications its chains visited, renormalised, which is
-    far closer to the exact posterior than sample frequencies (kept in ``mcmc_diagnostics_``).
-    A ``ConvergenceWarning`` is raised when the chains disagree on what they report: some chain
-    never visited more than 5% of the reported posterior mass (``max_missed_mass``). Raw
-    log-posterior traces may wander (their split-R-hat is kept as ``rhat``) while the reported
-    posterior is right; with one chain there is nothing to compare and no warning. With the
-    default roles (every proposition a global candidate and a subtask) and a support that
-    ``"auto"`` could not enumerate, a ``UserWarning`` suggests ``global_candidates``,
-    ``subtasks`` and ``conditions``.
+    exact posterior restricted to that support, renormalised, which is far closer to the exact
+    posterior than sample frequencies (kept in ``mcmc_diagnostics_``). Every chain runs a
+    ladder of tempered replicas (``n_temperatures``) from the hypothesis without clauses; its
+    burn-in lasts ``burn_in`` sweeps and then, for at most ``n_samples`` more, until it comes
+    within a factor 20 of the deterministic optimum. The support is what the chains recorded,
+    the optimum, and the one-block neighbours of the states holding 99% of the mass (in a flat
+    posterior, states too improbable to be visited one by one add up).
+
+    A ``ConvergenceWarning`` is raised when the optimum is more than 20 times as probable as
+    every state the chains visited (they agree, if they do, on a wrong mode), when some chain
+    never visited more than 5% of the mass the chains found (``max_missed_mass``: they
+    disagree), and when the split-R-hat exceeds 1.05. With one chain there is nothing to
+    compare but the optimum. With the default roles (every proposition a global candidate and
+    a subtask) and a support that ``"auto"`` could not enumerate, a ``UserWarning`` suggests
+    ``global_candidates``, ``subtasks`` and ``conditions``.
 
     References
     ----------
