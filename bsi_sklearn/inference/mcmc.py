@@ -228,7 +228,7 @@ def _complete(uniq, scores, demos, model):
     probs = np.exp(scores - scores.max())
     probs /= probs.sum()
     order = np.argsort(-scores, kind="stable")
-    cost = n_neighbours_max(model.n_g, model.n) * demos.truth_t.shape[0] * \
+    cost = max(1, n_neighbours_max(model.n_g, model.n) * demos.truth_t.shape[0]) * \
         demos.truth_t.shape[1]
     n_src = min(int(np.searchsorted(np.cumsum(probs[order]), COMPLETE_MASS)) + 1,
                 max(1, int(COMPLETE_WORK // cost)), len(order))
