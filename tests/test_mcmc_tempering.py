@@ -132,7 +132,7 @@ def test_neighbourhood_is_every_one_block_change(prior):
             for v in range(n):
                 if all(a[i] == b[i] for i in range(n_g + n) if i != n_g + v) and moved(a, b, v):
                     want.add(b)
-        got, got_lp = neighbourhood(np.array([a], dtype=np.int16), demos, model, -np.inf)
+        got, got_lp = neighbourhood(np.array([a], dtype=np.int64), demos, model, -np.inf)
         got_set = {tuple(r) for r in got.tolist()} & support  # Prior 1: no new chains
         assert got_set == want
         assert len(got) <= n_neighbours_max(n_g, n)

@@ -183,7 +183,7 @@ def score_rows(states, demos, model):
     return out
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def _sweep(r, beta, state, demos, model, bufs, cache, u0):
     # One Gibbs sweep of replica r at inverse temperature beta, from uniforms ubuf[u0:]:
     # every tau bit, then every subtask's place with its eventual bit (the W1 bits alone

@@ -232,9 +232,8 @@ def _complete(uniq, scores, demos, model):
         demos.truth_t.shape[1]
     n_src = min(int(np.searchsorted(np.cumsum(probs[order]), COMPLETE_MASS)) + 1,
                 max(1, int(COMPLETE_WORK // cost)), len(order))
-    rows, lps = neighbourhood(np.ascontiguousarray(uniq[order[:n_src]]), demos, model,
-                              scores.max() - COMPLETE_FLOOR)
-    return rows, lps
+    sources = np.ascontiguousarray(uniq[order[:n_src]], dtype=np.int64)
+    return neighbourhood(sources, demos, model, scores.max() - COMPLETE_FLOOR)
 
 
 def sample_posterior(truth, y01, model, seeds, *, n_samples=10_000, burn_in=100,
