@@ -39,9 +39,11 @@ LADDER_RATIO = 0.5
 #: Hypotheses the beam search of :func:`deterministic_optimum` keeps at every step.
 BEAM_WIDTH = 8
 #: The support is completed with the neighbours of its most probable states holding this much
-#: of its mass, within a budget of this many clause-row operations (about 0.3 s), keeping
-#: neighbours less than ``COMPLETE_FLOOR`` (log 1e12) below the most probable state.
+#: of its mass (at most ``COMPLETE_SOURCES`` of them, within a budget of this many clause-row
+#: operations, about 0.3 s), keeping neighbours less than ``COMPLETE_FLOOR`` (log 1e12) below
+#: the most probable state.
 COMPLETE_MASS = 0.99
+COMPLETE_SOURCES = 2000
 COMPLETE_WORK = 3e8
 COMPLETE_FLOOR = math.log(1e12)
 
@@ -223,15 +225,16 @@ def run_chain(seed, demos, model, n_samples, burn_in, betas=None, start=None, *,
 
 
 def _complete(uniq, scores, demos, model):
-    # The support's one-block neighbourhood: neighbours of the most probable states (those
-    # holding COMPLETE_MASS of it, within a work budget) that are not already in it.
+    # The support's one-block neighbourhood: the neighbours of its most probable states (those
+    # holding COMPLETE_MASS of it, within the caps) above the floor, with their log posterior;
+    # the caller drops those already in the support.
     probs = np.exp(scores - scores.max())
     probs /= probs.sum()
     order = np.argsort(-scores, kind="stable")
     cost = max(1, n_neighbours_max(model.n_g, model.n) * demos.truth_t.shape[0]) * \
         demos.truth_t.shape[1]
     n_src = min(int(np.searchsorted(np.cumsum(probs[order]), COMPLETE_MASS)) + 1,
-                max(1, int(COMPLETE_WORK // cost)), len(order))
+                max(1, int(COMPLETE_WORK // cost)), COMPLETE_SOURCES, len(order))
     sources = np.ascontiguousarray(uniq[order[:n_src]], dtype=np.int64)
     return neighbourhood(sources, demos, model, scores.max() - COMPLETE_FLOOR)
 
