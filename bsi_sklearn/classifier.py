@@ -81,7 +81,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     burn_in : int, default=100
         MCMC sweeps discarded at the start of every chain.
     n_chains : int, default=4
-        Independent MCMC chains, each started from draws of the prior.
+        Independent MCMC chains, each a ladder of replicas started from the hypothesis without
+        clauses (see Notes).
     n_temperatures : "auto" or int, default="auto"
         Replicas per chain for parallel tempering: rung ``k`` samples prior x likelihood^beta_k
         and adjacent rungs swap; only beta = 1 is recorded. ``"auto"``: beta halves from rung
@@ -171,10 +172,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     A ``ConvergenceWarning`` is raised when the optimum is more than 20 times as probable as
     every state the chains visited (they agree, if they do, on a wrong mode), when some chain
     never visited more than 5% of the mass the chains found (``max_missed_mass``: they
-    disagree), and when the split-R-hat exceeds 1.05. With one chain there is nothing to
-    compare but the optimum. With the default roles (every proposition a global candidate and
-    a subtask) and a support that ``"auto"`` could not enumerate, a ``UserWarning`` suggests
-    ``global_candidates``, ``subtasks`` and ``conditions``.
+    disagree), and when the split-R-hat exceeds 1.05 (with one chain, the halves of its
+    trace are compared, and no chain can disagree). With the default roles (every proposition
+    a global candidate and a subtask) and a support that ``"auto"`` could not enumerate, a
+    ``UserWarning`` suggests ``global_candidates``, ``subtasks`` and ``conditions``.
 
     References
     ----------
