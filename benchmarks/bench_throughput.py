@@ -14,9 +14,11 @@ def run(cfg):
     kw = problem_roles(roles)
     n_samples = cfg.pick(10_000, 2_000)
     sec.add(f"50 demonstrations from `{source}` (5 globals x 5 subtasks). One *sample* is a "
-            "Gibbs sweep that updates every coordinate once (5 + 5 inclusion bits and 5 "
-            "re-insertions in the order structure); `mcmc_diagnostics_['n_updates']` counts "
-            "coordinate updates, the unit compared with the single-site MH steps of webppl.")
+            "Gibbs sweep that updates every block of every tempered replica once (5 inclusion "
+            "bits of tau and 5 re-insertions in the order structure, each with the subtask's "
+            "eventual bit); `mcmc_diagnostics_['n_updates']` counts block updates of all "
+            "replicas, the unit compared with the single-site MH steps of webppl. The kernel "
+            "alone runs one replica (`run_chain` without a ladder).")
     data, rows = {}, []
     for prior in ("linear_chain", "sets_of_chains", "forest"):
         rate, k_sec, upd, n_unique = kernel_rate(X, None, roles, prior=prior,

@@ -42,6 +42,8 @@ BENCHMARKS = {
     "exact_limit": ("bench_exact_limit", "issue-13 targets: the dinner table and 2 x 9 exactly, "
                                          "against one chain; ten subtasks; peak memory"),
     "accuracy": ("bench_accuracy", "MCMC posterior vs exact enumeration (total variation)"),
+    "mcmc_mixing": ("bench_mcmc_mixing", "issue-19 targets: default MCMC fits vs exact on the "
+                                         "LFE template and samples2LTL files"),
     "predict": ("bench_predict", "predict_proba throughput"),
     "monitor": ("bench_monitor", "runtime monitoring: PosteriorMonitor.update and "
                                  "monitor_proba steps per second"),

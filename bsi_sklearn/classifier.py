@@ -8,19 +8,13 @@ import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.utils import check_random_state
-from sklearn.utils.parallel import Parallel, delayed
 from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn._compile_progress import compile_progress
 from bsi_sklearn.clauses import clause_truth
-from bsi_sklearn.inference.diagnostics import missed_mass, split_rhat
+from bsi_sklearn.inference.diagnostics import MISSED_WARN, MODE_WARN, RHAT_WARN
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
-from bsi_sklearn.inference.mcmc import (
-    deduplicate_demos,
-    run_chain,
-    score_states,
-    unique_states,
-)
+from bsi_sklearn.inference.mcmc import sample_posterior
 from bsi_sklearn.likelihood import LIKELIHOODS
 from bsi_sklearn.model import make_model
 from bsi_sklearn.param_validation import (
@@ -40,9 +34,6 @@ _INFERENCE = ("auto", "exact", "mcmc")
 #: Work budget of inference="auto" for exact enumeration (exact.exact_posterior's max_work):
 #: about a second on this project's 2-core reference machine.
 _AUTO_EXACT_WORK = 1.5e8
-# A chain whose own reweighted posterior misses more than this much of the reported posterior
-# mass (the total variation between the two) means the chains have not found the same mass.
-_MISSED_WARN = 0.05
 
 
 class BSIClassifier(ClassifierMixin, BaseEstimator):
@@ -87,11 +78,20 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         likelihood with a large ``epsilon``, need the most), and samples with MCMC otherwise.
         ``inference_`` says which it did.
     n_samples : int, default=10_000
-        MCMC steps recorded per chain, after ``burn_in``.
+        MCMC sweeps recorded per chain, after ``burn_in`` (a sweep redraws every coordinate).
     burn_in : int, default=100
-        MCMC steps discarded at the start of every chain.
+        MCMC sweeps discarded at the start of every chain.
     n_chains : int, default=4
-        Independent MCMC chains, each started from a draw of the prior.
+        Independent MCMC chains, each a ladder of replicas started from the hypothesis without
+        clauses (see Notes).
+    n_temperatures : "auto" or int, default="auto"
+        Replicas per chain for parallel tempering: rung ``k`` samples prior x likelihood^beta_k
+        and adjacent rungs swap; only beta = 1 is recorded. ``"auto"``: beta halves from rung
+        to rung down to ``1 / L``, ``L = max(|log eps|, n_pos log 2)`` (the likelihood's step
+        for one demonstration or, CB, one conjunct; ``n_pos`` acceptable demonstrations), so
+        ``1 + ceil(log2 L)`` rungs (8 for 72 demonstrations of the paper's LFE template). An
+        integer sets the number of rungs between 1 and ``1 / L``; 1 turns tempering off.
+        Time grows linearly with it.
     max_exact_hypotheses : int, default=10_000_000_000
         Largest support enumerated exactly. Exact inference sums interchangeable parts of the
         hypotheses and skips, with a bound, those that cannot add 1e-17 of the posterior, so
@@ -135,12 +135,26 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     log_epsilon_ : float
         ``log(epsilon)`` used by the likelihood.
     mcmc_diagnostics_ : dict or None
-        For MCMC: ``acceptance_rate`` (fraction of steps that changed the state, per chain and
-        mean), ``rhat`` (split-R-hat of the log posterior across chains), ``n_visited``,
-        ``sample_frequencies`` (frequency of each posterior specification among the samples),
-        ``missed_mass_per_chain`` (the reported posterior mass each chain never visited: the
-        total variation between that chain's own reweighted posterior and the reported one)
-        and ``max_missed_mass``, their maximum. ``None`` after exact inference.
+        For MCMC (``None`` after exact inference):
+
+        - ``rhat``: split-R-hat of the chains' log posteriors (``inf`` when chains sit on
+          different values, ``nan`` with fewer than 4 samples);
+        - ``missed_mass_per_chain``, ``max_missed_mass``: the mass each chain never visited,
+          among the states the chains visited (the total variation between that chain's own
+          reweighted posterior and theirs);
+        - ``optimum_log_posterior``: the log posterior (unnormalised) of a deterministic
+          optimum (a beam search over one-block changes from the hypothesis without clauses);
+          ``best_visited_log_posterior``: the best state the chains recorded;
+          ``optimum_gap``: the first less the second;
+        - ``betas``: the tempering ladder; ``swap_rate`` (chains x rung pairs): accepted
+          swaps; ``burn_in_per_chain``: sweeps each chain discarded;
+        - ``acceptance_rate`` (and ``_per_chain``): fraction of the beta = 1 replica's block
+          updates that changed its state; ``n_updates``: block updates of all replicas;
+        - ``n_visited``: states the chains recorded; ``n_added``: states of ``posterior_``
+          they did not (the optimum and the completed neighbourhood);
+          ``sample_frequencies``: each specification's frequency among the samples (0 for
+          added ones); ``log_posterior_traces`` (chains x samples); ``seeds``, ``n_chains``,
+          ``n_samples``, ``burn_in``.
 
     See Also
     --------
@@ -149,15 +163,21 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     Notes
     -----
     The MCMC sampler discovers the posterior's support; the probabilities it reports are the
-    exact posterior restricted to the specifications its chains visited, renormalised, which is
-    far closer to the exact posterior than sample frequencies (kept in ``mcmc_diagnostics_``).
-    A ``ConvergenceWarning`` is raised when the chains disagree on what they report: some chain
-    never visited more than 5% of the reported posterior mass (``max_missed_mass``). Raw
-    log-posterior traces may wander (their split-R-hat is kept as ``rhat``) while the reported
-    posterior is right; with one chain there is nothing to compare and no warning. With the
-    default roles (every proposition a global candidate and a subtask) and a support that
-    ``"auto"`` could not enumerate, a ``UserWarning`` suggests ``global_candidates``,
-    ``subtasks`` and ``conditions``.
+    exact posterior restricted to that support, renormalised, which is far closer to the exact
+    posterior than sample frequencies (kept in ``mcmc_diagnostics_``). Every chain runs a
+    ladder of tempered replicas (``n_temperatures``) from the hypothesis without clauses; its
+    burn-in lasts ``burn_in`` sweeps and then, for at most ``n_samples`` more, until it comes
+    within a factor 20 of the deterministic optimum. The support is what the chains recorded,
+    the optimum, and the one-block neighbours of the states holding 99% of the mass (in a flat
+    posterior, states too improbable to be visited one by one add up).
+
+    A ``ConvergenceWarning`` is raised when the optimum is more than 20 times as probable as
+    every state the chains visited (they agree, if they do, on a wrong mode), when some chain
+    never visited more than 5% of the mass the chains found (``max_missed_mass``: they
+    disagree), and when the split-R-hat exceeds 1.05 (with one chain, the halves of its
+    trace are compared, and no chain can disagree). With the default roles (every proposition
+    a global candidate and a subtask) and a support that ``"auto"`` could not enumerate, a
+    ``UserWarning`` suggests ``global_candidates``, ``subtasks`` and ``conditions``.
 
     References
     ----------
@@ -181,8 +201,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     def __init__(self, *, prior="sets_of_chains", likelihood="cb", global_candidates=None,
                  subtasks=None, conditions=None, p_global=0.8, p_eventual=0.8, p_part=0.3,
                  n_new=5.0, epsilon=None, inference="auto", n_samples=10_000, burn_in=100,
-                 n_chains=4, max_exact_hypotheses=10_000_000_000, tol=1e-9, binarize=None,
-                 pos_label=None, n_jobs=None, random_state=None, verbose=0):
+                 n_chains=4, n_temperatures="auto", max_exact_hypotheses=10_000_000_000,
+                 tol=1e-9, binarize=None, pos_label=None, n_jobs=None, random_state=None,
+                 verbose=0):
         self.prior = prior
         self.likelihood = likelihood
         self.global_candidates = global_candidates
@@ -197,6 +218,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         self.n_samples = n_samples
         self.burn_in = burn_in
         self.n_chains = n_chains
+        self.n_temperatures = n_temperatures
         self.max_exact_hypotheses = max_exact_hypotheses
         self.tol = tol
         self.binarize = binarize
@@ -233,6 +255,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         "n_samples": [Interval(Integral, 1, None, closed="left")],
         "burn_in": [Interval(Integral, 0, None, closed="left")],
         "n_chains": [Interval(Integral, 1, None, closed="left")],
+        "n_temperatures": [StrOptions({"auto"}), Interval(Integral, 1, None, closed="left")],
         "max_exact_hypotheses": [Interval(Integral, 0, None, closed="left")],
         "tol": [Interval(Real, 0.0, 1.0, closed="left")],
         "binarize": [None, Interval(Real, None, None, closed="neither")],
@@ -343,22 +366,33 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         )
 
     def _warn_disagreement(self, n_hyp):
-        """ConvergenceWarning when some chain misses posterior mass the others found."""
+        """ConvergenceWarnings: a better optimum than the chains found, chains that disagree."""
         diag = self.mcmc_diagnostics_
+        advice = (f"Increase n_samples (now {self.n_samples:,}) or n_chains (now "
+                  f"{self.n_chains}), or restrict the roles (global_candidates, subtasks, "
+                  f"conditions) to shrink the support ({n_hyp:.3g} hypotheses).")
+        problems = []
+        if diag["optimum_gap"] > MODE_WARN:
+            problems.append(
+                "MCMC chains missed a mode: a deterministic search found a specification "
+                f"exp({diag['optimum_gap']:.3g}) times more probable than any state the chains "
+                "visited (mcmc_diagnostics_['optimum_gap'] > log 20); it is in the reported "
+                "posterior, but the chains never reached its neighbourhood, so the rest of "
+                "the reported posterior is unreliable.")
         worst = diag["max_missed_mass"]
-        if not worst > _MISSED_WARN:
-            return
-        chain = int(np.argmax(diag["missed_mass_per_chain"]))
-        warnings.warn(
-            f"MCMC chains disagree: chain {chain} never visited specifications holding "
-            f"{worst:.1%} of the reported posterior mass (> {_MISSED_WARN:.0%}; "
-            "mcmc_diagnostics_['missed_mass_per_chain']), so the reported posterior is "
-            f"unreliable. Increase n_samples (now {self.n_samples:,}) or n_chains (now "
-            f"{self.n_chains}), or restrict the roles (global_candidates, subtasks, conditions) "
-            f"to shrink the support ({n_hyp:.3g} hypotheses).",
-            ConvergenceWarning,
-            stacklevel=3,
-        )
+        if worst > MISSED_WARN:
+            chain = int(np.argmax(diag["missed_mass_per_chain"]))
+            problems.append(
+                f"MCMC chains disagree: chain {chain} never visited specifications holding "
+                f"{worst:.1%} of the mass the chains found (> {MISSED_WARN:.0%}; "
+                "mcmc_diagnostics_['missed_mass_per_chain']), so the reported posterior is "
+                "unreliable.")
+        if diag["rhat"] > RHAT_WARN:  # nan (too few samples) does not warn
+            problems.append(
+                f"MCMC chains have not mixed: the split-R-hat of their log posteriors is "
+                f"{diag['rhat']:.3g} (> {RHAT_WARN}; mcmc_diagnostics_['rhat']).")
+        for message in problems:
+            warnings.warn(f"{message} {advice}", ConvergenceWarning, stacklevel=3)
 
     def _fit_exact(self, truth, y01, roles, model, max_work):
         res = exact_posterior(truth, y01, model, tol=float(self.tol), max_work=max_work)
@@ -369,55 +403,11 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         return post, None
 
     def _fit_mcmc(self, truth, y01, roles, model, seeds):
-        n_g, n = model.n_g, model.n
-        demos = deduplicate_demos(truth, y01)
-        seeds_iter = seeds
-        if self.verbose:
-            from tqdm.auto import tqdm
-
-            seeds_iter = tqdm(seeds, desc="MCMC chains", unit="chain")
-        # Chains are threads of this process (the kernels release the GIL), also when an outer
-        # joblib backend such as dask distributes whole fits.
-        results = Parallel(n_jobs=self.n_jobs, backend="threading")(
-            delayed(run_chain)(int(seed), demos, model, int(self.n_samples), int(self.burn_in))
-            for seed in seeds_iter
-        )
-        uniq, counts, row_state = unique_states(
-            np.concatenate([r[0] for r in results], axis=0),
-            np.concatenate([r[1] for r in results]), return_inverse=True)
-        traces = np.stack([r[2] for r in results])
-        moves = np.array([r[3] for r in results])
-        scores = score_states(uniq, demos, model)
-        # Sort by decreasing posterior; ties keep np.unique's canonical order.
-        order = np.argsort(-scores, kind="stable")
-        uniq, counts, scores = uniq[order], counts[order], scores[order]
-        probs = np.exp(scores - scores.max())
-        probs /= probs.sum()
-        post = Posterior(uniq[:, n_g + n:], uniq[:, :n_g].astype(bool),
-                         uniq[:, n_g:n_g + n].astype(bool), probs, roles)
-        # Each chain's recorded rows, as positions in the sorted posterior.
-        position = np.empty(len(order), dtype=np.int64)
-        position[order] = np.arange(len(order))
-        ends = np.cumsum([len(r[0]) for r in results])
-        missed = missed_mass(np.split(position[row_state], ends[:-1]), probs)
-        diagnostics = {
-            "missed_mass_per_chain": missed,
-            "max_missed_mass": float(missed.max()),
-            "rhat": split_rhat(traces) if traces.shape[1] >= 4 else float("nan"),
-            "acceptance_rate": float(moves.mean()),
-            "acceptance_rate_per_chain": moves,
-            "n_updates": int(sum(r[4] for r in results)),
-            "n_chains": len(seeds),
-            "n_samples": int(self.n_samples),
-            "burn_in": int(self.burn_in),
-            "n_visited": len(uniq),
-            "sample_frequencies": counts / counts.sum(),
-            "log_posterior_traces": traces,
-            "seeds": np.asarray(seeds),
-        }
-        if not np.isfinite(diagnostics["rhat"]) and traces.shape[1] >= 4:
-            diagnostics["rhat"] = float("inf")
-        return post, diagnostics
+        res = sample_posterior(truth, y01, model, seeds, n_samples=int(self.n_samples),
+                               burn_in=int(self.burn_in), n_temperatures=self.n_temperatures,
+                               n_jobs=self.n_jobs, verbose=self.verbose)
+        post = Posterior(res.structures, res.tau_masks, res.w1_masks, res.probabilities, roles)
+        return post, res.diagnostics
 
     # ------------------------------------------------------------------ predict
     def _validated(self, X):

@@ -6,10 +6,11 @@ Two engines, each returning a result bundle that :class:`bsi_sklearn.BSIClassifi
 - :mod:`bsi_sklearn.inference.exact`: the exact posterior, by a bounded enumeration of the
   prior's support over groups of interchangeable parts (the reference everything else is
   tested against);
-- :mod:`bsi_sklearn.inference.mcmc`: Gibbs chains in numba, for what exact cannot finish;
+- :mod:`bsi_sklearn.inference.mcmc`: tempered Gibbs chains in numba, for what exact cannot
+  finish (:func:`~bsi_sklearn.inference.mcmc.sample_posterior`);
 - :mod:`bsi_sklearn.inference.diagnostics`: split-R-hat, the mass each chain missed, total
-  variation.
+  variation, the thresholds of the convergence warnings.
 
-The underscore modules (kernels, grouping, the ungrouped reference, the Gibbs moves) are private
-to this package.
+The underscore modules (kernels, grouping, the ungrouped reference, the chain kernel and its
+Gibbs moves, the local search) are private to this package.
 """

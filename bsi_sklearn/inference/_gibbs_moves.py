@@ -2,13 +2,20 @@
 
 - :func:`flip_move`: one inclusion bit of tau or W1;
 - :func:`chain_move` (Priors 1, 2): take a subtask out of its chain and re-insert it at any
-  position of any chain, or as a new chain where the prior allows one;
+  position of any chain, or as a new chain where the prior allows one, drawing its eventual
+  bit ``F(v)`` jointly with its place;
 - :func:`forest_move` (Prior 3): prune the subtree under a subtask and regraft it anywhere
-  outside it, or as a new root.
+  outside it, or as a new root, drawing the subtask's eventual bit jointly with the place.
 
-Every candidate is weighted by prior x likelihood. The moves read the model bundle
-(:class:`bsi_sklearn.model.Model`), the deduplicated demonstrations (``mcmc.Demos``) and the
-chain's scratch buffers (``mcmc.ChainBuffers``), and update the per-demonstration count of
+Every candidate is weighted by prior x likelihood^beta: ``beta`` is the inverse temperature of
+the replica being moved (1 for the target posterior; parallel tempering runs hotter replicas).
+The structure moves draw the eventual bit with the place because the two are tied: an order
+``(!b U a)`` holds only where ``a`` happens, so a demonstration that never completes ``a``
+violates ``F(a)`` and every order into ``a`` at once, and dropping either alone gains nothing.
+
+The moves read the model bundle (:class:`bsi_sklearn.model.Model`), the deduplicated
+demonstrations (``_chain_kernel.Demos``) and the chain's scratch buffers
+(``_chain_kernel.ChainBuffers``), and update the per-demonstration count of
 violated clauses in place.
 
 The three moves are inlined into the chain kernel at numba's level: as calls, passing the
@@ -21,6 +28,7 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn.likelihood import log_likelihood
+from bsi_sklearn.priors import log_inclusion
 
 __all__ = ["add_pair", "draw", "sat_counts", "flip_move", "chain_move", "forest_move"]
 
@@ -95,10 +103,11 @@ def add_pair(viol, truth_t, c, sign):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u):
+def flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u, beta):
     """Gibbs update of inclusion bit ``c``: ``(new bit, log-likelihood, uniform used)``."""
-    # Gibbs update of one inclusion bit: returns the new bit, the new log-likelihood and
-    # whether the uniform u was used (only when both outcomes are possible).
+    # Gibbs update of one inclusion bit at inverse temperature beta: returns the new bit, the
+    # new (untempered) log-likelihood and whether the uniform u was used (only when both
+    # outcomes are possible).
     truth_t = demos.truth_t
     ps_out, ns_out, ps_in, ns_in = flip_sums(viol, truth_t, c, inc, demos.w_pos, demos.w_neg)
     n_out = n_conj - inc
@@ -106,8 +115,8 @@ def flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u):
                             model.likelihood)
     ll_in = log_likelihood(ps_in, ns_in, demos.n_pos, demos.n_neg, n_out + 1, model.log_eps,
                            model.likelihood)
-    lw_out = lp_out + ll_out
-    lw_in = lp_in + ll_in
+    lw_out = lp_out + beta * ll_out
+    lw_in = lp_in + beta * ll_in
     # P(in) = 1 / (1 + exp(lw_out - lw_in)), computed without overflow.
     used = 0
     if lw_in == -np.inf:
@@ -124,20 +133,43 @@ def flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u):
     return new, (ll_in if new else ll_out), used
 
 
+@njit(cache=True, nogil=True)
+def _push_pair(bufs, k, lp, sums, n_conj, demos, model, beta):
+    # Two candidates of a structure move at one place: k without F(v), k + 1 with it.
+    # sums = (ps_out, ns_out, ps_in, ns_in) from flip_sums; n_conj excludes F(v).
+    le_in, le_out = log_inclusion(model.p_eventual)
+    ll_out = log_likelihood(sums[0], sums[1], demos.n_pos, demos.n_neg, n_conj,
+                            model.log_eps, model.likelihood)
+    ll_in = log_likelihood(sums[2], sums[3], demos.n_pos, demos.n_neg, n_conj + 1,
+                           model.log_eps, model.likelihood)
+    bufs.cand_lp[k] = lp
+    bufs.cand_lp[k + 1] = lp
+    bufs.cand_ll[k] = ll_out
+    bufs.cand_ll[k + 1] = ll_in
+    bufs.lw[k] = lp + le_out + beta * ll_out
+    bufs.lw[k + 1] = lp + le_in + beta * ll_in
+
+
 @njit(cache=True, nogil=True, inline="always")
-def chain_move(v, parent, viol, n_conj, demos, model, bufs, unif):
-    """Gibbs re-insertion of subtask ``v`` (Priors 1, 2): ``(N, log prior, log-lik)``."""
-    # Priors 1 / 2: take v out of its chain and redraw its place among every position of every
-    # remaining chain and a new chain (a candidate only where the prior has such structures).
-    # Returns (n_conj, log prior of the structure, log-likelihood) of the new state.
+def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
+    """Gibbs re-insertion of subtask ``v`` with its bit ``w1[v]`` (Priors 1, 2).
+
+    Returns ``(N, log prior of the structure, log-likelihood)``; ``w1[v]`` is updated in place.
+    """
+    # Priors 1 / 2: take v (and F(v)) out and redraw its place among every position of every
+    # remaining chain and a new chain (a candidate only where the prior has such structures),
+    # each with F(v) left out or put in.
     truth_t, w_pos, w_neg = demos.truth_t, demos.w_pos, demos.w_neg
-    n_pos, n_neg = demos.n_pos, demos.n_neg
     n = model.n
     base = model.n_g + n
-    log_eps, lik_code, lp_chains = model.log_eps, model.likelihood, model.lp_chains
+    cv = model.n_g + v
+    lp_chains = model.lp_chains
     cur, lw, cand_lp, cand_ew = bufs.cur, bufs.lw, bufs.cand_lp, bufs.cand_ew
     cand_head, cand_pos, child = bufs.cand_head, bufs.cand_pos, bufs.child
     D = viol.shape[0]
+    if w1[v]:
+        add_pair(viol, truth_t, cv, -1)
+        n_conj -= 1
     child[:] = -1
     for u in range(n):
         if parent[u] >= 0:
@@ -159,7 +191,7 @@ def chain_move(v, parent, viol, n_conj, demos, model, bufs, unif):
         child[parent[v]] = child[v]
     parent[v] = -1
     child[v] = -1
-    # Candidates: every position of every remaining chain, plus a new chain.
+    # Candidates: every position of every remaining chain, plus a new chain; two each.
     k = 0
     m_rem = 0
     for h in range(n):
@@ -179,16 +211,15 @@ def chain_move(v, parent, viol, n_conj, demos, model, bufs, unif):
                 cur[d] += 1 if truth_t[c, d] == 0 else 0
             L += 1
             u = child[u]
-        m_new = m_rem
-        lp = lp_chains[m_new]
+        lp = lp_chains[m_rem]
         u = h
         for p in range(L + 1):
-            ps, ns = sat_counts(cur, w_pos, w_neg)
-            cand_lp[k] = lp
-            lw[k] = lp + log_likelihood(ps, ns, n_pos, n_neg, n_conj + L, log_eps, lik_code)
-            cand_head[k] = h
-            cand_pos[k] = p
-            k += 1
+            sums = flip_sums(cur, truth_t, cv, 0, w_pos, w_neg)
+            _push_pair(bufs, k, lp, sums, n_conj + L, demos, model, beta)
+            for i in range(2):
+                cand_head[k + i] = h
+                cand_pos[k + i] = p
+            k += 2
             if u >= 0:
                 ca = base + u * n + v
                 cb = base + v * n + u
@@ -196,16 +227,21 @@ def chain_move(v, parent, viol, n_conj, demos, model, bufs, unif):
                     cur[d] += (truth_t[cb, d] != 0) - (truth_t[ca, d] != 0)
                 u = child[u]
     if lp_chains[m_rem + 1] > -np.inf or k == 0:
-        ps, ns = sat_counts(viol, w_pos, w_neg)
-        cand_lp[k] = lp_chains[m_rem + 1]
-        lw[k] = cand_lp[k] + log_likelihood(ps, ns, n_pos, n_neg, n_conj, log_eps, lik_code)
-        cand_head[k] = -1
-        cand_pos[k] = 0
-        k += 1
+        sums = flip_sums(viol, truth_t, cv, 0, w_pos, w_neg)
+        _push_pair(bufs, k, lp_chains[m_rem + 1], sums, n_conj, demos, model, beta)
+        for i in range(2):
+            cand_head[k + i] = -1
+            cand_pos[k + i] = 0
+        k += 2
     j = draw(lw, k, unif, cand_ew)
+    inc = j & 1
+    w1[v] = inc
+    if inc:
+        add_pair(viol, truth_t, cv, 1)
+        n_conj += 1
     h = cand_head[j]
     if h < 0:
-        return n_conj, cand_lp[j], lw[j] - cand_lp[j]
+        return n_conj, cand_lp[j], bufs.cand_ll[j]
     p = cand_pos[j]
     u = h
     prev = -1
@@ -225,22 +261,28 @@ def chain_move(v, parent, viol, n_conj, demos, model, bufs, unif):
     parent[v] = prev
     if nxt >= 0:
         parent[nxt] = v
-    return n_conj, cand_lp[j], lw[j] - cand_lp[j]
+    return n_conj, cand_lp[j], bufs.cand_ll[j]
 
 
 @njit(cache=True, nogil=True, inline="always")
-def forest_move(v, parent, viol, n_conj, demos, model, bufs, unif):
-    """Gibbs prune-and-regraft of subtask ``v`` (Prior 3): ``(N, log prior, log-lik)``."""
-    # Prior 3: prune the subtree rooted at v and regraft it anywhere outside it.
+def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
+    """Gibbs prune-and-regraft of subtask ``v`` with its bit ``w1[v]`` (Prior 3).
+
+    Returns ``(N, log prior of the structure, log-likelihood)``; ``w1[v]`` is updated in place.
+    """
+    # Prior 3: prune the subtree rooted at v and regraft it anywhere outside it, with F(v)
+    # left out or put in.
     truth_t, w_pos, w_neg = demos.truth_t, demos.w_pos, demos.w_neg
-    n_pos, n_neg = demos.n_pos, demos.n_neg
     n = model.n
     base = model.n_g + n
-    log_eps, lik_code = model.log_eps, model.likelihood
+    cv = model.n_g + v
     g, g_const = model.forest_g, model.forest_const
-    cur, lw, cand_lp, cand_ew = bufs.cur, bufs.lw, bufs.cand_lp, bufs.cand_ew
+    cur, lw, cand_ew = bufs.cur, bufs.lw, bufs.cand_ew
     cand_head, in_s, cost, size = bufs.cand_head, bufs.in_s, bufs.cost, bufs.size
     D = viol.shape[0]
+    if w1[v]:
+        add_pair(viol, truth_t, cv, -1)
+        n_conj -= 1
     size_s = 0
     for u in range(n):
         a = u
@@ -295,13 +337,17 @@ def forest_move(v, parent, viol, n_conj, demos, model, bufs, unif):
             lp += g[size[a] + size_s] - g[size[a]]
             depth += 1
             a = parent[a]
-        ps, ns = sat_counts(cur, w_pos, w_neg)
-        cand_lp[k] = lp
-        lw[k] = lp + log_likelihood(ps, ns, n_pos, n_neg, n_conj + depth * size_s,
-                                    log_eps, lik_code)
+        sums = flip_sums(cur, truth_t, cv, 0, w_pos, w_neg)
+        _push_pair(bufs, k, lp, sums, n_conj + depth * size_s, demos, model, beta)
         cand_head[k] = u
-        k += 1
+        cand_head[k + 1] = u
+        k += 2
     j = draw(lw, k, unif, cand_ew)
+    inc = j & 1
+    w1[v] = inc
+    if inc:
+        add_pair(viol, truth_t, cv, 1)
+        n_conj += 1
     u = cand_head[j]
     parent[v] = u
     a = u
@@ -310,4 +356,4 @@ def forest_move(v, parent, viol, n_conj, demos, model, bufs, unif):
             viol[d] += cost[a, d]
         n_conj += size_s
         a = parent[a]
-    return n_conj, cand_lp[j], lw[j] - cand_lp[j]
+    return n_conj, bufs.cand_lp[j], bufs.cand_ll[j]

@@ -1,14 +1,30 @@
-"""Convergence diagnostics: split-R-hat, the mass each chain missed, total variation."""
+"""Convergence diagnostics: split-R-hat, missed mass, total variation, warning thresholds."""
 
 import math
 
 import numpy as np
 
-__all__ = ["split_rhat", "missed_mass", "total_variation"]
+__all__ = ["split_rhat", "missed_mass", "total_variation", "RHAT_WARN", "MISSED_WARN",
+           "MODE_WARN"]
+
+#: Split-R-hat of the chains' log posteriors above which the chains have not mixed.
+RHAT_WARN = 1.05
+#: A chain that never visited more than this much of the posterior mass the chains found
+#: (the total variation between its own reweighted posterior and theirs): chains disagree.
+MISSED_WARN = 0.05
+#: A deterministic optimum more probable than every visited state by more than this factor
+#: (log 20): the chains sit on a wrong mode, however well they agree.
+MODE_WARN = math.log(20.0)
 
 
 def split_rhat(traces):
     """Split-R-hat (Gelman et al., BDA3) of a scalar across chains.
+
+    Computed on the traces less their overall mean, so that log posteriors with a large
+    offset lose no precision. Differences at the rounding level of the traces (1e-9 of their
+    magnitude: the sampler tracks log posteriors incrementally) are no signal: chains that are
+    each constant at that level give 1.0 when they agree and ``inf`` when they sit on
+    different values, never a huge finite ratio of rounding noise.
 
     Parameters
     ----------
@@ -18,7 +34,8 @@ def split_rhat(traces):
     -------
     float
         1.0 when every draw is identical (a chain that never moves off a sharp mode); ``inf``
-        when chains sit on different constant values; ``nan`` with fewer than 4 draws.
+        when chains sit on different constant values or a trace is not finite; ``nan`` with
+        fewer than 4 draws.
 
     Examples
     --------
@@ -27,6 +44,8 @@ def split_rhat(traces):
     1.0
     >>> split_rhat(np.array([[0.0] * 10, [1.0] * 10]))
     inf
+    >>> split_rhat(1e12 + np.array([[0.0, 1.0] * 5, [1.0, 0.0] * 5]))
+    1.0
     """
     traces = np.asarray(traces, dtype=float)
     n_draws = traces.shape[1]
@@ -34,17 +53,15 @@ def split_rhat(traces):
     if half < 2:
         return float("nan")
     split = np.concatenate([traces[:, :half], traces[:, half:2 * half]], axis=0)
-    finite = np.isfinite(split)
-    if not finite.all():
-        return float("nan")
-    # The log posterior is tracked incrementally: differences at rounding level are no signal.
-    if np.ptp(split) <= 1e-9 * max(1.0, float(np.abs(split).max())):
-        return 1.0
+    if not np.isfinite(split).all():
+        return float("inf")
+    noise = 1e-9 * max(1.0, float(np.abs(split).max()))
+    split = split - split.mean()
     means = split.mean(axis=1)
     within = split.var(axis=1, ddof=1).mean()
+    if math.sqrt(within) <= noise:
+        return 1.0 if np.ptp(means) <= noise else float("inf")
     between = half * means.var(ddof=1)
-    if within == 0:
-        return 1.0 if between == 0 else float("inf")
     var_plus = (half - 1) / half * within + between / half
     return float(np.sqrt(var_plus / within))
 

@@ -1,76 +1,77 @@
-"""Gibbs-within-MCMC sampler over (tau, W1, order structure), in numba.
+"""MCMC over (tau, W1, order structure): tempered Gibbs chains in numba, and their result.
 
-Each step picks one coordinate uniformly: an inclusion bit of tau or W1 (Gibbs flip), or a
-subtask whose place in the order structure is redrawn among *all* places it could go (Gibbs
-re-insertion), each candidate weighted by prior x likelihood. Every move is an exact Gibbs update
-of its block, so no Hastings ratio is needed; together they reach every hypothesis.
+Each chain runs a ladder of replicas at inverse temperatures ``1 = beta_0 > ... > beta_{R-1}``
+(parallel tempering, :mod:`bsi_sklearn.inference._chain_kernel`): a sweep redraws every
+coordinate of every replica by an exact Gibbs update of its block, each candidate weighted by
+prior x likelihood^beta (:mod:`bsi_sklearn.inference._gibbs_moves`), then adjacent replicas
+propose to swap; only the beta = 1 replica is recorded. Hot replicas cross the valleys between
+modes that single-coordinate moves cannot (a valley of a few violated demonstrations costs
+``beta x |log eps|`` each), and swaps hand what they find down the ladder.
 
-The sampler keeps, per (deduplicated) demonstration, the number of clauses of the current
-hypothesis it violates; a demonstration satisfies the hypothesis when that count is zero. Traces
-are never read: only the precomputed clause-truth matrix is.
+:func:`sample_posterior` runs the chains, scores every visited state exactly, and returns an
+:class:`MCMCResult`: the reported posterior is the exact posterior restricted to the visited
+states (plus the deterministic optimum of :func:`deterministic_optimum` when no chain visited
+it), renormalised, and a dictionary of diagnostics (:mod:`bsi_sklearn.inference.diagnostics`).
 """
 
+import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import carray, njit
-from numba.core import types
-from numba.extending import intrinsic
 
-from bsi_sklearn.inference._gibbs_moves import (
-    add_pair,
-    chain_move,
-    flip_move,
-    forest_move,
-    sat_counts,
+from bsi_sklearn.inference._chain_kernel import (
+    ChainState,
+    Demos,
+    chain_kernel,
+    make_buffers,
+    score_rows,
 )
-from bsi_sklearn.likelihood import log_likelihood
-from bsi_sklearn.model import Model
-from bsi_sklearn.priors import (
-    draw_hypothesis,
-    log_inclusion,
-    log_prior,
-    log_prior_structure,
-    log_prior_subset,
-)
+from bsi_sklearn.inference._local_search import beam_search, n_neighbours_max, neighbourhood
+from bsi_sklearn.inference.diagnostics import MODE_WARN, missed_mass, split_rhat
+from bsi_sklearn.priors import draw_hypothesis, next_structure
 
-__all__ = ["Demos", "run_chain", "deduplicate_demos", "score_states", "unique_states"]
+__all__ = ["Demos", "ChainResult", "MCMCResult", "run_chain", "deduplicate_demos",
+           "score_states", "unique_states", "temperature_ladder", "deterministic_optimum",
+           "sample_posterior"]
 
-
-class Demos(NamedTuple):
-    """Deduplicated clause truth, clause-major, with the labels as weights."""
-
-    truth_t: np.ndarray   # (n_clauses, n_unique) uint8
-    w_pos: np.ndarray     # (n_unique,) float64: acceptable demonstrations behind each row
-    w_neg: np.ndarray     # (n_unique,) float64: unacceptable ones
-    n_pos: float          # w_pos.sum()
-    n_neg: float          # w_neg.sum()
-
-
-class ChainState(NamedTuple):
-    """The current hypothesis of a chain: inclusion bits of tau and W1, the parent array."""
-
-    tau: np.ndarray       # (n_g,) int64
-    w1: np.ndarray        # (n,) int64
-    parent: np.ndarray    # (n,) int64
+#: Ratio of adjacent inverse temperatures of the default ladder.
+LADDER_RATIO = 0.5
+#: Hypotheses the beam search of :func:`deterministic_optimum` keeps at every step.
+BEAM_WIDTH = 8
+#: The support is completed with the neighbours of its most probable states holding this much
+#: of its mass (at most ``COMPLETE_SOURCES`` of them, within a budget of this many clause-row
+#: operations, about 0.3 s), keeping neighbours less than ``COMPLETE_FLOOR`` (log 1e12) below
+#: the most probable state.
+COMPLETE_MASS = 0.99
+COMPLETE_SOURCES = 2000
+COMPLETE_WORK = 3e8
+COMPLETE_FLOOR = math.log(1e12)
 
 
-class ChainBuffers(NamedTuple):
-    """Scratch space of one chain, allocated once by :func:`run_chain`."""
+class ChainResult(NamedTuple):
+    """What one chain returns (:func:`run_chain`)."""
 
-    ubuf: np.ndarray      # uniforms, refilled in bulk
-    viol: np.ndarray      # (D,) int32: clauses of the current hypothesis each row violates
-    cur: np.ndarray       # (D,) int32: the same for a candidate
-    lw: np.ndarray        # candidate log weights (prior + likelihood)
-    cand_lp: np.ndarray   # candidate log priors
-    cand_head: np.ndarray
-    cand_pos: np.ndarray
-    cand_ew: np.ndarray   # exponentiated weights
-    child: np.ndarray     # (n,) chain successor (Priors 1, 2)
-    in_s: np.ndarray      # (n,) membership of the pruned subtree (Prior 3)
-    cost: np.ndarray      # (n, D) violations added by an ancestor of the subtree (Prior 3)
-    size: np.ndarray      # (n,) subtree sizes (Prior 3)
-    old_parent: np.ndarray
+    states: np.ndarray      # recorded rows [tau (n_g), w1 (n), parent (n)], run-length encoded
+    counts: np.ndarray      # samples each row stands for
+    trace_lp: np.ndarray    # log posterior after every recorded sweep
+    move_rate: float        # fraction of the beta = 1 replica's block updates that moved it
+    n_updates: int          # block updates of all replicas
+    swap_rate: np.ndarray   # (R - 1,) accepted fraction of swaps between rungs k and k + 1
+    n_burned: int           # sweeps discarded: burn_in and the extension up to the target
+
+
+class MCMCResult(NamedTuple):
+    """The reported posterior of :func:`sample_posterior` and its diagnostics.
+
+    ``structures`` (parent arrays), ``tau_masks``, ``w1_masks`` and ``probabilities`` list the
+    specifications by decreasing probability, as :class:`bsi_sklearn.Posterior` takes them.
+    """
+
+    structures: np.ndarray  # (H, n) int64
+    tau_masks: np.ndarray   # (H, n_g) bool
+    w1_masks: np.ndarray    # (H, n) bool
+    probabilities: np.ndarray
+    diagnostics: dict
 
 
 def unique_states(states, counts, return_inverse=False):
@@ -117,224 +118,231 @@ def deduplicate_demos(truth, y01):
                  float(w_neg.sum()))
 
 
-@intrinsic
-def _data_pointer(typingctx, arr):
-    # The raw data pointer of a contiguous array.
-    def codegen(context, builder, signature, args):
-        return context.make_array(signature.args[0])(context, builder, args[0]).data
-
-    return types.CPointer(arr.dtype)(arr), codegen
+def score_states(states, demos, model):
+    """Exact unnormalised log posterior of every state row ``[tau, w1, parent]``."""
+    return score_rows(np.ascontiguousarray(states), demos, model)
 
 
-@njit(cache=True, nogil=True)
-def _unmanaged(a):
-    """A view of contiguous ``a`` without a reference count (no NRT meminfo).
+def temperature_ladder(demos, model, n_temperatures="auto"):
+    """Inverse temperatures of a chain's replicas, ``1`` first, geometric.
 
-    Passing a managed array to a non-inlined jitted function costs an atomic increment and
-    decrement of its reference count; the chain kernel makes hundreds of such calls per sweep,
-    and those atomics took about 65% of its time. Views are only valid while ``a`` is alive:
-    the kernel takes them of buffers its Python caller owns for the whole call.
+    The likelihood moves in steps of two sizes: a demonstration that changes side costs or
+    gains about ``|log eps|``, and (CB likelihood) a conjunct more or less changes every
+    satisfied acceptable demonstration by ``log 2``. With ``L = max(|log eps|, n_pos log 2)``
+    (``n_pos``: acceptable demonstrations; the second term for CB only), the hottest replica
+    has ``beta = 1 / L``, where one such step costs at most about one nat, so that it moves
+    nearly as freely as the prior; the rungs halve beta (``LADDER_RATIO``), which gives
+    ``"auto"`` ``1 + ceil(log2 L)`` rungs (one when ``L <= 1``). An integer sets the number
+    of rungs (1: no tempering), spread geometrically between 1 and ``1 / L``.
+
+    Examples
+    --------
+    >>> from bsi_sklearn.model import make_model
+    >>> import numpy as np
+    >>> m = make_model(prior="sets_of_chains", likelihood="cb", n_globals=2, n_subtasks=2)
+    >>> d = Demos(np.ones((8, 3), np.uint8), np.ones(3), np.zeros(3), 3.0, 0.0)
+    >>> temperature_ladder(d, m).round(4).tolist()   # |log eps| = 4 log(2) 5 = 13.9
+    [1.0, 0.5, 0.25, 0.125, 0.0721]
+    >>> temperature_ladder(d, m, 1).tolist()
+    [1.0]
     """
-    return carray(_data_pointer(a), a.shape)
+    scale = -model.log_eps
+    if model.likelihood == 0:  # CB: the size principle, log 2 per conjunct and positive
+        scale = max(scale, demos.n_pos * math.log(2.0))
+    if n_temperatures == "auto":
+        n_rungs = 1 if scale <= 1.0 else 1 + math.ceil(math.log(scale) / -math.log(LADDER_RATIO))
+        return np.maximum(LADDER_RATIO ** np.arange(n_rungs), 1.0 / scale)
+    n_rungs = int(n_temperatures)
+    if n_rungs == 1 or scale <= 1.0:
+        return np.ones(n_rungs)
+    return np.exp(-np.log(scale) * np.arange(n_rungs) / (n_rungs - 1))
 
 
-@njit(cache=True, nogil=True)
-def _unmanaged_bundles(state, demos, model, bufs):
-    # The same bundles made of unmanaged views (see _unmanaged).
-    state = ChainState(_unmanaged(state.tau), _unmanaged(state.w1), _unmanaged(state.parent))
-    demos = Demos(_unmanaged(demos.truth_t), _unmanaged(demos.w_pos), _unmanaged(demos.w_neg),
-                  demos.n_pos, demos.n_neg)
-    model = Model(model.n_g, model.n, model.prior, model.forest, model.p_global,
-                  model.p_eventual, model.p_part, model.n_new, model.log_eps, model.likelihood,
-                  _unmanaged(model.lp_chains), _unmanaged(model.forest_g), model.forest_const)
-    bufs = ChainBuffers(_unmanaged(bufs.ubuf), _unmanaged(bufs.viol), _unmanaged(bufs.cur),
-                        _unmanaged(bufs.lw), _unmanaged(bufs.cand_lp),
-                        _unmanaged(bufs.cand_head), _unmanaged(bufs.cand_pos),
-                        _unmanaged(bufs.cand_ew), _unmanaged(bufs.child), _unmanaged(bufs.in_s),
-                        _unmanaged(bufs.cost), _unmanaged(bufs.size),
-                        _unmanaged(bufs.old_parent))
-    return state, demos, model, bufs
+def _first_structure(model):
+    # The first order structure of the prior's support (no orders where the prior allows it).
+    parent = np.full(model.n, -2, dtype=np.int64)
+    state = np.zeros(4, dtype=np.int64)
+    next_structure(parent, np.zeros(model.n, dtype=np.int64), state, model.prior)
+    return parent
 
 
-@njit(cache=True, nogil=True)
-def _init_viol(tau, w1, parent, truth_t, model):
-    # int32 counts (not int64): twice as many lanes in the kernels' vectorised loops.
-    viol = np.zeros(truth_t.shape[1], dtype=np.int32)
-    return viol, _fill_viol(viol, tau, w1, parent, truth_t, model)
+def deterministic_optimum(demos, model, width=BEAM_WIDTH):
+    """A cheap optimum of the posterior, found without random numbers.
 
-
-@njit(cache=True, nogil=True)
-def _fill_viol(viol, tau, w1, parent, truth_t, model):
-    # Per demonstration, the number of clauses of the hypothesis it violates; returns N.
+    Beam search (:mod:`bsi_sklearn.inference._optimum`) from the hypothesis without clauses
+    (and the first order structure of the prior's support): every step scores, exactly, every
+    hypothesis one Gibbs block away from those in the beam (one global bit; one subtask's place
+    with its eventual bit) and keeps the ``width`` best, until the beam no longer changes.
+    Returns ``(row, log posterior)`` with ``row`` laid out as the sampler's states,
+    ``[tau, w1, parent]`` (int16).
+    """
     n_g, n = model.n_g, model.n
-    viol[:] = 0
-    n_conj = 0
-    for j in range(n_g):
-        if tau[j]:
-            add_pair(viol, truth_t, j, 1)
-            n_conj += 1
-    for w in range(n):
-        if w1[w]:
-            add_pair(viol, truth_t, n_g + w, 1)
-            n_conj += 1
-    for v in range(n):
-        a = parent[v]
-        while a >= 0:
-            add_pair(viol, truth_t, n_g + n + a * n + v, 1)
-            n_conj += 1
-            a = parent[a]
-    return n_conj
+    start = np.concatenate([np.zeros(n_g + n, dtype=np.int64), _first_structure(model)])
+    max_steps = 4 * (n_g + n + n * n) + 10
+    row, lp = beam_search(start[None, :], demos, model, int(width), max_steps)
+    return row.astype(np.int16), float(lp)
 
 
-@njit(cache=True, nogil=True)
-def _chain_kernel(state, demos, model, bufs, rng, n_sweeps, burn_in):
-    # One sweep updates every coordinate once (tau bits, W1 bits, every subtask's place);
-    # the state is recorded after each sweep past burn-in. The state and the scratch buffers
-    # (allocated by run_chain) are used through unmanaged views: see _unmanaged.
-    state, demos, model, bufs = _unmanaged_bundles(state, demos, model, bufs)
-    tau, w1, parent = state.tau, state.w1, state.parent
-    truth_t, viol, old_parent = demos.truth_t, bufs.viol, bufs.old_parent
-    n_g, n = model.n_g, model.n
-    # Uniforms come from a buffer refilled in bulk (the same stream as one rng.random() per
-    # draw), so that the generator, a managed object, is not passed to every move.
-    ubuf = bufs.ubuf
-    n_u = ubuf.shape[0]
-    upos = n_u
-    n_conj = _fill_viol(viol, tau, w1, parent, truth_t, model)
-    n_keep = n_sweeps - burn_in
-    states = np.empty((n_keep, n_g + 2 * n), dtype=np.int16)
-    trace_lp = np.empty(n_keep)
-    lg_in, lg_out = log_inclusion(model.p_global)
-    le_in, le_out = log_inclusion(model.p_eventual)
-    lp_sub = (log_prior_subset(tau.sum(), n_g, model.p_global)
-              + log_prior_subset(w1.sum(), n, model.p_eventual))
-    lp_struct = log_prior_structure(parent, model)
-    ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
-    ll = log_likelihood(ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps,
-                        model.likelihood)
-    moved = 0
-    updates = 0
-    counts = np.zeros(n_keep, dtype=np.int64)
-    k = -1
-    last_moved = -1
-    for sweep in range(n_sweeps):
-        # A sweep uses at most one uniform per coordinate: top the buffer up first.
-        if upos + n_g + 2 * n > n_u:
-            rest = n_u - upos
-            ubuf[:rest] = ubuf[upos:]
-            ubuf[rest:] = rng.random(n_u - rest)
-            upos = 0
-        for j in range(n_g):
-            new, ll, used = flip_move(j, tau[j], lg_in, lg_out, viol, n_conj, demos, model,
-                                       ubuf[upos])
-            upos += used
-            if new != tau[j]:
-                n_conj += 1 if new else -1
-                lp_sub += (lg_in - lg_out) if new else (lg_out - lg_in)
-                tau[j] = new
-                moved += 1
-        for w in range(n):
-            new, ll, used = flip_move(n_g + w, w1[w], le_in, le_out, viol, n_conj, demos,
-                                       model, ubuf[upos])
-            upos += used
-            if new != w1[w]:
-                n_conj += 1 if new else -1
-                lp_sub += (le_in - le_out) if new else (le_out - le_in)
-                w1[w] = new
-                moved += 1
-        updates += n_g + n
-        if n > 1:
-            for v in range(n):
-                old_parent[:] = parent
-                if model.forest:
-                    n_conj, lp_struct, ll = forest_move(v, parent, viol, n_conj, demos, model,
-                                                         bufs, ubuf[upos])
-                else:
-                    n_conj, lp_struct, ll = chain_move(v, parent, viol, n_conj, demos, model,
-                                                        bufs, ubuf[upos])
-                upos += 1  # a structure move always draws
-                for u in range(n):
-                    if parent[u] != old_parent[u]:
-                        moved += 1
-                        break
-            updates += n
-        if sweep >= burn_in:
-            r = sweep - burn_in
-            trace_lp[r] = lp_sub + lp_struct + ll
-            if k >= 0 and moved == last_moved:
-                counts[k] += 1  # run-length: the state did not change during this sweep
-                continue
-            k += 1
-            last_moved = moved
-            counts[k] = 1
-            for j in range(n_g):
-                states[k, j] = tau[j]
-            for w in range(n):
-                states[k, n_g + w] = w1[w]
-                states[k, n_g + n + w] = parent[w]
-    return states[:k + 1], counts[:k + 1], trace_lp, moved / max(updates, 1), updates
-
-
-def run_chain(seed, demos, model, n_samples, burn_in):
-    """Run one chain from a prior draw.
+def run_chain(seed, demos, model, n_samples, burn_in, betas=None, start=None, *,
+              target=-np.inf, max_extra=0):
+    """Run one chain; every replica starts from its own draw of the prior.
 
     Parameters
     ----------
     seed : int
-        Seed of the chain's ``numpy.random.Generator`` (prior draw and every move).
+        Seed of the chain's ``numpy.random.Generator`` (prior draws and every move).
     demos : Demos
         Deduplicated clause truth and label weights (:func:`deduplicate_demos`).
     model : Model
         The model bundle (:func:`bsi_sklearn.model.make_model`).
     n_samples, burn_in : int
         Sweeps recorded, and sweeps discarded first.
+    betas : array-like of float, default=None
+        The ladder (:func:`temperature_ladder`), ``betas[0] = 1``; ``None``: one replica.
 
     Returns
     -------
-    states : ndarray of int16
-        The recorded states, run-length encoded: rows ``[tau (n_g), w1 (n), parent (n)]``.
-    counts : ndarray of int64
-        How many consecutive samples each row stands for.
-    trace_lp : ndarray
-        The log posterior after every recorded sweep.
-    move_rate : float
-        Fraction of coordinate updates that changed the state.
-    n_updates : int
-        Number of coordinate updates (a sample is one sweep: every coordinate once).
+    ChainResult
     """
+    betas = np.ones(1) if betas is None else np.ascontiguousarray(betas, dtype=np.float64)
     rng = np.random.default_rng(seed)
-    tau, w1, parent = draw_hypothesis(model, rng)
-    n_g, n = model.n_g, model.n
+    if start is None:
+        draws = [draw_hypothesis(model, rng) for _ in range(len(betas))]
+    else:
+        n_g, n = model.n_g, model.n
+        start = np.asarray(start, dtype=np.int64)
+        draws = [(start[:n_g], start[n_g:n_g + n], start[n_g + n:])] * len(betas)
     # The kernel's state and scratch buffers live here, for the whole call (see _unmanaged).
-    state = ChainState(np.ascontiguousarray(tau, dtype=np.int64),
-                       np.ascontiguousarray(w1, dtype=np.int64),
-                       np.ascontiguousarray(parent, dtype=np.int64))
-    D = demos.truth_t.shape[1]
-    k = 2 * n + 2  # the most candidate places of one structure move
-    bufs = ChainBuffers(
-        ubuf=np.empty(max(1024, 2 * (n_g + 2 * n))),
-        viol=np.zeros(D, dtype=np.int32), cur=np.empty(D, dtype=np.int32),
-        lw=np.empty(k), cand_lp=np.empty(k),
-        cand_head=np.empty(k, dtype=np.int64), cand_pos=np.empty(k, dtype=np.int64),
-        cand_ew=np.empty(k),
-        child=np.empty(n, dtype=np.int64), in_s=np.zeros(n, dtype=np.int64),
-        cost=np.zeros((n, D), dtype=np.int32),
-        size=np.empty(n, dtype=np.int64), old_parent=np.empty(n, dtype=np.int64),
-    )
-    return _chain_kernel(state, demos, model, bufs, rng, burn_in + n_samples, burn_in)
+    state = ChainState(*(np.ascontiguousarray(np.stack([d[i] for d in draws]), dtype=np.int64)
+                         .reshape(len(betas), -1) for i in range(3)))
+    bufs = make_buffers(model.n_g, model.n, demos.truth_t.shape[1], len(betas))
+    states, counts, trace_lp, moved, updates, swaps, n_sweeps, burned = chain_kernel(
+        state, demos, model, bufs, betas, rng, n_samples, burn_in, target, max_extra)
+    # Pair k proposes a swap after the sweeps of k's parity.
+    tries = (n_sweeps + 1 - np.arange(len(swaps)) % 2) // 2
+    return ChainResult(states, counts, trace_lp, moved / max(updates, 1),
+                       int(updates) * len(betas), swaps / np.maximum(tries, 1), burned)
 
 
-@njit(cache=True, nogil=True)
-def score_states(states, demos, model):
-    """Exact unnormalised log posterior of every state row."""
+def _complete(uniq, scores, demos, model):
+    # The support's one-block neighbourhood: the neighbours of its most probable states (those
+    # holding COMPLETE_MASS of it, within the caps) above the floor, with their log posterior;
+    # the caller drops those already in the support.
+    probs = np.exp(scores - scores.max())
+    probs /= probs.sum()
+    order = np.argsort(-scores, kind="stable")
+    cost = max(1, n_neighbours_max(model.n_g, model.n) * demos.truth_t.shape[0]) * \
+        demos.truth_t.shape[1]
+    n_src = min(int(np.searchsorted(np.cumsum(probs[order]), COMPLETE_MASS)) + 1,
+                max(1, int(COMPLETE_WORK // cost)), COMPLETE_SOURCES, len(order))
+    sources = np.ascontiguousarray(uniq[order[:n_src]], dtype=np.int64)
+    return neighbourhood(sources, demos, model, scores.max() - COMPLETE_FLOOR)
+
+
+def sample_posterior(truth, y01, model, seeds, *, n_samples=10_000, burn_in=100,
+                     n_temperatures="auto", n_jobs=None, verbose=0):
+    """The MCMC posterior: tempered chains, the states they found scored exactly.
+
+    Every chain (every replica of its ladder) starts from the hypothesis without clauses,
+    which every demonstration satisfies (a draw of the prior includes most clauses and
+    violates most demonstrations through several of them at once, a plateau where no single
+    move helps). Burn-in lasts ``burn_in`` sweeps and then, for at most ``n_samples`` more,
+    until the chain's log posterior reaches that of the deterministic optimum
+    (:func:`deterministic_optimum`) less ``log 20``. The reported posterior is the exact
+    posterior restricted to the states the chains recorded, the optimum, and the one-block
+    neighbours of the most probable of them (where the posterior is flat, states each too
+    improbable to be visited add up), renormalised.
+
+    Parameters
+    ----------
+    truth : ndarray of shape (n_demos, n_clauses)
+        Clause truth (:func:`bsi_sklearn.clauses.clause_truth`).
+    y01 : ndarray of shape (n_demos,)
+        Labels, 1 acceptable and 0 not.
+    model : Model
+    seeds : sequence of int
+        One chain per seed; results depend on the seeds only, not on ``n_jobs``.
+    n_samples, burn_in : int
+        Sweeps recorded per chain, after ``burn_in`` discarded ones (and the extension).
+    n_temperatures : "auto" or int, default="auto"
+        Rungs of every chain's ladder (:func:`temperature_ladder`).
+    n_jobs : int, default=None
+        Chains run in threads of this process (the kernels release the GIL).
+    verbose : int, default=0
+        Progress bar over chains when > 0.
+
+    Returns
+    -------
+    MCMCResult
+        The specifications by decreasing probability; ``diagnostics`` holds ``rhat``,
+        ``max_missed_mass``, ``optimum_gap`` and the rest (see
+        :class:`bsi_sklearn.BSIClassifier`).
+    """
+    from sklearn.utils.parallel import Parallel, delayed
+
     n_g, n = model.n_g, model.n
-    out = np.empty(states.shape[0])
-    for r in range(states.shape[0]):
-        tau = states[r, :n_g].astype(np.int64)
-        w1 = states[r, n_g:n_g + n].astype(np.int64)
-        parent = states[r, n_g + n:].astype(np.int64)
-        viol, n_conj = _init_viol(tau, w1, parent, demos.truth_t, model)
-        ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
-        out[r] = log_prior(tau, w1, parent, model) + log_likelihood(
-            ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps, model.likelihood)
-    return out
+    demos = deduplicate_demos(truth, y01)
+    betas = temperature_ladder(demos, model, n_temperatures)
+    optimum, optimum_lp = deterministic_optimum(demos, model)
+    empty = np.concatenate([np.zeros(n_g + n, dtype=np.int64), _first_structure(model)])
+    seeds_iter = seeds
+    if verbose:
+        from tqdm.auto import tqdm
+
+        seeds_iter = tqdm(seeds, desc="MCMC chains", unit="chain")
+    # Chains are threads of this process (the kernels release the GIL), also when an outer
+    # joblib backend such as dask distributes whole fits.
+    results = Parallel(n_jobs=n_jobs, backend="threading")(
+        delayed(run_chain)(int(seed), demos, model, int(n_samples), int(burn_in), betas, empty,
+                           target=optimum_lp - MODE_WARN, max_extra=int(n_samples))
+        for seed in seeds_iter
+    )
+    visited, counts, row_state = unique_states(
+        np.concatenate([r.states for r in results], axis=0),
+        np.concatenate([r.counts for r in results]), return_inverse=True)
+    visited_lp = score_states(visited, demos, model)
+    # The support: the visited states, the optimum, and their neighbourhood.
+    support = np.concatenate([visited, optimum[None, :]])
+    support_lp = np.concatenate([visited_lp, [optimum_lp]])
+    extra, extra_lp = _complete(support, support_lp, demos, model)
+    uniq, counts, inverse = unique_states(
+        np.concatenate([support, extra]),
+        np.concatenate([counts, np.zeros(1 + len(extra), dtype=np.int64)]), return_inverse=True)
+    scores = np.empty(len(uniq))
+    scores[inverse] = np.concatenate([support_lp, extra_lp])
+    # Sort by decreasing posterior; ties keep np.unique's canonical order.
+    order = np.argsort(-scores, kind="stable")
+    uniq, counts, scores = uniq[order], counts[order], scores[order]
+    probs = np.exp(scores - scores.max())
+    probs /= probs.sum()
+    # The mass each chain missed, among the states the chains visited (own normalisation).
+    own = np.exp(visited_lp - visited_lp.max())
+    ends = np.cumsum([len(r.states) for r in results])
+    missed = missed_mass(np.split(row_state, ends[:-1]), own / own.sum())
+    traces = np.stack([r.trace_lp for r in results])
+    moves = np.array([r.move_rate for r in results])
+    best_visited = float(visited_lp.max())
+    diagnostics = {
+        "missed_mass_per_chain": missed,
+        "max_missed_mass": float(missed.max()),
+        "rhat": split_rhat(traces),
+        "optimum_log_posterior": optimum_lp,
+        "best_visited_log_posterior": best_visited,
+        "optimum_gap": optimum_lp - best_visited,
+        "acceptance_rate": float(moves.mean()),
+        "acceptance_rate_per_chain": moves,
+        "betas": betas,
+        "swap_rate": np.stack([r.swap_rate for r in results]),
+        "burn_in_per_chain": np.array([r.n_burned for r in results]),
+        "n_updates": int(sum(r.n_updates for r in results)),
+        "n_chains": len(seeds),
+        "n_samples": int(n_samples),
+        "burn_in": int(burn_in),
+        "n_visited": len(visited),
+        "n_added": len(uniq) - len(visited),
+        "sample_frequencies": counts / counts.sum(),
+        "log_posterior_traces": traces,
+        "seeds": np.asarray(seeds),
+    }
+    return MCMCResult(uniq[:, n_g + n:].astype(np.int64), uniq[:, :n_g].astype(bool),
+                      uniq[:, n_g:n_g + n].astype(bool), probs, diagnostics)

@@ -1,0 +1,354 @@
+"""The numba kernel of one MCMC chain: Gibbs sweeps of tempered replicas and swaps between them.
+
+A chain holds ``R`` replicas of the hypothesis (τ, W1, order structure), one per rung of a
+ladder of inverse temperatures ``1 = beta_0 > beta_1 > ... > beta_{R-1}``; the replica on rung
+``k`` targets ``prior x likelihood^beta_k``. A sweep updates every coordinate of every replica
+once (Gibbs flips of the τ bits; Gibbs re-insertion of every subtask with its eventual bit,
+:mod:`bsi_sklearn.inference._gibbs_moves`), then proposes swaps between adjacent rungs (even
+pairs after even sweeps, odd pairs after odd ones), each accepted with probability
+``min(1, exp((beta_k - beta_{k+1}) (ll_{k+1} - ll_k)))``: the prior cancels, and every move
+leaves the product of the tempered targets invariant. Only the replica on rung 0 (beta = 1) is
+recorded. With one rung this is the plain Gibbs sampler.
+
+The kernel keeps, per (deduplicated) demonstration and replica, the number of clauses of the
+hypothesis it violates; a demonstration satisfies the hypothesis when that count is zero.
+Traces are never read: only the precomputed clause-truth matrix is.
+"""
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import carray, njit
+from numba.core import types
+from numba.extending import intrinsic
+
+from bsi_sklearn.inference._gibbs_moves import (
+    add_pair,
+    chain_move,
+    flip_move,
+    forest_move,
+    sat_counts,
+)
+from bsi_sklearn.likelihood import log_likelihood
+from bsi_sklearn.model import Model
+from bsi_sklearn.priors import log_inclusion, log_prior, log_prior_structure, log_prior_subset
+
+__all__ = ["Demos", "ChainState", "ChainBuffers", "make_buffers", "chain_kernel",
+           "init_viol", "score_one", "score_rows"]
+
+
+class Demos(NamedTuple):
+    """Deduplicated clause truth, clause-major, with the labels as weights."""
+
+    truth_t: np.ndarray   # (n_clauses, n_unique) uint8
+    w_pos: np.ndarray     # (n_unique,) float64: acceptable demonstrations behind each row
+    w_neg: np.ndarray     # (n_unique,) float64: unacceptable ones
+    n_pos: float          # w_pos.sum()
+    n_neg: float          # w_neg.sum()
+
+
+class ChainState(NamedTuple):
+    """The replicas of a chain: inclusion bits of tau and W1, parent arrays (one row each)."""
+
+    tau: np.ndarray       # (R, n_g) int64
+    w1: np.ndarray        # (R, n) int64
+    parent: np.ndarray    # (R, n) int64
+
+
+class ChainBuffers(NamedTuple):
+    """Scratch space of one chain, allocated once by :func:`make_buffers`."""
+
+    ubuf: np.ndarray      # uniforms, refilled in bulk
+    viol: np.ndarray      # (R, D) int32: clauses of each replica's hypothesis each row violates
+    cur: np.ndarray       # (D,) int32: the same for a candidate
+    lw: np.ndarray        # candidate log weights (prior + beta x likelihood)
+    cand_lp: np.ndarray   # candidate log priors of the structure
+    cand_ll: np.ndarray   # candidate log-likelihoods
+    cand_head: np.ndarray
+    cand_pos: np.ndarray
+    cand_ew: np.ndarray   # exponentiated weights
+    child: np.ndarray     # (n,) chain successor (Priors 1, 2)
+    in_s: np.ndarray      # (n,) membership of the pruned subtree (Prior 3)
+    cost: np.ndarray      # (n, D) violations added by an ancestor of the subtree (Prior 3)
+    size: np.ndarray      # (n,) subtree sizes (Prior 3)
+    old_parent: np.ndarray
+
+
+def make_buffers(n_g, n, n_rows, n_rungs):
+    """Scratch buffers of a chain with ``n_rungs`` replicas over ``n_rows`` unique rows."""
+    k = 2 * (2 * n + 2)  # the most candidates of one structure move (places x eventual bit)
+    need = n_g + 2 * n + n_rungs
+    return ChainBuffers(
+        ubuf=np.empty(max(1024, 2 * need)),
+        viol=np.zeros((n_rungs, n_rows), dtype=np.int32), cur=np.empty(n_rows, dtype=np.int32),
+        lw=np.empty(k), cand_lp=np.empty(k), cand_ll=np.empty(k),
+        cand_head=np.empty(k, dtype=np.int64), cand_pos=np.empty(k, dtype=np.int64),
+        cand_ew=np.empty(k),
+        child=np.empty(n, dtype=np.int64), in_s=np.zeros(n, dtype=np.int64),
+        cost=np.zeros((n, n_rows), dtype=np.int32),
+        size=np.empty(n, dtype=np.int64), old_parent=np.empty(n, dtype=np.int64),
+    )
+
+
+@intrinsic
+def _data_pointer(typingctx, arr):
+    # The raw data pointer of a contiguous array.
+    def codegen(context, builder, signature, args):
+        return context.make_array(signature.args[0])(context, builder, args[0]).data
+
+    return types.CPointer(arr.dtype)(arr), codegen
+
+
+@njit(cache=True, nogil=True)
+def _unmanaged(a):
+    """A view of contiguous ``a`` without a reference count (no NRT meminfo).
+
+    Passing a managed array to a non-inlined jitted function costs an atomic increment and
+    decrement of its reference count; the chain kernel makes hundreds of such calls per sweep,
+    and those atomics took about 65% of its time. Views are only valid while ``a`` is alive:
+    the kernel takes them of buffers its Python caller owns for the whole call.
+    """
+    return carray(_data_pointer(a), a.shape)
+
+
+@njit(cache=True, nogil=True)
+def _unmanaged_bundles(state, demos, model, bufs):
+    # The same bundles made of unmanaged views (see _unmanaged).
+    state = ChainState(_unmanaged(state.tau), _unmanaged(state.w1), _unmanaged(state.parent))
+    demos = Demos(_unmanaged(demos.truth_t), _unmanaged(demos.w_pos), _unmanaged(demos.w_neg),
+                  demos.n_pos, demos.n_neg)
+    model = Model(model.n_g, model.n, model.prior, model.forest, model.p_global,
+                  model.p_eventual, model.p_part, model.n_new, model.log_eps, model.likelihood,
+                  _unmanaged(model.lp_chains), _unmanaged(model.forest_g), model.forest_const)
+    bufs = ChainBuffers(_unmanaged(bufs.ubuf), _unmanaged(bufs.viol), _unmanaged(bufs.cur),
+                        _unmanaged(bufs.lw), _unmanaged(bufs.cand_lp), _unmanaged(bufs.cand_ll),
+                        _unmanaged(bufs.cand_head), _unmanaged(bufs.cand_pos),
+                        _unmanaged(bufs.cand_ew), _unmanaged(bufs.child), _unmanaged(bufs.in_s),
+                        _unmanaged(bufs.cost), _unmanaged(bufs.size),
+                        _unmanaged(bufs.old_parent))
+    return state, demos, model, bufs
+
+
+@njit(cache=True, nogil=True)
+def init_viol(tau, w1, parent, truth_t, model):
+    """Per-row violation counts of a hypothesis (int32) and its number of conjuncts."""
+    # int32 counts (not int64): twice as many lanes in the kernels' vectorised loops.
+    viol = np.zeros(truth_t.shape[1], dtype=np.int32)
+    return viol, _fill_viol(viol, tau, w1, parent, truth_t, model)
+
+
+@njit(cache=True, nogil=True)
+def _fill_viol(viol, tau, w1, parent, truth_t, model):
+    # Per demonstration, the number of clauses of the hypothesis it violates; returns N.
+    n_g, n = model.n_g, model.n
+    viol[:] = 0
+    n_conj = 0
+    for j in range(n_g):
+        if tau[j]:
+            add_pair(viol, truth_t, j, 1)
+            n_conj += 1
+    for w in range(n):
+        if w1[w]:
+            add_pair(viol, truth_t, n_g + w, 1)
+            n_conj += 1
+    for v in range(n):
+        a = parent[v]
+        while a >= 0:
+            add_pair(viol, truth_t, n_g + n + a * n + v, 1)
+            n_conj += 1
+            a = parent[a]
+    return n_conj
+
+
+@njit(cache=True, nogil=True)
+def score_one(tau, w1, parent, demos, model):
+    """Exact unnormalised ``(log prior, log-likelihood)`` of one hypothesis."""
+    viol, n_conj = init_viol(tau, w1, parent, demos.truth_t, model)
+    ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
+    return log_prior(tau, w1, parent, model), log_likelihood(
+        ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps, model.likelihood)
+
+
+@njit(cache=True, nogil=True)
+def score_rows(states, demos, model):
+    """Exact unnormalised log posterior of every state row ``[tau, w1, parent]``."""
+    n_g, n = model.n_g, model.n
+    out = np.empty(states.shape[0])
+    for r in range(states.shape[0]):
+        lp, ll = score_one(states[r, :n_g].astype(np.int64),
+                           states[r, n_g:n_g + n].astype(np.int64),
+                           states[r, n_g + n:].astype(np.int64), demos, model)
+        out[r] = lp + ll
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _sweep(r, beta, state, demos, model, bufs, cache, u0):
+    # One Gibbs sweep of replica r at inverse temperature beta, from uniforms ubuf[u0:]:
+    # every tau bit, then every subtask's place with its eventual bit (the W1 bits alone
+    # when there is no order to redraw). cache = (n_conj, lp_sub, lp_struct, ll) per replica.
+    # Returns (uniforms used, coordinates that changed).
+    n_conj, lp_sub, lp_struct, ll = cache
+    tau, w1, parent, viol = state.tau[r], state.w1[r], state.parent[r], bufs.viol[r]
+    ubuf, old_parent = bufs.ubuf, bufs.old_parent
+    n_g, n = model.n_g, model.n
+    lg_in, lg_out = log_inclusion(model.p_global)
+    le_in, le_out = log_inclusion(model.p_eventual)
+    upos = u0
+    moved = 0
+    for j in range(n_g):
+        new, ll[r], used = flip_move(j, tau[j], lg_in, lg_out, viol, n_conj[r], demos, model,
+                                     ubuf[upos], beta)
+        upos += used
+        if new != tau[j]:
+            n_conj[r] += 1 if new else -1
+            lp_sub[r] += (lg_in - lg_out) if new else (lg_out - lg_in)
+            tau[j] = new
+            moved += 1
+    if n <= 1:
+        for w in range(n):
+            new, ll[r], used = flip_move(n_g + w, w1[w], le_in, le_out, viol, n_conj[r], demos,
+                                         model, ubuf[upos], beta)
+            upos += used
+            if new != w1[w]:
+                n_conj[r] += 1 if new else -1
+                lp_sub[r] += (le_in - le_out) if new else (le_out - le_in)
+                w1[w] = new
+                moved += 1
+        return upos - u0, moved
+    for v in range(n):
+        old_parent[:] = parent
+        old_w = w1[v]
+        if model.forest:
+            n_conj[r], lp_struct[r], ll[r] = forest_move(v, parent, w1, viol, n_conj[r], demos,
+                                                         model, bufs, ubuf[upos], beta)
+        else:
+            n_conj[r], lp_struct[r], ll[r] = chain_move(v, parent, w1, viol, n_conj[r], demos,
+                                                        model, bufs, ubuf[upos], beta)
+        upos += 1  # a structure move always draws
+        changed = w1[v] != old_w
+        if changed:
+            lp_sub[r] += (le_in - le_out) if w1[v] else (le_out - le_in)
+        for u in range(n):
+            if parent[u] != old_parent[u]:
+                changed = True
+                break
+        moved += 1 if changed else 0
+    return upos - u0, moved
+
+
+@njit(cache=True, nogil=True)
+def _record(states, k, state, r, n_g, n):
+    # Write replica r's state into row k + 1 unless it equals row k; returns the new k and
+    # whether a row was written.
+    if k >= 0:
+        same = True
+        for j in range(n_g):
+            if states[k, j] != state.tau[r, j]:
+                same = False
+        for w in range(n):
+            if states[k, n_g + w] != state.w1[r, w] or states[k, n_g + n + w] != \
+                    state.parent[r, w]:
+                same = False
+        if same:
+            return k, False
+    k += 1
+    for j in range(n_g):
+        states[k, j] = state.tau[r, j]
+    for w in range(n):
+        states[k, n_g + w] = state.w1[r, w]
+        states[k, n_g + n + w] = state.parent[r, w]
+    return k, True
+
+
+@njit(cache=True, nogil=True)
+def _init_cache(state, demos, model, bufs, n_rungs):
+    # Violation counts of every replica into bufs.viol, and per replica the number of
+    # conjuncts, log priors (subsets, structure) and log-likelihood the moves keep up to date.
+    n_g, n = model.n_g, model.n
+    n_conj = np.empty(n_rungs, dtype=np.int64)
+    lp_sub, lp_struct, ll = np.empty(n_rungs), np.empty(n_rungs), np.empty(n_rungs)
+    for r in range(n_rungs):
+        viol = bufs.viol[r]
+        n_conj[r] = _fill_viol(viol, state.tau[r], state.w1[r], state.parent[r],
+                               demos.truth_t, model)
+        lp_sub[r] = (log_prior_subset(state.tau[r].sum(), n_g, model.p_global)
+                     + log_prior_subset(state.w1[r].sum(), n, model.p_eventual))
+        lp_struct[r] = log_prior_structure(state.parent[r], model)
+        ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
+        ll[r] = log_likelihood(ps, ns, demos.n_pos, demos.n_neg, n_conj[r], model.log_eps,
+                               model.likelihood)
+    return n_conj, lp_sub, lp_struct, ll
+
+
+@njit(cache=True, nogil=True)
+def chain_kernel(state, demos, model, bufs, betas, rng, n_samples, burn_in, target, max_extra):
+    """Run one tempered chain; record the beta = 1 replica after every sweep past burn-in.
+
+    ``state`` holds the replicas' starting hypotheses (row ``k`` starts on rung ``k``) and is
+    updated in place; ``betas`` is the ladder, ``betas[0] = 1``. Burn-in lasts ``burn_in``
+    sweeps, and then on while the beta = 1 replica's log posterior is below ``target``, for
+    at most ``max_extra`` more sweeps; ``n_samples`` sweeps are recorded after it. Returns
+    ``(states, counts, trace_lp, n_moved, n_updates, swaps, n_sweeps, n_burned)``: the
+    recorded rows run-length encoded, the log posterior after every recorded sweep, the block
+    updates of rung 0 that changed its state and their number, the accepted swaps between
+    rungs ``k`` and ``k + 1``, the sweeps run and those discarded.
+    """
+    # The state and the scratch buffers (allocated by the caller) are used through unmanaged
+    # views: see _unmanaged.
+    state, demos, model, bufs = _unmanaged_bundles(state, demos, model, bufs)
+    n_g, n = model.n_g, model.n
+    n_rungs = betas.shape[0]
+    # Uniforms come from a buffer refilled in bulk (the same stream as one rng.random() per
+    # draw), so that the generator, a managed object, is not passed to every move.
+    ubuf = bufs.ubuf
+    n_u = ubuf.shape[0]
+    upos = n_u
+    need = n_g + 2 * n + n_rungs  # the most uniforms of one replica's sweep and the swaps
+    cache = _init_cache(state, demos, model, bufs, n_rungs)
+    n_conj, lp_sub, lp_struct, ll = cache
+    slot = np.arange(n_rungs)  # slot[k]: the replica on rung k
+    swaps = np.zeros(max(n_rungs - 1, 0), dtype=np.int64)
+    states = np.empty((n_samples, n_g + 2 * n), dtype=np.int16)
+    trace_lp = np.empty(n_samples)
+    counts = np.zeros(n_samples, dtype=np.int64)
+    per_sweep = n_g + n  # blocks one sweep updates
+    moved = 0
+    updates = 0
+    k = -1
+    row = 0
+    sweep = 0
+    burned = -1
+    while row < n_samples:
+        for t in range(n_rungs):
+            if upos + need > n_u:
+                rest = n_u - upos
+                ubuf[:rest] = ubuf[upos:]
+                ubuf[rest:] = rng.random(n_u - rest)
+                upos = 0
+            used, m = _sweep(slot[t], betas[t], state, demos, model, bufs, cache, upos)
+            upos += used
+            if t == 0:
+                moved += m
+                updates += per_sweep
+        # Swaps between adjacent rungs, even and odd pairs in turn.
+        for t in range(sweep & 1, n_rungs - 1, 2):
+            i, j = slot[t], slot[t + 1]
+            log_a = (betas[t] - betas[t + 1]) * (ll[j] - ll[i])
+            if log_a >= 0.0 or ubuf[upos] < math.exp(log_a):
+                slot[t], slot[t + 1] = j, i
+                swaps[t] += 1
+            upos += 1
+        r = slot[0]
+        lp0 = lp_sub[r] + lp_struct[r] + ll[r]
+        sweep += 1
+        if burned < 0:
+            if sweep <= burn_in or (lp0 < target and sweep <= burn_in + max_extra):
+                continue
+            burned = sweep - 1
+        trace_lp[row] = lp0
+        k, _ = _record(states, k, state, r, n_g, n)
+        counts[k] += 1
+        row += 1
+    return states[:k + 1], counts[:k + 1], trace_lp, moved, updates, swaps, sweep, burned

@@ -1,0 +1,247 @@
+"""Local search around hypotheses: beam search for an optimum, and one-block neighbourhoods.
+
+A neighbour of a hypothesis changes one block of the Gibbs sampler: one global bit, or one
+subtask's place in the order structure together with its eventual bit (one eventual bit when
+there is no order to change). Every neighbour is scored exactly, from scratch (the log
+posterior of :func:`bsi_sklearn.inference._chain_kernel.score_one`), not through the chains'
+incremental bookkeeping. No random numbers.
+
+- :func:`beam_search`: a beam of hypotheses, grown from given rows; every step scores every
+  neighbour of every hypothesis in the beam and keeps the best ``width`` distinct ones, until
+  the beam no longer changes. It gives the deterministic optimum that MCMC chains are checked
+  against (they must not sit on a worse mode) and the level their burn-in waits for.
+- :func:`neighbourhood`: the neighbours of given rows above a log-posterior floor, which
+  complete the support of an MCMC posterior where it is flat (states each too improbable for
+  the chains to visit, but many).
+"""
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from bsi_sklearn.inference._gibbs_moves import sat_counts
+from bsi_sklearn.likelihood import log_likelihood
+from bsi_sklearn.priors import log_prior
+
+__all__ = ["beam_search", "neighbourhood", "n_neighbours_max"]
+
+
+class _Scratch(NamedTuple):
+    viol: np.ndarray      # (D,) int32
+    tau: np.ndarray       # (n_g,) int64: a row's parts, contiguous, as score_one's callers
+    w1: np.ndarray        # (n,) int64   pass them (log_prior compiled once for both)
+    parent: np.ndarray    # (n,) int64
+
+
+@njit(cache=True, nogil=True)
+def _scratch(demos, model):
+    return _Scratch(np.zeros(demos.truth_t.shape[1], dtype=np.int32),
+                    np.empty(model.n_g, dtype=np.int64), np.empty(model.n, dtype=np.int64),
+                    np.empty(model.n, dtype=np.int64))
+
+
+@njit(cache=True, nogil=True)
+def _score(row, demos, model, scratch):
+    # Exact log posterior of a row [tau, w1, parent].
+    n_g, n = model.n_g, model.n
+    tau, w1, parent, viol = scratch.tau, scratch.w1, scratch.parent, scratch.viol
+    for j in range(n_g):
+        tau[j] = row[j]
+    for w in range(n):
+        w1[w] = row[n_g + w]
+        parent[w] = row[n_g + n + w]
+    lp = log_prior(tau, w1, parent, model)
+    if lp == -np.inf:
+        return lp
+    truth_t = demos.truth_t
+    viol[:] = 0
+    n_conj = 0
+    for c in range(n_g + n):
+        if row[c]:
+            n_conj += 1
+            for d in range(viol.shape[0]):
+                viol[d] += 1 if truth_t[c, d] == 0 else 0
+    for v in range(n):
+        a = parent[v]
+        while a >= 0:
+            n_conj += 1
+            c = n_g + n + a * n + v
+            for d in range(viol.shape[0]):
+                viol[d] += 1 if truth_t[c, d] == 0 else 0
+            a = parent[a]
+    ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
+    return lp + log_likelihood(ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps,
+                               model.likelihood)
+
+
+@njit(cache=True, nogil=True)
+def _put(out, k, row, n_cols):
+    for c in range(n_cols):
+        out[k, c] = row[c]
+
+
+@njit(cache=True, nogil=True)
+def _neighbours(row, model, out, k, work):
+    # Every row one block away from ``row``, into out[k:]; returns the new k. work: (3, n)
+    # int64 scratch (the structure without v, its successors, v's subtree).
+    n_g, n = model.n_g, model.n
+    base = n_g + n
+    n_cols = base + n
+    for j in range(n_g + (n if n <= 1 else 0)):
+        _put(out, k, row, n_cols)
+        out[k, j] = 1 - row[j]
+        k += 1
+    if n <= 1:
+        return k
+    rest, child, in_s = work[0], work[1], work[2]
+    for v in range(n):
+        # v's place removed: its children hang from its parent (chains) or stay in its
+        # subtree (forests, which move the whole subtree).
+        for u in range(n):
+            rest[u] = row[base + u]
+            in_s[u] = 0
+        if model.forest:
+            for u in range(n):
+                a = u
+                while a >= 0 and a != v:
+                    a = rest[a]
+                in_s[u] = 1 if a == v else 0
+        else:
+            in_s[v] = 1
+            for u in range(n):
+                if rest[u] == v:
+                    rest[u] = rest[v]
+        rest[v] = -1
+        for u in range(n):
+            child[u] = -1
+        for u in range(n):
+            if rest[u] >= 0:
+                child[rest[u]] = u
+        # Places: as a root / new chain, under (forests) or after (chains) any node outside
+        # the subtree, and (chains) at the head of any chain.
+        for u in range(-1, n):
+            if u >= 0 and in_s[u]:
+                continue
+            for f in range(2):
+                _put(out, k, row, base)
+                out[k, n_g + v] = f
+                for w in range(n):
+                    out[k, base + w] = rest[w]
+                out[k, base + v] = u
+                if u >= 0 and not model.forest and child[u] >= 0:
+                    out[k, base + child[u]] = v
+                k += 1
+            if u >= 0 and not model.forest and rest[u] < 0:  # v at the head of u's chain
+                for f in range(2):
+                    _put(out, k, row, base)
+                    out[k, n_g + v] = f
+                    for w in range(n):
+                        out[k, base + w] = rest[w]
+                    out[k, base + u] = v
+                    k += 1
+    return k
+
+
+def n_neighbours_max(n_g, n):
+    """The most neighbours one hypothesis has (rows of the buffer of ``_neighbours``)."""
+    return n_g + n + n * 2 * (2 * n + 1)
+
+
+@njit(cache=True, nogil=True)
+def neighbourhood(rows, demos, model, floor):
+    """The neighbours of ``rows`` whose log posterior is at least ``floor``, and those scores.
+
+    Returns ``(neighbours, log_posteriors)``; a row may appear more than once, and rows of
+    ``rows`` may be among them.
+    """
+    n_cols = rows.shape[1]
+    per_row = model.n_g + model.n + model.n * 2 * (2 * model.n + 1)
+    scratch = _scratch(demos, model)
+    work = np.empty((3, model.n), dtype=np.int64)
+    buf = np.empty((per_row, n_cols), dtype=np.int64)
+    out = np.empty((rows.shape[0] * per_row, n_cols), dtype=np.int16)
+    out_lp = np.empty(out.shape[0])
+    m = 0
+    for i in range(rows.shape[0]):
+        k = _neighbours(rows[i], model, buf, 0, work)
+        for j in range(k):
+            lp = _score(buf[j], demos, model, scratch)
+            if lp >= floor:
+                _put(out, m, buf[j], n_cols)
+                out_lp[m] = lp
+                m += 1
+    return out[:m], out_lp[:m]
+
+
+@njit(cache=True, nogil=True)
+def _same(a, b):
+    for i in range(a.shape[0]):
+        if a[i] != b[i]:
+            return False
+    return True
+
+
+@njit(cache=True, nogil=True)
+def beam_search(start, demos, model, width, max_steps):
+    """Beam search from the rows of ``start``; returns ``(best row, its log posterior)``."""
+    n_g, n = model.n_g, model.n
+    n_cols = n_g + 2 * n
+    scratch = _scratch(demos, model)
+    work = np.empty((3, n), dtype=np.int64)
+    per_row = n_g + n + n * 2 * (2 * n + 1)  # n_neighbours_max
+    pool = np.empty((width * (per_row + 1), n_cols), dtype=np.int64)
+    pool_lp = np.empty(pool.shape[0])
+    taken = np.empty(pool.shape[0], dtype=np.bool_)
+    beam = np.empty((width, n_cols), dtype=np.int64)
+    beam_lp = np.empty(width)
+    nxt = np.empty((width, n_cols), dtype=np.int64)
+    nxt_lp = np.empty(width)
+    n_beam = min(width, start.shape[0])
+    for i in range(n_beam):
+        _put(beam, i, start[i], n_cols)
+        beam_lp[i] = _score(beam[i], demos, model, scratch)
+    for _ in range(max_steps):
+        m = 0
+        for i in range(n_beam):
+            _put(pool, m, beam[i], n_cols)
+            pool_lp[m] = beam_lp[i]
+            m += 1
+        for i in range(n_beam):
+            k = _neighbours(beam[i], model, pool, m, work)
+            for j in range(m, k):
+                pool_lp[j] = _score(pool[j], demos, model, scratch)
+            m = k
+        # The best `width` distinct rows, in decreasing order (the first of ties).
+        taken[:m] = False
+        kept = 0
+        while kept < width:
+            j = -1
+            for i in range(m):
+                if not taken[i] and pool_lp[i] > -np.inf and (j < 0 or pool_lp[i] > pool_lp[j]):
+                    j = i
+            if j < 0:
+                break
+            taken[j] = True
+            dup = False
+            for q in range(kept):
+                if nxt_lp[q] == pool_lp[j] and _same(nxt[q], pool[j]):
+                    dup = True
+                    break
+            if not dup:
+                _put(nxt, kept, pool[j], n_cols)
+                nxt_lp[kept] = pool_lp[j]
+                kept += 1
+        changed = kept != n_beam
+        if not changed:
+            for q in range(kept):
+                if nxt_lp[q] != beam_lp[q] or not _same(nxt[q], beam[q]):
+                    changed = True
+                    break
+        for q in range(kept):
+            _put(beam, q, nxt[q], n_cols)
+            beam_lp[q] = nxt_lp[q]
+        n_beam = kept
+        if not changed:
+            break
+    return beam[0].copy(), beam_lp[0]
