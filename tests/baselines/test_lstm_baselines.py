@@ -318,8 +318,8 @@ def test_score_is_subset_accuracy_for_several_objectives(trained):
 
 
 def test_batches_padded_once_equal_batches_padded_one_by_one():
-    from baselines._sequences import length_mask, pad_sequences
     from baselines._network import Batches, make_batch
+    from baselines._sequences import length_mask, pad_sequences
 
     rng = np.random.default_rng(0)
     lengths = rng.integers(3, 12, size=9)
