@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from bsi_sklearn.traces import (
@@ -25,9 +23,11 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
-class Sequences:
+class Sequences(Traces):
     """Validated sequences, stacked one after the other.
+
+    A :class:`bsi_sklearn.traces.Traces` of numeric values, read as sequences of feature
+    vectors.
 
     Attributes
     ----------
@@ -37,42 +37,24 @@ class Sequences:
         Sequence ``i`` is ``data[offsets[i]:offsets[i + 1]]``.
     feature_names : ndarray of str or None
         Feature names when the input carried string column names.
-    """
 
-    data: np.ndarray
-    offsets: np.ndarray
-    feature_names: np.ndarray | None
+    ``lengths`` is the ``Traces``' own; ``n_sequences`` and ``n_features`` are its
+    ``n_demos`` and ``n_props`` under the names of this package.
+    """
 
     @property
     def n_sequences(self):
         """Number of sequences."""
-        return len(self.offsets) - 1
+        return self.n_demos
 
     @property
     def n_features(self):
         """Number of features per time step."""
-        return self.data.shape[1]
-
-    @property
-    def lengths(self):
-        """Length of every sequence."""
-        return np.diff(self.offsets)
+        return self.n_props
 
     def sequence(self, i):
-        """Sequence ``i`` as an array ``(T_i, n_features)``."""
+        """Sequence ``i`` as an array ``(T_i, n_features)`` (its values, not booleans)."""
         return self.data[self.offsets[i] : self.offsets[i + 1]]
-
-    def subset(self, indices):
-        """Return the sequences at ``indices``, in that order."""
-        indices = np.asarray(indices, dtype=np.int64)
-        lengths = self.lengths[indices]
-        offsets = np.zeros(len(indices) + 1, dtype=np.int64)
-        np.cumsum(lengths, out=offsets[1:])
-        if len(indices):
-            data = np.concatenate([self.sequence(i) for i in indices], axis=0)
-        else:
-            data = np.empty((0, self.n_features))
-        return Sequences(data, offsets, self.feature_names)
 
 
 _SEQUENCE_WORDS = Wording(item="sequence", unit="feature")
@@ -123,10 +105,8 @@ def check_consistent_sequences(sequences, n_features_in, feature_names_in, estim
 
     The messages are scikit-learn's, so its estimator checks recognise them.
     """
-    check_consistent_traces(
-        Traces(sequences.data, sequences.offsets, sequences.feature_names),
-        n_features_in, feature_names_in, estimator_name, _SEQUENCE_WORDS,
-    )
+    check_consistent_traces(sequences, n_features_in, feature_names_in, estimator_name,
+                            _SEQUENCE_WORDS)
 
 
 def check_phases(phases, lengths, n_phases):

@@ -10,7 +10,7 @@ __all__ = ["LIKELIHOOD_CHOICES", "OBJECTIVE_CHOICES", "PRIOR_CHOICES",
 
 #: ``lfe.annotate.MISSION_OBJECTIVES``.
 OBJECTIVE_CHOICES = ("MO1", "MO2", "MO3")
-#: The keys of ``lfe.extractor.PROPOSITION_SETS``.
+#: The keys of ``lfe.propositions.PROPOSITION_SETS``.
 PROPOSITION_SET_CHOICES = ("paper", "extended")
 #: ``bsi_sklearn.priors.PRIORS`` and ``bsi_sklearn.likelihood.LIKELIHOODS``.
 PRIOR_CHOICES = ("linear_chain", "sets_of_chains", "forest")

@@ -12,7 +12,8 @@ from bsi_sklearn.report import explain
 from lfe._cli_report import QUICK, add_arguments
 from lfe.annotate import MISSION_OBJECTIVES
 from lfe.dataset import load_lfe_dataset, make_lfe_dataset
-from lfe.extractor import PROPOSITION_DESCRIPTIONS, LFEPropositionExtractor
+from lfe.extractor import LFEPropositionExtractor
+from lfe.propositions import PROPOSITION_DESCRIPTIONS
 
 __all__ = ["OBJECTIVE_TITLES", "add_arguments", "explain_objectives", "run", "write_reports"]
 

@@ -10,6 +10,8 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
+from lfe._table_checks import check_frame, check_numeric, check_values
+
 __all__ = [
     "Scenario",
     "check_scenario",
@@ -203,40 +205,6 @@ def _where(index, scenario):
     return f"scenario {sid!r} (index {index})" if sid is not None else f"scenario {index}"
 
 
-def _check_frame(frame, name, columns, where):
-    if not isinstance(frame, pd.DataFrame):
-        raise ValueError(f"{where}: {name} must be a pandas DataFrame, got {type(frame).__name__}")
-    missing = [c for c in columns if c not in frame.columns]
-    if missing:
-        raise ValueError(
-            f"{where}: {name} is missing column {missing[0]!r} (needs {list(columns)})"
-        )
-
-
-def _check_numeric(frame, name, columns, where):
-    for c in columns:
-        values = pd.to_numeric(frame[c], errors="coerce").to_numpy(dtype=float)
-        bad = ~np.isfinite(values)
-        if bad.any():
-            row = int(np.flatnonzero(bad)[0])
-            raise ValueError(
-                f"{where}: {name} column {c!r} has a non-numeric or non-finite value "
-                f"{frame[c].iloc[row]!r} at row {row}"
-            )
-
-
-def _check_values(frame, name, column, allowed, where):
-    values = frame[column]
-    ok = values.isin(allowed).to_numpy()
-    if not ok.all():
-        values = values.astype(object).to_numpy()
-        row = int(np.flatnonzero(~ok)[0])
-        raise ValueError(
-            f"{where}: {name} column {column!r} has unknown value {values[row]!r} at row {row}; "
-            f"expected one of {list(allowed)}"
-        )
-
-
 def check_scenario(scenario, index=0):
     """Validate one raw scenario, raising ``ValueError`` naming the scenario and the column.
 
@@ -298,16 +266,16 @@ def check_scenario(scenario, index=0):
         )
 
     tracks, weapons, sites = scenario.tracks, scenario.weapons, scenario.sites
-    _check_frame(tracks, "tracks", TRACK_COLUMNS, where)
-    _check_frame(weapons, "weapons", WEAPON_COLUMNS, where)
-    _check_frame(sites, "sites", SITE_COLUMNS, where)
+    check_frame(tracks, "tracks", TRACK_COLUMNS, where)
+    check_frame(weapons, "weapons", WEAPON_COLUMNS, where)
+    check_frame(sites, "sites", SITE_COLUMNS, where)
     if len(tracks) == 0:
         raise ValueError(f"{where}: tracks is empty (column 'time' has no rows)")
 
-    _check_numeric(tracks, "tracks", _FLOAT_TRACK, where)
-    _check_values(tracks, "tracks", "side", SIDES, where)
-    _check_values(tracks, "tracks", "role", ROLES, where)
-    _check_values(tracks, "tracks", "flight_phase", FLIGHT_PHASES, where)
+    check_numeric(tracks, "tracks", _FLOAT_TRACK, where)
+    check_values(tracks, "tracks", "side", SIDES, where)
+    check_values(tracks, "tracks", "role", ROLES, where)
+    check_values(tracks, "tracks", "flight_phase", FLIGHT_PHASES, where)
     alive = tracks["alive"]
     if alive.dtype != bool:
         values = alive.astype(object).to_numpy()
@@ -368,8 +336,8 @@ def check_scenario(scenario, index=0):
         raise ValueError(f"{where}: tracks column 'role' has no striker aircraft")
 
     site_ids = sites["site_id"].astype(str).to_numpy()
-    _check_values(sites, "sites", "site_type", SITE_TYPES, where)
-    _check_numeric(sites, "sites", _FLOAT_SITE, where)
+    check_values(sites, "sites", "site_type", SITE_TYPES, where)
+    check_numeric(sites, "sites", _FLOAT_SITE, where)
     if len(set(site_ids)) != len(site_ids):
         raise ValueError(f"{where}: sites column 'site_id' has duplicate values")
     if str(meta["target_id"]) not in set(site_ids[sites["site_type"].astype(str) == "target"]):
@@ -384,9 +352,9 @@ def check_scenario(scenario, index=0):
         )
 
     if len(weapons):
-        _check_numeric(weapons, "weapons", _FLOAT_WEAPON, where)
-        _check_values(weapons, "weapons", "weapon_type", WEAPON_TYPES, where)
-        _check_values(weapons, "weapons", "outcome", OUTCOMES, where)
+        check_numeric(weapons, "weapons", _FLOAT_WEAPON, where)
+        check_values(weapons, "weapons", "weapon_type", WEAPON_TYPES, where)
+        check_values(weapons, "weapons", "outcome", OUTCOMES, where)
         known = np.asarray(sorted(set(ids) | set(site_ids)), dtype=object)
         for col in ("shooter", "target"):
             values = weapons[col].astype(str).to_numpy().astype(object)

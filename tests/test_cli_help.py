@@ -60,7 +60,7 @@ def test_report_choices_are_the_modules():
     from bsi_sklearn.priors import PRIORS
     from lfe import _cli_report
     from lfe.annotate import MISSION_OBJECTIVES
-    from lfe.extractor import PROPOSITION_SETS
+    from lfe.propositions import PROPOSITION_SETS
 
     assert _cli_report.OBJECTIVE_CHOICES == tuple(MISSION_OBJECTIVES)
     assert _cli_report.PROPOSITION_SET_CHOICES == tuple(PROPOSITION_SETS)
@@ -70,7 +70,7 @@ def test_report_choices_are_the_modules():
 
 def test_study_and_compare_settings_have_one_home():
     from lfe import _cli_compare, _cli_report, _cli_study, compare, report, study
-    from lfe.extractor import PROPOSITION_SETS
+    from lfe.propositions import PROPOSITION_SETS
 
     assert study.DEFAULTS is _cli_study.DEFAULTS and study.QUICK is _cli_study.QUICK
     assert compare._QUICK is _cli_compare.QUICK and report._QUICK is _cli_report.QUICK

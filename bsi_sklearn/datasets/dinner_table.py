@@ -24,6 +24,7 @@ from bsi_sklearn.datasets._dinner_scene import (
     STACK,
     TABLE_HEIGHT,
 )
+from bsi_sklearn.datasets._kinds import check_kinds
 from bsi_sklearn.datasets.tsr import TaskSpaceRegion, make_pose
 from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.specification import Specification
@@ -38,7 +39,7 @@ __all__ = [
     "PARTICIPANTS",
 ]
 
-# negative_kinds is a sequence, checked by _check_kinds.
+# negative_kinds is a sequence, checked by check_kinds.
 _DEMOS_CONSTRAINTS = {
     "n_demos": [Interval(Integral, 0, None, closed="left")],
     "n_negative": [Interval(Integral, 0, None, closed="left")],
@@ -300,7 +301,7 @@ def make_dinner_table_demos(
     n_demos, n_negative, max_tries = int(n_demos), int(n_negative), int(max_tries)
     if n_demos + n_negative < 1:
         raise ValueError("n_demos + n_negative must be at least 1")
-    kinds = _check_kinds(negative_kinds, n_negative)
+    kinds = check_kinds(negative_kinds, n_negative, NEGATIVE_KINDS)
     rng = check_random_state(random_state)
     tsrs = dinner_table_tsrs()
     spec = dinner_table_specification()
@@ -359,18 +360,3 @@ def make_dinner_table_demos(
         f"Ground truth: {spec.to_ltl()}"
     )
     return out
-
-
-def _check_kinds(kinds, n_negative):
-    if isinstance(kinds, str):
-        kinds = (kinds,)
-    try:
-        kinds = tuple(kinds)
-    except TypeError:
-        raise ValueError(f"negative_kinds must be a sequence of kinds, got {kinds!r}") from None
-    for k in kinds:
-        if k not in NEGATIVE_KINDS:
-            raise ValueError(f"negative_kinds has {k!r}; choose among {NEGATIVE_KINDS}")
-    if n_negative and not kinds:
-        raise ValueError("negative_kinds is empty but n_negative > 0")
-    return kinds

@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 from sklearn.utils import Bunch, check_random_state
 
+from bsi_sklearn.datasets._kinds import check_kinds
 from bsi_sklearn.datasets._poi_navigation import Navigator
 from bsi_sklearn.param_validation import Interval, Options, validate_params
 from bsi_sklearn.specification import Specification
@@ -278,7 +279,7 @@ def make_poi_threat_demos(
     world = 10.0
     if not (0 <= start[0] <= world and 0 <= start[1] <= world):
         raise ValueError(f"start must lie in [0, {world}]^2, got {start.tolist()}")
-    kinds = _check_kinds(negative_kinds, n_negative)
+    kinds = check_kinds(negative_kinds, n_negative, NEGATIVE_KINDS)
 
     if isinstance(scenario, Specification):
         if poi_positions is None:
@@ -406,18 +407,3 @@ def _as_points(value, name, allow_empty=False, extra_columns=False):
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} has non-finite values")
     return arr
-
-
-def _check_kinds(kinds, n_negative):
-    if isinstance(kinds, str):
-        kinds = (kinds,)
-    try:
-        kinds = tuple(kinds)
-    except TypeError:
-        raise ValueError(f"negative_kinds must be a sequence of kinds, got {kinds!r}") from None
-    for k in kinds:
-        if k not in NEGATIVE_KINDS:
-            raise ValueError(f"negative_kinds has {k!r}; choose among {NEGATIVE_KINDS}")
-    if n_negative and not kinds:
-        raise ValueError("negative_kinds is empty but n_negative > 0")
-    return kinds

@@ -63,7 +63,7 @@ def save_figure(fig, path, dpi=90):
     """Save as PNG (small: these figures are committed) in one step and return the path."""
     import io
 
-    from bsi_sklearn.io._atomic import write_atomic
+    from bsi_sklearn.io import write_atomic
 
     path = Path(path)
     png = io.BytesIO()

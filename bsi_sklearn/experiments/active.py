@@ -25,7 +25,7 @@ from bsi_sklearn.datasets import make_poi_threat_demos
 from bsi_sklearn.experiments._claims import Claim, claims_frame
 from bsi_sklearn.experiments._plots import new_figure, save_figure
 from bsi_sklearn.experiments.tables import markdown_table
-from bsi_sklearn.io._atomic import write_files_atomic
+from bsi_sklearn.io import write_files_atomic
 from bsi_sklearn.metrics import expected_similarity
 
 __all__ = ["STRATEGIES", "active_learning_curve", "run_active"]

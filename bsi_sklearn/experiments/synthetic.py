@@ -53,7 +53,7 @@ from bsi_sklearn.experiments.tables import (
     supervised_table,
     write_outputs,
 )
-from bsi_sklearn.io._atomic import write_atomic
+from bsi_sklearn.io import write_atomic
 
 __all__ = [
     "SIZES",

@@ -97,7 +97,7 @@ def write_outputs(out, prefix, *, results, summary, claims, config, sections):
     ``<prefix>_report.md`` (claims, configuration and the ``sections``: (title, text) pairs),
     all or none: a failed write raises an ``OSError`` naming the file and changes nothing.
     """
-    from bsi_sklearn.io._atomic import write_files_atomic
+    from bsi_sklearn.io import write_files_atomic
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bsi_sklearn.io._atomic import write_atomic, write_files_atomic
+from bsi_sklearn.io import write_atomic, write_files_atomic
 from bsi_sklearn.report import figures
 from bsi_sklearn.report.document import (
     Code,

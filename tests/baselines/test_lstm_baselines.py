@@ -318,8 +318,8 @@ def test_score_is_subset_accuracy_for_several_objectives(trained):
 
 
 def test_batches_padded_once_equal_batches_padded_one_by_one():
+    from baselines._network import Batches, make_batch
     from baselines._sequences import length_mask, pad_sequences
-    from baselines.lstm import _Batches, _make_batch
 
     rng = np.random.default_rng(0)
     lengths = rng.integers(3, 12, size=9)
@@ -328,11 +328,11 @@ def test_batches_padded_once_equal_batches_padded_one_by_one():
     phases = rng.integers(0, 4, size=offsets[-1])
     y01 = rng.integers(0, 2, size=(9, 2)).astype(np.float32)
     weights = rng.uniform(0.5, 2.0, size=(9, 2)).astype(np.float32)
-    batches = _Batches(data, offsets, y01, weights, phases, torch.device("cpu"))
+    batches = Batches(data, offsets, y01, weights, phases, torch.device("cpu"))
     for indices in ([4, 0, 7], [2], np.arange(9), [8, 1]):
         indices = np.asarray(indices)
         x, lens, rev, target, weight, phase_target, mask = batches.batch(indices)
-        ref = _make_batch(data, offsets, indices, torch.device("cpu"))
+        ref = make_batch(data, offsets, indices, torch.device("cpu"))
         for got, want in zip((x, lens, rev), ref):
             assert got.dtype == want.dtype and got.is_contiguous()
             assert torch.equal(got, want)

@@ -56,7 +56,8 @@ def _calls(path):
 
 
 @pytest.mark.parametrize("path", [*MODULES, LFE / "annotate.py", LFE / "extractor.py",
-                                  LFE / "dataset.py"], ids=lambda p: p.name)
+                                  LFE / "propositions.py", LFE / "dataset.py"],
+                         ids=lambda p: p.name)
 def test_state_is_computed_with_deterministic_operations_only(path):
     bad = []
     in_simulator = path.parent == SIMULATOR
