@@ -29,21 +29,15 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn.clauses import popcount
-from bsi_sklearn.inference._grouping import (
-    Groups,
-    KeyTable,
-    group_rows,
-    insert,
-    lookup,
-    new_table,
-    with_room,
-)
+from bsi_sklearn.inference._grouping import KeyTable, insert, lookup, new_table, with_room
 
-__all__ = ["StructureTables", "structure_tables", "top_entries", "structure_groups", "descend",
-           "COMBO_COST", "STEP_COST"]
+__all__ = ["StructureTables", "structure_tables", "whole_kind", "descend", "COMBO_COST",
+           "STEP_COST"]
 
 _BLOCK = 0
 _PART = 1
+#: By prior code: whether structures are sets of blocks (True) or one block (Prior 1: a chain).
+PRIOR_SETS = (False, True, True)
 #: Work units (evaluations of a pair of groups, about 5-10 ns) of one combination of two table
 #: entries (an AND, a popcount, a hash probe), and of one step over subsets.
 COMBO_COST = 4
@@ -69,6 +63,34 @@ class StructureTables(NamedTuple):
     ref: np.ndarray      # (2, 2**n) float64
     keys: np.ndarray     # (E,) int64: the hash key's size field (subset, kind, chains, orders)
     slots: np.ndarray    # the hash table's slots (a KeyTable with bits and keys)
+    lists: np.ndarray    # the subsets with blocks, by lowest subtask (see _append_block)
+
+
+class _Problem(NamedTuple):
+    # What both passes over the tables read.
+    clause_bits: np.ndarray  # (n_clauses, n_words) uint64
+    base: int                # index of the first order clause (a -> b at base + a * n + b)
+    n: int
+    full: np.ndarray         # (n_words,) every demonstration
+    pos: np.ndarray          # (n_words,) the acceptable ones
+    thr: int                 # fewest acceptable demonstrations a kept entry satisfies
+    factor: np.ndarray       # (n + 2,) log weight of a block by its number of subtasks
+    aux_inc: int             # 1: count the blocks of a structure (chains), 0: not (trees)
+    child_kind: int          # what a block's first subtask (or root) is above
+    use_part: bool           # structures are sets of blocks (else one block: Prior 1)
+
+
+def whole_kind(model):
+    """Which table (0: blocks, 1: structures) holds the whole structures of the model's prior."""
+    return _PART if PRIOR_SETS[model.prior] or model.n == 0 else _BLOCK
+
+
+def _problem(clause_bits, full, pos, thr, model):
+    n = model.n
+    chains = not model.forest
+    factor = np.zeros(n + 2) if chains else np.asarray(model.forest_g, dtype=np.float64)
+    return _Problem(clause_bits, model.n_g + n, n, full, pos, int(thr), factor,
+                    1 if chains else 0, _BLOCK if chains else _PART, PRIOR_SETS[model.prior])
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -102,20 +124,46 @@ def _grow(a, room, fill):
     return b
 
 
-@njit(cache=True, nogil=True)
-def _candidates(s, n, hi, lo, blk_first, blk_next, out):
-    # Blocks B (non-empty tables) holding the lowest subtask of s, with s - B non-empty too:
-    # by submasks of s or through the list of blocks with that lowest subtask, whichever is
-    # shorter. Returns how many (into out) and the steps taken.
+@njit(cache=True, nogil=True, inline="always")
+def _lowest(s):
     i = 0
     while not (s >> i) & 1:
         i += 1
+    return i
+
+
+@njit(cache=True, nogil=True)
+def _append_block(lists, s, n_sets, n):
+    # lists: next subset at [s], then by lowest subtask i: head, tail, length at n_sets + (0,
+    # 1, 2) * n + i (the subsets whose block tables are not empty, in increasing order).
+    i = _lowest(s)
+    if lists[n_sets + n + i] >= 0:
+        lists[lists[n_sets + n + i]] = s
+    else:
+        lists[n_sets + i] = s
+    lists[n_sets + n + i] = s
+    lists[n_sets + 2 * n + i] += 1
+
+
+@njit(cache=True, nogil=True)
+def _new_lists(n_sets, n):
+    lists = np.full(n_sets + 3 * n, -1, dtype=np.int64)
+    lists[n_sets + 2 * n:] = 0
+    return lists
+
+
+@njit(cache=True, nogil=True)
+def _candidates(s, n, hi, lo, lists, out):
+    # Blocks B (non-empty tables) holding the lowest subtask of s, with s - B non-empty too:
+    # by submasks of s or through the list of blocks with that lowest subtask, whichever is
+    # shorter. Returns how many (into out) and the steps taken.
+    n_sets = lo.shape[1]
+    i = _lowest(s)
     low = 1 << i
     rest0 = s ^ low
-    n_sub = 1 << (popcount_int(rest0))
     k = 0
     steps = 0
-    if n_sub <= blk_first[n + i]:  # blk_first[n + i]: length of list i
+    if (1 << popcount_int(rest0)) <= lists[n_sets + 2 * n + i]:
         sub = rest0
         while True:
             b = sub | low
@@ -127,13 +175,13 @@ def _candidates(s, n, hi, lo, blk_first, blk_next, out):
                 break
             sub = (sub - 1) & rest0
     else:
-        b = blk_first[i]
+        b = lists[n_sets + i]
         while b >= 0:
             steps += 1
             if (b & s) == b and hi[_PART, s ^ b] > lo[_PART, s ^ b]:
                 out[k] = b
                 k += 1
-            b = blk_next[b]
+            b = lists[b]
     return k, steps
 
 
@@ -147,8 +195,9 @@ def popcount_int(x):
 
 
 @njit(cache=True, nogil=True)
-def _inside(clause_bits, base, n, full, pos, thr, factor, aux_inc, child_kind, use_part,
-            max_work):
+def _inside(pb, max_work):
+    clause_bits, base, n, full, pos, thr = pb.clause_bits, pb.base, pb.n, pb.full, pb.pos, pb.thr
+    factor, aux_inc, child_kind, use_part = pb.factor, pb.aux_inc, pb.child_kind, pb.use_part
     n_sets = 1 << n
     n_words = full.shape[0]
     table = new_table(n_words, 1024)
@@ -167,11 +216,7 @@ def _inside(clause_bits, base, n, full, pos, thr, factor, aux_inc, child_kind, u
     count[0] = 1.0
     hi[:, 0] = 1
     ref[:, 0] = 0.0
-    # Lists of the subsets with blocks, by lowest subtask (heads, then lengths at n + i).
-    blk_first = np.full(2 * n + 1, -1, dtype=np.int64)
-    blk_first[n:] = 0
-    blk_last = np.full(n + 1, -1, dtype=np.int64)
-    blk_next = np.full(n_sets, -1, dtype=np.int64)
+    lists = _new_lists(n_sets, n)
     cand = np.empty(max(1, n_sets >> 1), dtype=np.int64)
     r = np.empty(n_words, dtype=np.uint64)
     bits = np.empty(n_words, dtype=np.uint64)
@@ -216,21 +261,13 @@ def _inside(clause_bits, base, n, full, pos, thr, factor, aux_inc, child_kind, u
         ref_s = _close(weight, start, table.count[0], ref_s)
         lo[_BLOCK, s], hi[_BLOCK, s], ref[_BLOCK, s] = start, table.count[0], ref_s
         if table.count[0] > start:
-            i = 0
-            while not (s >> i) & 1:
-                i += 1
-            if blk_last[i] >= 0:
-                blk_next[blk_last[i]] = s
-            else:
-                blk_first[i] = s
-            blk_last[i] = s
-            blk_first[n + i] += 1
+            _append_block(lists, s, n_sets, n)
         if work > max_work:
-            return False, table, size, aux, weight, best, count, lo, hi, ref, work
+            return False, table, size, aux, weight, best, count, lo, hi, ref, lists, work
         if not use_part:
             continue
         # Structures on s: the block holding s's lowest subtask, and a structure on the rest.
-        n_c, steps = _candidates(s, n, hi, lo, blk_first, blk_next, cand)
+        n_c, steps = _candidates(s, n, hi, lo, lists, cand)
         work += STEP_COST * steps
         top = -np.inf
         for j in range(n_c):
@@ -259,10 +296,12 @@ def _inside(clause_bits, base, n, full, pos, thr, factor, aux_inc, child_kind, u
                     count[e] += count[x] * count[y]
                     best[e] = max(best[e], best[x] + best[y])
             if work > max_work:
-                return False, table, size, aux, weight, best, count, lo, hi, ref, work
+                return False, table, size, aux, weight, best, count, lo, hi, ref, lists, work
         ref_s = _close(weight, start, table.count[0], ref_s)
         lo[_PART, s], hi[_PART, s], ref[_PART, s] = start, table.count[0], ref_s
-    return True, table, size, aux, weight, best, count, lo, hi, ref, work
+        if work > max_work:
+            return False, table, size, aux, weight, best, count, lo, hi, ref, lists, work
+    return True, table, size, aux, weight, best, count, lo, hi, ref, lists, work
 
 
 @njit(cache=True, nogil=True)
@@ -309,53 +348,25 @@ def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf):
     work : int
         The work done.
     """
-    n = model.n
-    chains = not model.forest
-    factor = np.zeros(n + 2) if chains else np.asarray(model.forest_g, dtype=np.float64)
-    use_part = PRIOR_SETS[model.prior]
     limit = int(min(max_work, 2**62))
-    ok, table, size, aux, weight, best, count, lo, hi, ref, work = _inside(
-        clause_bits, model.n_g + n, n, full, pos, int(thr), factor, 1 if chains else 0,
-        _BLOCK if chains else _PART, use_part, limit)
+    ok, table, size, aux, weight, best, count, lo, hi, ref, lists, work = _inside(
+        _problem(clause_bits, full, pos, thr, model), limit)
     if not ok:
         return None, int(work)
     k = table.count[0]
     return StructureTables(table.bits[:k].copy(), size[:k].copy(), aux[:k].copy(),
                            weight[:k].copy(), best[:k].copy(), count[:k].copy(), lo, hi, ref,
-                           table.size[:k].copy(), table.slots), int(work)
-
-
-#: Whether a prior's structures are sets of blocks (True) or one block (Prior 1: one chain).
-PRIOR_SETS = (False, True, True)
-
-
-def top_entries(tables, model):
-    """The entries holding whole structures, with the log prior factor of each.
-
-    Returns ``(ids, log_weight, log_best)``: the entries on the whole set, each entry's summed
-    prior weight and its most probable member's log prior, both absolute.
-    """
-    n = model.n
-    whole = (1 << n) - 1
-    kind = _PART if PRIOR_SETS[model.prior] or n == 0 else _BLOCK
-    ids = np.arange(tables.lo[kind, whole], tables.hi[kind, whole])
-    if n == 0:
-        top = np.zeros(len(ids))
-    elif model.forest:
-        top = np.full(len(ids), float(model.forest_const))
-    else:
-        aux = tables.aux[ids] if kind == _PART else np.ones(len(ids), dtype=np.int64)
-        top = np.asarray(model.lp_chains, dtype=np.float64)[aux]
-    with np.errstate(divide="ignore"):
-        lw = np.log(tables.weight[ids]) + tables.ref[kind, whole] + top
-    return ids, lw, tables.best[ids] + top, kind
+                           table.size[:k].copy(), table.slots, lists), int(work)
 
 
 @njit(cache=True, nogil=True)
-def _descend(t_bits, t_keys, t_size, t_aux, t_weight, lo, hi, ref, table, clause_bits, base,
-             n, full, pos, thr, factor, aux_inc, child_kind, use_part, out, mark):
+def _descend(tabs, table, pb, out, mark):
     # From the whole set down: posterior mass per unit weight (out) of every entry, the
     # order-clause marginals, and the derivations (records) of the marked entries.
+    clause_bits, base, n, full, pos, thr = pb.clause_bits, pb.base, pb.n, pb.full, pb.pos, pb.thr
+    factor, aux_inc, child_kind, use_part = pb.factor, pb.aux_inc, pb.child_kind, pb.use_part
+    t_bits, t_size, t_aux, t_weight = tabs.bits, tabs.size, tabs.aux, tabs.weight
+    lo, hi, ref = tabs.lo, tabs.hi, tabs.ref
     n_sets = 1 << n
     n_words = full.shape[0]
     marg_fs = np.zeros(n)
@@ -363,28 +374,14 @@ def _descend(t_bits, t_keys, t_size, t_aux, t_weight, lo, hi, ref, table, clause
     room = 1024
     rec = np.empty((room, 4), dtype=np.int64)
     n_rec = 0
-    blk_first = np.full(2 * n + 1, -1, dtype=np.int64)
-    blk_first[n:] = 0
-    blk_last = np.full(n + 1, -1, dtype=np.int64)
-    blk_next = np.full(n_sets, -1, dtype=np.int64)
-    for s in range(1, n_sets):  # the block lists, as the inside pass built them
-        if hi[_BLOCK, s] > lo[_BLOCK, s]:
-            i = 0
-            while not (s >> i) & 1:
-                i += 1
-            if blk_last[i] >= 0:
-                blk_next[blk_last[i]] = s
-            else:
-                blk_first[i] = s
-            blk_last[i] = s
-            blk_first[n + i] += 1
+    lists = tabs.lists
     cand = np.empty(max(1, n_sets >> 1), dtype=np.int64)
     r = np.empty(n_words, dtype=np.uint64)
     bits = np.empty(n_words, dtype=np.uint64)
     for s in range(n_sets - 1, 0, -1):
         k_s = popcount_int(s)
         if use_part and _live(out, mark, lo[_PART, s], hi[_PART, s]):
-            n_c, _ = _candidates(s, n, hi, lo, blk_first, blk_next, cand)
+            n_c, _ = _candidates(s, n, hi, lo, lists, cand)
             for j in range(n_c):
                 b = cand[j]
                 rest = s ^ b
@@ -454,15 +451,17 @@ def _record(rec, n_rec, e, a, b, f):
     return rec, n_rec + 1
 
 
-def descend(tables, clause_bits, full, pos, thr, model, top_out, marked):
+def descend(tables, clause_bits, full, pos, thr, model, top_ids, top_out, marked):
     """Order-clause marginals and the derivations of the marked entries.
 
     Parameters
     ----------
     tables : StructureTables
         From :func:`structure_tables` with the same ``thr``.
+    top_ids : ndarray (n_top,)
+        The entries holding whole structures (``whole_kind``'s entries on the whole set).
     top_out : ndarray (n_top,)
-        Posterior mass per unit (stored) weight of each entry of :func:`top_entries`.
+        Posterior mass per unit (stored) weight of each.
     marked : ndarray (n_top,) bool
         The whole-set entries whose structures are to be listed.
 
@@ -475,39 +474,16 @@ def descend(tables, clause_bits, full, pos, thr, model, top_out, marked):
         ``(entry, a, b, f)``, a block's ``f`` first (or root) above entry ``a``
         (``b = -1``), or a structure's block ``a`` beside the structure ``b`` (``f = -1``).
     """
-    n = model.n
-    chains = not model.forest
-    factor = np.zeros(n + 2) if chains else np.asarray(model.forest_g, dtype=np.float64)
-    ids, _, _, _ = top_entries(tables, model)
     out = np.zeros(len(tables.weight))
-    out[ids] = top_out
+    out[top_ids] = top_out
     mark = np.zeros(len(tables.weight), dtype=np.uint8)
-    mark[ids[marked]] = 1
+    mark[top_ids[marked]] = 1
     table = KeyTable(tables.slots, tables.bits, tables.keys,
                      np.full(1, len(tables.weight), dtype=np.int64))
-    marg, rec = _descend(tables.bits, tables.keys, tables.size, tables.aux, tables.weight,
-                         tables.lo, tables.hi, tables.ref, table, clause_bits, model.n_g + n,
-                         n, full, pos, int(thr), factor, 1 if chains else 0,
-                         _BLOCK if chains else _PART, PRIOR_SETS[model.prior], out, mark)
+    marg, rec = _descend(tables, table, _problem(clause_bits, full, pos, thr, model), out,
+                         mark)
     order = np.argsort(rec[:, 0], kind="stable")
     rec = rec[order]
     rec_start = np.searchsorted(rec[:, 0], np.arange(len(tables.weight) + 1)).astype(np.int64)
     return marg, rec_start, rec
 
-
-def structure_groups(tables, model):
-    """The whole structures grouped by (bitset, orders), as the passes take them.
-
-    Returns ``(groups, members, gid)``: the groups (summed prior weights, most probable
-    member), each group's number of structures (float: it may pass 2**63) and each entry of
-    :func:`top_entries`' group (-1 for an entry of prior weight 0).
-    """
-    ids, lw, best, _ = top_entries(tables, model)
-    if len(ids) == 0:
-        n_words = tables.bits.shape[1]
-        return (Groups(np.empty((0, n_words), np.uint64), np.empty(0, np.int64), np.empty(0),
-                       -np.inf, np.empty(0)), np.empty(0), np.empty(0, np.int64))
-    gid, groups = group_rows(tables.bits[ids], tables.size[ids], lw, best)
-    ok = gid >= 0
-    members = np.bincount(gid[ok], weights=tables.count[ids][ok], minlength=len(groups.size))
-    return groups, members, gid
