@@ -17,9 +17,10 @@ of chains (the last column of the key), and Prior 3 is ``forest_const + sum_v fo
 v's subtree]``, one factor per block. Groups whose acceptable demonstrations number fewer than
 ``thr`` are dropped as they appear (their bitsets only shrink as blocks are added).
 
-:func:`descend` walks the tables back from the whole set: the posterior mass of every group
-(its order-clause marginals) and, for the groups that may hold a kept hypothesis, the
-derivations :func:`bsi_sklearn.inference._exact_kernels.list_hypotheses` enumerates.
+:func:`bsi_sklearn.inference._structure_walk.descend` walks the tables back from the whole
+set: the posterior mass of every group (its order-clause marginals) and, for the groups that
+may hold a kept hypothesis, the derivations that
+:func:`bsi_sklearn.inference._exact_kernels.list_hypotheses` enumerates.
 """
 
 import math
@@ -29,17 +30,18 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn.clauses import popcount
-from bsi_sklearn.inference._grouping import KeyTable, insert, lookup, new_table, with_room
 
-__all__ = ["StructureTables", "structure_tables", "whole_kind", "descend", "COMBO_COST",
+__all__ = ["StructureTables", "structure_tables", "whole_kind", "problem", "n_bits", "and_pop",
+           "find", "local_table", "candidates", "first_subtasks", "BLOCK", "PART", "COMBO_COST",
            "STEP_COST"]
 
-_BLOCK = 0
-_PART = 1
+#: The two kinds of table entries: blocks (one chain, one tree) and whole structures.
+BLOCK = 0
+PART = 1
 #: By prior code: whether structures are sets of blocks (True) or one block (Prior 1: a chain).
 PRIOR_SETS = (False, True, True)
 #: Work units (evaluations of a pair of groups, about 5-10 ns) of one combination of two table
-#: entries (an AND, a popcount, a hash probe), and of one step over subsets.
+#: entries (an AND, a popcount, a hash probe), and of one step over subsets or subtasks.
 COMBO_COST = 4
 STEP_COST = 1
 
@@ -61,8 +63,6 @@ class StructureTables(NamedTuple):
     lo: np.ndarray       # (2, 2**n) int64
     hi: np.ndarray       # (2, 2**n) int64
     ref: np.ndarray      # (2, 2**n) float64
-    keys: np.ndarray     # (E,) int64: the hash key's size field (subset, kind, chains, orders)
-    slots: np.ndarray    # the hash table's slots (a KeyTable with bits and keys)
     lists: np.ndarray    # the subsets with blocks, by lowest subtask (see _append_block)
 
 
@@ -82,46 +82,26 @@ class _Problem(NamedTuple):
 
 def whole_kind(model):
     """Which table (0: blocks, 1: structures) holds the whole structures of the model's prior."""
-    return _PART if PRIOR_SETS[model.prior] or model.n == 0 else _BLOCK
+    return PART if PRIOR_SETS[model.prior] or model.n == 0 else BLOCK
 
 
-def _problem(clause_bits, full, pos, thr, model):
+def problem(clause_bits, full, pos, thr, model):
+    """The bundle both passes over the tables read."""
     n = model.n
     chains = not model.forest
     factor = np.zeros(n + 2) if chains else np.asarray(model.forest_g, dtype=np.float64)
     return _Problem(clause_bits, model.n_g + n, n, full, pos, int(thr), factor,
-                    1 if chains else 0, _BLOCK if chains else _PART, PRIOR_SETS[model.prior])
+                    1 if chains else 0, BLOCK if chains else PART, PRIOR_SETS[model.prior])
 
 
+# ----------------------------------------------------------------------------- small helpers
 @njit(cache=True, nogil=True, inline="always")
-def _key(s, kind, aux, size, n):
-    return ((s * 2 + kind) * (n + 2) + aux) * (n * (n - 1) // 2 + 1) + size
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _and_pop(a, b, out, pos):
-    p = 0
-    for w in range(out.shape[0]):
-        out[w] = a[w] & b[w]
-        p += popcount(out[w] & pos[w])
-    return p
-
-
-@njit(cache=True, nogil=True)
-def _orders_from(clause_bits, base, n, f, rest, full, r):
-    # r = AND of the clauses f -> u, u in rest.
-    r[:] = full
-    for u in range(n):
-        if (rest >> u) & 1:
-            for w in range(r.shape[0]):
-                r[w] &= clause_bits[base + f * n + u, w]
-
-
-@njit(cache=True, nogil=True)
-def _grow(a, room, fill):
-    b = np.full(room, fill, dtype=a.dtype)
-    b[:a.shape[0]] = a
-    return b
+def n_bits(x):
+    c = 0
+    while x:
+        x &= x - 1
+        c += 1
+    return c
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -130,6 +110,76 @@ def _lowest(s):
     while not (s >> i) & 1:
         i += 1
     return i
+
+
+@njit(cache=True, nogil=True, inline="always")
+def and_pop(a, b, out, pos):
+    p = 0
+    for w in range(out.shape[0]):
+        out[w] = a[w] & b[w]
+        p += popcount(out[w] & pos[w])
+    return p
+
+
+@njit(cache=True, nogil=True, inline="always")
+def find(loc, stamp, cur, t_bits, t_size, t_aux, bits, size, aux):
+    # Slot of the key (bits, size, aux) in the subset's own hash table, and its entry (-1:
+    # absent). The table holds one subset's entries at a time (stamp == cur), so it stays in
+    # cache; keys are compared through the entry arrays.
+    h = np.uint64(size * 256 + aux + 1) * np.uint64(0x9E3779B97F4A7C15)
+    for w in range(bits.shape[0]):
+        h ^= bits[w]
+        h ^= h >> np.uint64(30)
+        h *= np.uint64(0xBF58476D1CE4E5B9)
+        h ^= h >> np.uint64(27)
+        h *= np.uint64(0x94D049BB133111EB)
+        h ^= h >> np.uint64(31)
+    mask = np.int64(loc.shape[0] - 1)
+    i = np.int64(h & np.uint64(mask))
+    while stamp[i] == cur:
+        e = loc[i]
+        if t_size[e] == size and t_aux[e] == aux:
+            same = True
+            for w in range(bits.shape[0]):
+                if t_bits[e, w] != bits[w]:
+                    same = False
+                    break
+            if same:
+                return i, e
+        i = (i + np.int64(1)) & mask
+    return i, np.int64(-1)
+
+
+@njit(cache=True, nogil=True)
+def local_table(ht, cur, st, start, stop):
+    # The subset's hash table holding entries start:stop, with room for as many again.
+    loc, stamp = ht
+    cap = loc.shape[0]
+    while cap < 4 * (stop - start):
+        cap *= 2
+    if cap > loc.shape[0]:
+        loc = np.zeros(cap, dtype=np.int64)
+        stamp = np.zeros(cap, dtype=np.int64)
+    for e in range(start, stop):
+        i, _ = find(loc, stamp, cur, st.bits, st.size, st.aux, st.bits[e], st.size[e],
+                     st.aux[e])
+        loc[i] = e
+        stamp[i] = cur
+    return loc, stamp
+
+
+@njit(cache=True, nogil=True)
+def _orders_from(pb, f, rest, r):
+    # r = AND of the clauses f -> u, u in rest; returns the acceptable demonstrations in r.
+    r[:] = pb.full
+    for u in range(pb.n):
+        if (rest >> u) & 1:
+            for w in range(r.shape[0]):
+                r[w] &= pb.clause_bits[pb.base + f * pb.n + u, w]
+    p = 0
+    for w in range(r.shape[0]):
+        p += popcount(r[w] & pb.pos[w])
+    return p
 
 
 @njit(cache=True, nogil=True)
@@ -146,14 +196,7 @@ def _append_block(lists, s, n_sets, n):
 
 
 @njit(cache=True, nogil=True)
-def _new_lists(n_sets, n):
-    lists = np.full(n_sets + 3 * n, -1, dtype=np.int64)
-    lists[n_sets + 2 * n:] = 0
-    return lists
-
-
-@njit(cache=True, nogil=True)
-def _candidates(s, n, hi, lo, lists, out):
+def candidates(s, n, lo, hi, lists, out):
     # Blocks B (non-empty tables) holding the lowest subtask of s, with s - B non-empty too:
     # by submasks of s or through the list of blocks with that lowest subtask, whichever is
     # shorter. Returns how many (into out) and the steps taken.
@@ -163,12 +206,12 @@ def _candidates(s, n, hi, lo, lists, out):
     rest0 = s ^ low
     k = 0
     steps = 0
-    if (1 << popcount_int(rest0)) <= lists[n_sets + 2 * n + i]:
+    if (1 << n_bits(rest0)) <= lists[n_sets + 2 * n + i]:
         sub = rest0
         while True:
             b = sub | low
             steps += 1
-            if hi[_BLOCK, b] > lo[_BLOCK, b] and hi[_PART, s ^ b] > lo[_PART, s ^ b]:
+            if hi[BLOCK, b] > lo[BLOCK, b] and hi[PART, s ^ b] > lo[PART, s ^ b]:
                 out[k] = b
                 k += 1
             if sub == 0:
@@ -178,130 +221,130 @@ def _candidates(s, n, hi, lo, lists, out):
         b = lists[n_sets + i]
         while b >= 0:
             steps += 1
-            if (b & s) == b and hi[_PART, s ^ b] > lo[_PART, s ^ b]:
+            if (b & s) == b and hi[PART, s ^ b] > lo[PART, s ^ b]:
                 out[k] = b
                 k += 1
             b = lists[b]
     return k, steps
 
 
-@njit(cache=True, nogil=True, inline="always")
-def popcount_int(x):
-    c = 0
-    while x:
-        x &= x - 1
-        c += 1
-    return c
+@njit(cache=True, nogil=True)
+def first_subtasks(pb, lo, hi, s, fs, rs):
+    # The subtasks f that can come first (or be the root) in a block on s: the rest s - f
+    # has a non-empty table and the orders f -> rest keep thr acceptable demonstrations.
+    # Returns how many (fs, rs: f and its orders' bitset) and the entries they combine.
+    n_f = 0
+    n_comb = 0
+    for f in range(pb.n):
+        c = s ^ (1 << f)
+        if not (s >> f) & 1 or hi[pb.child_kind, c] == lo[pb.child_kind, c]:
+            continue
+        if _orders_from(pb, f, c, rs[n_f]) < pb.thr:
+            continue
+        fs[n_f] = f
+        n_comb += hi[pb.child_kind, c] - lo[pb.child_kind, c]
+        n_f += 1
+    return n_f, n_comb
+
+
+# ----------------------------------------------------------------------------- inside pass
+class _Store(NamedTuple):
+    bits: np.ndarray
+    size: np.ndarray
+    aux: np.ndarray
+    weight: np.ndarray
+    best: np.ndarray
+    count: np.ndarray
 
 
 @njit(cache=True, nogil=True)
-def _inside(pb, max_work):
-    clause_bits, base, n, full, pos, thr = pb.clause_bits, pb.base, pb.n, pb.full, pb.pos, pb.thr
-    factor, aux_inc, child_kind, use_part = pb.factor, pb.aux_inc, pb.child_kind, pb.use_part
-    n_sets = 1 << n
-    n_words = full.shape[0]
-    table = new_table(n_words, 1024)
-    room = table.bits.shape[0]
-    size = np.zeros(room, dtype=np.int64)
-    aux = np.zeros(room, dtype=np.int64)
-    weight = np.zeros(room)
-    best = np.full(room, -np.inf)
-    count = np.zeros(room)
-    lo = np.zeros((2, n_sets), dtype=np.int64)
-    hi = np.zeros((2, n_sets), dtype=np.int64)
-    ref = np.full((2, n_sets), -np.inf)
-    insert(table, full, _key(0, _PART, 0, 0, n))
-    weight[0] = 1.0
-    best[0] = 0.0
-    count[0] = 1.0
-    hi[:, 0] = 1
-    ref[:, 0] = 0.0
-    lists = _new_lists(n_sets, n)
-    cand = np.empty(max(1, n_sets >> 1), dtype=np.int64)
-    r = np.empty(n_words, dtype=np.uint64)
-    bits = np.empty(n_words, dtype=np.uint64)
-    work = 0
-    for s in range(1, n_sets):
-        k_s = popcount_int(s)
-        # Blocks on s: f first (or root), then a chain (or forest) on s - f.
-        top = -np.inf
-        for f in range(n):
-            c = s ^ (1 << f)
-            if (s >> f) & 1 and hi[child_kind, c] > lo[child_kind, c]:
-                top = max(top, ref[child_kind, c])
-        start = table.count[0]
-        ref_s = top + factor[k_s]
-        if top > -np.inf:
-            for f in range(n):
-                c = s ^ (1 << f)
-                if not (s >> f) & 1 or hi[child_kind, c] == lo[child_kind, c]:
+def _new_entry(st, e, bits, size, aux):
+    st.bits[e] = bits
+    st.size[e] = size
+    st.aux[e] = aux
+    st.weight[e] = 0.0
+    st.best[e] = -np.inf
+    st.count[e] = 0.0
+
+
+@njit(cache=True, nogil=True)
+def _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits):
+    # The blocks on s (f first or root, above a table entry on s - f) into the store from
+    # n_e; returns the new end, or -1 when the hash table needs more room.
+    lo, hi, ref = idx
+    loc, stamp = ht
+    k_s = n_bits(s)
+    start = n_e
+    for j in range(n_f):
+        c = s ^ (1 << fs[j])
+        scale = math.exp(ref[pb.child_kind, c] + pb.factor[k_s] - ref_s)
+        for z in range(lo[pb.child_kind, c], hi[pb.child_kind, c]):
+            if and_pop(st.bits[z], rs[j], bits, pb.pos) < pb.thr:
+                continue
+            sz = st.size[z] + k_s - 1
+            i, e = find(loc, stamp, cur, st.bits, st.size, st.aux, bits, sz, 0)
+            if e < 0:
+                if 4 * (n_e - start + 1) > loc.shape[0]:
+                    return -1
+                e = n_e
+                n_e += 1
+                _new_entry(st, e, bits, sz, 0)
+                loc[i] = e
+                stamp[i] = cur
+            st.weight[e] += st.weight[z] * scale
+            st.count[e] += st.count[z]
+            st.best[e] = max(st.best[e], st.best[z] + pb.factor[k_s])
+    return n_e
+
+
+@njit(cache=True, nogil=True)
+def _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits):
+    # The structures on s (a block holding s's lowest subtask beside a structure on the rest)
+    # into the store from n_e; returns the new end, or -1 when the hash table needs room.
+    lo, hi, ref = idx
+    loc, stamp = ht
+    start = n_e
+    for j in range(n_c):
+        b = cand[j]
+        rest = s ^ b
+        scale = math.exp(ref[BLOCK, b] + ref[PART, rest] - ref_s)
+        for x in range(lo[BLOCK, b], hi[BLOCK, b]):
+            for y in range(lo[PART, rest], hi[PART, rest]):
+                if and_pop(st.bits[x], st.bits[y], bits, pb.pos) < pb.thr:
                     continue
-                _orders_from(clause_bits, base, n, f, c, full, r)
-                work += STEP_COST * k_s
-                p = 0
-                for w in range(n_words):
-                    p += popcount(r[w] & pos[w])
-                if p < thr:
-                    continue
-                scale = math.exp(ref[child_kind, c] + factor[k_s] - ref_s)
-                for z in range(lo[child_kind, c], hi[child_kind, c]):
-                    work += COMBO_COST
-                    if _and_pop(table.bits[z], r, bits, pos) < thr:
-                        continue
-                    if table.count[0] == table.bits.shape[0]:
-                        table, size, aux, weight, best, count = _grown(table, size, aux,
-                                                                        weight, best, count)
-                    new = table.count[0]
-                    e = insert(table, bits, _key(s, _BLOCK, 0, size[z] + k_s - 1, n))
-                    if e == new:
-                        size[e] = size[z] + k_s - 1
-                    weight[e] += weight[z] * scale
-                    count[e] += count[z]
-                    best[e] = max(best[e], best[z] + factor[k_s])
-        ref_s = _close(weight, start, table.count[0], ref_s)
-        lo[_BLOCK, s], hi[_BLOCK, s], ref[_BLOCK, s] = start, table.count[0], ref_s
-        if table.count[0] > start:
-            _append_block(lists, s, n_sets, n)
-        if work > max_work:
-            return False, table, size, aux, weight, best, count, lo, hi, ref, lists, work
-        if not use_part:
-            continue
-        # Structures on s: the block holding s's lowest subtask, and a structure on the rest.
-        n_c, steps = _candidates(s, n, hi, lo, lists, cand)
-        work += STEP_COST * steps
-        top = -np.inf
-        for j in range(n_c):
-            top = max(top, ref[_BLOCK, cand[j]] + ref[_PART, s ^ cand[j]])
-        start = table.count[0]
-        ref_s = top
-        for j in range(n_c):
-            b = cand[j]
-            rest = s ^ b
-            scale = math.exp(ref[_BLOCK, b] + ref[_PART, rest] - ref_s)
-            for x in range(lo[_BLOCK, b], hi[_BLOCK, b]):
-                for y in range(lo[_PART, rest], hi[_PART, rest]):
-                    work += COMBO_COST
-                    if _and_pop(table.bits[x], table.bits[y], bits, pos) < thr:
-                        continue
-                    if table.count[0] == table.bits.shape[0]:
-                        table, size, aux, weight, best, count = _grown(table, size, aux,
-                                                                        weight, best, count)
-                    new = table.count[0]
-                    a = aux[x] + aux[y] + aux_inc
-                    e = insert(table, bits, _key(s, _PART, a, size[x] + size[y], n))
-                    if e == new:
-                        size[e] = size[x] + size[y]
-                        aux[e] = a
-                    weight[e] += weight[x] * weight[y] * scale
-                    count[e] += count[x] * count[y]
-                    best[e] = max(best[e], best[x] + best[y])
-            if work > max_work:
-                return False, table, size, aux, weight, best, count, lo, hi, ref, lists, work
-        ref_s = _close(weight, start, table.count[0], ref_s)
-        lo[_PART, s], hi[_PART, s], ref[_PART, s] = start, table.count[0], ref_s
-        if work > max_work:
-            return False, table, size, aux, weight, best, count, lo, hi, ref, lists, work
-    return True, table, size, aux, weight, best, count, lo, hi, ref, lists, work
+                sz = st.size[x] + st.size[y]
+                a = st.aux[x] + st.aux[y] + pb.aux_inc
+                i, e = find(loc, stamp, cur, st.bits, st.size, st.aux, bits, sz, a)
+                if e < 0:
+                    if 4 * (n_e - start + 1) > loc.shape[0]:
+                        return -1
+                    e = n_e
+                    n_e += 1
+                    _new_entry(st, e, bits, sz, a)
+                    loc[i] = e
+                    stamp[i] = cur
+                st.weight[e] += st.weight[x] * st.weight[y] * scale
+                st.count[e] += st.count[x] * st.count[y]
+                st.best[e] = max(st.best[e], st.best[x] + st.best[y])
+    return n_e
+
+
+@njit(cache=True, nogil=True)
+def _with_room(st, need):
+    if need <= st.weight.shape[0]:
+        return st
+    room = max(need, 2 * st.weight.shape[0])
+    k = st.weight.shape[0]
+    big = _Store(np.zeros((room, st.bits.shape[1]), dtype=np.uint64),
+                 np.zeros(room, dtype=np.int64), np.zeros(room, dtype=np.int64),
+                 np.zeros(room), np.full(room, -np.inf), np.zeros(room))
+    big.bits[:k] = st.bits
+    big.size[:k] = st.size
+    big.aux[:k] = st.aux
+    big.weight[:k] = st.weight
+    big.best[:k] = st.best
+    big.count[:k] = st.count
+    return big
 
 
 @njit(cache=True, nogil=True)
@@ -320,11 +363,79 @@ def _close(weight, start, stop, ref_s):
 
 
 @njit(cache=True, nogil=True)
-def _grown(table, size, aux, weight, best, count):
-    table = with_room(table)
-    room = table.bits.shape[0]
-    return (table, _grow(size, room, 0), _grow(aux, room, 0), _grow(weight, room, 0.0),
-            _grow(best, room, -np.inf), _grow(count, room, 0.0))
+def _inside(pb, max_work):
+    n = pb.n
+    n_sets = 1 << n
+    n_words = pb.full.shape[0]
+    st = _with_room(_Store(np.zeros((0, n_words), dtype=np.uint64), np.zeros(0, np.int64),
+                           np.zeros(0, np.int64), np.zeros(0), np.zeros(0), np.zeros(0)),
+                    1024)
+    _new_entry(st, 0, pb.full, 0, 0)  # entry 0: the empty structure (and chain)
+    st.weight[0] = 1.0
+    st.best[0] = 0.0
+    st.count[0] = 1.0
+    n_e = 1
+    lo = np.zeros((2, n_sets), dtype=np.int64)
+    hi = np.zeros((2, n_sets), dtype=np.int64)
+    ref = np.full((2, n_sets), -np.inf)
+    hi[:, 0] = 1
+    ref[:, 0] = 0.0
+    idx = (lo, hi, ref)
+    lists = np.full(n_sets + 3 * n, -1, dtype=np.int64)
+    lists[n_sets + 2 * n:] = 0
+    cand = np.empty(max(1, n_sets >> 1), dtype=np.int64)
+    fs = np.empty(n, dtype=np.int64)
+    rs = np.empty((n, n_words), dtype=np.uint64)
+    ht = (np.zeros(1024, dtype=np.int64), np.zeros(1024, dtype=np.int64))
+    cur = 0
+    bits = np.empty(n_words, dtype=np.uint64)
+    work = 0
+    for s in range(1, n_sets):
+        # Blocks on s; the work of every step is counted before it is done.
+        n_f, n_comb = first_subtasks(pb, lo, hi, s, fs, rs)
+        ref_s = -np.inf
+        for j in range(n_f):
+            ref_s = max(ref_s, ref[pb.child_kind, s ^ (1 << fs[j])] + pb.factor[n_bits(s)])
+        work += STEP_COST * n * n_bits(s) + COMBO_COST * n_comb
+        if work > max_work:
+            return False, st, idx, lists, work
+        st = _with_room(st, n_e + n_comb)
+        while True:
+            cur += 1
+            stop = _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits)
+            if stop >= 0:
+                break
+            ht = (np.zeros(2 * ht[0].shape[0], np.int64), np.zeros(2 * ht[0].shape[0], np.int64))
+        lo[BLOCK, s], hi[BLOCK, s] = n_e, stop
+        ref[BLOCK, s] = _close(st.weight, n_e, stop, ref_s)
+        if stop > n_e:
+            _append_block(lists, s, n_sets, n)
+        n_e = stop
+        if not pb.use_part:
+            continue
+        # Structures on s.
+        n_c, steps = candidates(s, n, lo, hi, lists, cand)
+        ref_s = -np.inf
+        n_comb = 0
+        for j in range(n_c):
+            b = cand[j]
+            ref_s = max(ref_s, ref[BLOCK, b] + ref[PART, s ^ b])
+            n_comb += (hi[BLOCK, b] - lo[BLOCK, b]) * (hi[PART, s ^ b] - lo[PART, s ^ b])
+        work += STEP_COST * steps + COMBO_COST * n_comb
+        if work > max_work:
+            return False, st, idx, lists, work
+        st = _with_room(st, n_e + n_comb)
+        while True:
+            cur += 1
+            stop = _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits)
+            if stop >= 0:
+                break
+            ht = (np.zeros(2 * ht[0].shape[0], np.int64), np.zeros(2 * ht[0].shape[0], np.int64))
+        lo[PART, s], hi[PART, s] = n_e, stop
+        ref[PART, s] = _close(st.weight, n_e, stop, ref_s)
+        n_e = stop
+    return True, _Store(st.bits[:n_e], st.size[:n_e], st.aux[:n_e], st.weight[:n_e],
+                        st.best[:n_e], st.count[:n_e]), idx, lists, work
 
 
 def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf):
@@ -339,151 +450,18 @@ def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf):
         Groups (and partial structures) satisfying fewer acceptable demonstrations are dropped.
     model : Model
     max_work : float
-        Stop after this much work (units of :data:`COMBO_COST`, :data:`STEP_COST`).
+        Stop before the work would exceed this (units of :data:`COMBO_COST`,
+        :data:`STEP_COST`; it depends on the data only).
 
     Returns
     -------
     tables : StructureTables or None
-        None when the work exceeded ``max_work``.
+        None when the work would exceed ``max_work``.
     work : int
-        The work done.
+        The work counted (done, or that would have been done up to the step that stopped).
     """
-    limit = int(min(max_work, 2**62))
-    ok, table, size, aux, weight, best, count, lo, hi, ref, lists, work = _inside(
-        _problem(clause_bits, full, pos, thr, model), limit)
+    ok, st, idx, lists, work = _inside(problem(clause_bits, full, pos, thr, model),
+                                       int(min(max_work, 2**62)))
     if not ok:
         return None, int(work)
-    k = table.count[0]
-    return StructureTables(table.bits[:k].copy(), size[:k].copy(), aux[:k].copy(),
-                           weight[:k].copy(), best[:k].copy(), count[:k].copy(), lo, hi, ref,
-                           table.size[:k].copy(), table.slots, lists), int(work)
-
-
-@njit(cache=True, nogil=True)
-def _descend(tabs, table, pb, out, mark):
-    # From the whole set down: posterior mass per unit weight (out) of every entry, the
-    # order-clause marginals, and the derivations (records) of the marked entries.
-    clause_bits, base, n, full, pos, thr = pb.clause_bits, pb.base, pb.n, pb.full, pb.pos, pb.thr
-    factor, aux_inc, child_kind, use_part = pb.factor, pb.aux_inc, pb.child_kind, pb.use_part
-    t_bits, t_size, t_aux, t_weight = tabs.bits, tabs.size, tabs.aux, tabs.weight
-    lo, hi, ref = tabs.lo, tabs.hi, tabs.ref
-    n_sets = 1 << n
-    n_words = full.shape[0]
-    marg_fs = np.zeros(n)
-    marg = np.zeros(n * n)
-    room = 1024
-    rec = np.empty((room, 4), dtype=np.int64)
-    n_rec = 0
-    lists = tabs.lists
-    cand = np.empty(max(1, n_sets >> 1), dtype=np.int64)
-    r = np.empty(n_words, dtype=np.uint64)
-    bits = np.empty(n_words, dtype=np.uint64)
-    for s in range(n_sets - 1, 0, -1):
-        k_s = popcount_int(s)
-        if use_part and _live(out, mark, lo[_PART, s], hi[_PART, s]):
-            n_c, _ = _candidates(s, n, hi, lo, lists, cand)
-            for j in range(n_c):
-                b = cand[j]
-                rest = s ^ b
-                scale = math.exp(ref[_BLOCK, b] + ref[_PART, rest] - ref[_PART, s])
-                for x in range(lo[_BLOCK, b], hi[_BLOCK, b]):
-                    for y in range(lo[_PART, rest], hi[_PART, rest]):
-                        if _and_pop(t_bits[x], t_bits[y], bits, pos) < thr:
-                            continue
-                        a = t_aux[x] + t_aux[y] + aux_inc
-                        e = lookup(table, bits, _key(s, _PART, a, t_size[x] + t_size[y], n))
-                        if e < 0:
-                            continue
-                        if out[e] > 0.0:
-                            out[x] += out[e] * t_weight[y] * scale
-                            out[y] += out[e] * t_weight[x] * scale
-                        if mark[e]:
-                            mark[x] = 1
-                            mark[y] = 1
-                            rec, n_rec = _record(rec, n_rec, e, x, y, -1)
-        if not _live(out, mark, lo[_BLOCK, s], hi[_BLOCK, s]):
-            continue
-        marg_fs[:] = 0.0
-        for f in range(n):
-            c = s ^ (1 << f)
-            if not (s >> f) & 1 or hi[child_kind, c] == lo[child_kind, c]:
-                continue
-            _orders_from(clause_bits, base, n, f, c, full, r)
-            scale = math.exp(ref[child_kind, c] + factor[k_s] - ref[_BLOCK, s])
-            for z in range(lo[child_kind, c], hi[child_kind, c]):
-                if _and_pop(t_bits[z], r, bits, pos) < thr:
-                    continue
-                e = lookup(table, bits, _key(s, _BLOCK, 0, t_size[z] + k_s - 1, n))
-                if e < 0:
-                    continue
-                if out[e] > 0.0:
-                    out[z] += out[e] * scale
-                    marg_fs[f] += out[e] * t_weight[z] * scale
-                if mark[e]:
-                    mark[z] = 1
-                    rec, n_rec = _record(rec, n_rec, e, z, -1, f)
-        for f in range(n):
-            if marg_fs[f] > 0.0:
-                for u in range(n):
-                    if u != f and (s >> u) & 1:
-                        marg[f * n + u] += marg_fs[f]
-    return marg, rec[:n_rec]
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _live(out, mark, start, stop):
-    for e in range(start, stop):
-        if out[e] > 0.0 or mark[e]:
-            return True
-    return False
-
-
-@njit(cache=True, nogil=True)
-def _record(rec, n_rec, e, a, b, f):
-    if n_rec == rec.shape[0]:
-        bigger = np.empty((2 * n_rec, 4), dtype=np.int64)
-        bigger[:n_rec] = rec
-        rec = bigger
-    rec[n_rec, 0] = e
-    rec[n_rec, 1] = a
-    rec[n_rec, 2] = b
-    rec[n_rec, 3] = f
-    return rec, n_rec + 1
-
-
-def descend(tables, clause_bits, full, pos, thr, model, top_ids, top_out, marked):
-    """Order-clause marginals and the derivations of the marked entries.
-
-    Parameters
-    ----------
-    tables : StructureTables
-        From :func:`structure_tables` with the same ``thr``.
-    top_ids : ndarray (n_top,)
-        The entries holding whole structures (``whole_kind``'s entries on the whole set).
-    top_out : ndarray (n_top,)
-        Posterior mass per unit (stored) weight of each.
-    marked : ndarray (n_top,) bool
-        The whole-set entries whose structures are to be listed.
-
-    Returns
-    -------
-    marg : ndarray (n * n,)
-        Posterior mass of each order ``a -> v`` at ``a * n + v``.
-    rec_start, rec : ndarray
-        For entry ``e``, ``rec[rec_start[e]:rec_start[e + 1]]`` are its derivations: rows
-        ``(entry, a, b, f)``, a block's ``f`` first (or root) above entry ``a``
-        (``b = -1``), or a structure's block ``a`` beside the structure ``b`` (``f = -1``).
-    """
-    out = np.zeros(len(tables.weight))
-    out[top_ids] = top_out
-    mark = np.zeros(len(tables.weight), dtype=np.uint8)
-    mark[top_ids[marked]] = 1
-    table = KeyTable(tables.slots, tables.bits, tables.keys,
-                     np.full(1, len(tables.weight), dtype=np.int64))
-    marg, rec = _descend(tables, table, _problem(clause_bits, full, pos, thr, model), out,
-                         mark)
-    order = np.argsort(rec[:, 0], kind="stable")
-    rec = rec[order]
-    rec_start = np.searchsorted(rec[:, 0], np.arange(len(tables.weight) + 1)).astype(np.int64)
-    return marg, rec_start, rec
-
+    return StructureTables(*[a.copy() for a in st], *idx, lists), int(work)

@@ -3,15 +3,21 @@
 A hypothesis' likelihood depends only on how many acceptable and unacceptable demonstrations it
 satisfies and on its number of conjuncts, so order structures, and pairs of (global subset,
 eventual subset), that satisfy the same demonstrations with the same number of conjuncts are
-interchangeable: their prior weights are summed into groups (:mod:`bsi_sklearn.inference._exact_parts`)
-and the enumeration runs over pairs of groups. A first pass computes the normaliser, building
-per pair of groups only a histogram over (satisfied positives, satisfied negatives); a second
-pass gives every group its posterior mass and flags the structure groups that may hold a
-hypothesis above the keep threshold; a last walk over the order structures splits the masses
-into clause marginals and lists the kept hypotheses. Order structures and pairs of groups that
-cannot add 1e-17 of the evidence are skipped, with a bound (:mod:`bsi_sklearn.inference._exact_kernels`).
-The result is the posterior of the ungrouped enumeration (:mod:`bsi_sklearn.inference._exact_ungrouped`,
-the reference it is tested against) up to rounding.
+interchangeable: their prior weights are summed into groups and the enumeration runs over pairs
+of groups. The order structures are counted, not walked one by one: a dynamic programme over
+subsets of subtasks groups them however many there are
+(:mod:`bsi_sklearn.inference._structures`); the subsets are grouped in
+:mod:`bsi_sklearn.inference._exact_parts`. A first pass computes the normaliser, building per
+pair of groups only a histogram over (satisfied positives, satisfied negatives); a second pass
+gives every group its posterior mass and flags the structure groups that may hold a hypothesis
+above the keep threshold; a walk back down the structure tables splits the masses into clause
+marginals and yields the derivations from which the kept hypotheses are listed
+(:mod:`bsi_sklearn.inference._structure_walk`). Structures and pairs of groups that cannot add
+1e-17 of the evidence are skipped, with a bound
+(:mod:`bsi_sklearn.inference._exact_kernels`). The result is the posterior of the ungrouped
+enumeration (:mod:`bsi_sklearn.inference._exact_ungrouped`, the reference it is tested against)
+up to rounding. Whether the enumeration runs is decided by a count of its work that depends on
+the data only (``max_work``), never by the size of the support.
 """
 
 import math
@@ -39,12 +45,8 @@ from bsi_sklearn.inference._exact_parts import (
 from bsi_sklearn.inference._exact_ungrouped import LabelMasks, ungrouped_kernel
 from bsi_sklearn.inference._exact_ungrouped import structure_tables as ungrouped_structures
 from bsi_sklearn.inference._grouping import Groups
-from bsi_sklearn.inference._structures import (
-    STEP_COST,
-    StructureTables,
-    descend,
-    structure_tables,
-)
+from bsi_sklearn.inference._structure_walk import descend
+from bsi_sklearn.inference._structures import STEP_COST, StructureTables, structure_tables
 from bsi_sklearn.priors import PRIORS, count_hypotheses, support_structures
 
 __all__ = ["exact_posterior", "ExactResult", "ExactWorkExceeded", "MAX_KEPT"]
