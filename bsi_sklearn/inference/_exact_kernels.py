@@ -242,11 +242,11 @@ def _heap_replace_top(heap_lp, heap_slot, size, value):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _put(out_par, out_idx, out_lp, slot, parent, ordinal, t, e, value):
-    out_par[slot] = parent
-    out_idx[slot, 0] = ordinal
-    out_idx[slot, 1] = t
-    out_idx[slot, 2] = e
+def _put(out_par, out_idx, out_lp, slot, parent, t, e, value):
+    for v in range(parent.shape[0]):
+        out_par[slot, v] = parent[v]
+    out_idx[slot, 0] = t
+    out_idx[slot, 1] = e
     out_lp[slot] = value
 
 
@@ -292,7 +292,7 @@ def list_hypotheses(model, hs, subsets, ls, out_par, out_idx, out_lp):
 
     Every structure of a target is rebuilt from its derivations (a depth-first walk with a
     stack of the entries still to expand); the hypotheses at or above ``ls.keep`` are written
-    to ``out_*`` (structure, [0, global mask, eventual mask], unnormalised log posterior), in no
+    to ``out_*`` (structure, [global mask, eventual mask], unnormalised log posterior), in no
     particular order; when there are more than they have room for, a min-heap keeps the most
     probable. Returns the number of hypotheses at or above ``ls.keep``, which may exceed the
     room in ``out_*``.
@@ -386,9 +386,9 @@ def _list_one(parent, lp, g, hs, subsets, ls, k, out_par, out_idx, out_lp, heap_
                     value = lp + lp_te + ll
                     k += 1
                     if k <= cap:
-                        _put(out_par, out_idx, out_lp, k - 1, parent, 0, t, e, value)
+                        _put(out_par, out_idx, out_lp, k - 1, parent, t, e, value)
                         _heap_add(heap_lp, heap_slot, k - 1, value, k - 1)
                     elif value > heap_lp[0]:
-                        _put(out_par, out_idx, out_lp, heap_slot[0], parent, 0, t, e, value)
+                        _put(out_par, out_idx, out_lp, heap_slot[0], parent, t, e, value)
                         _heap_replace_top(heap_lp, heap_slot, cap, value)
     return k

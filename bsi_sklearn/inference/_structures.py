@@ -33,7 +33,7 @@ from bsi_sklearn.clauses import popcount
 
 __all__ = ["StructureTables", "structure_tables", "whole_kind", "problem", "n_bits", "and_pop",
            "find", "local_table", "candidates", "first_subtasks", "BLOCK", "PART", "COMBO_COST",
-           "STEP_COST"]
+           "STEP_COST", "ENTRY_COST"]
 
 #: The two kinds of table entries: blocks (one chain, one tree) and whole structures.
 BLOCK = 0
@@ -41,9 +41,12 @@ PART = 1
 #: By prior code: whether structures are sets of blocks (True) or one block (Prior 1: a chain).
 PRIOR_SETS = (False, True, True)
 #: Work units (evaluations of a pair of groups, about 5-10 ns) of one combination of two table
-#: entries (an AND, a popcount, a hash probe), and of one step over subsets or subtasks.
+#: entries (an AND, a popcount, a hash probe), of one step over subsets or subtasks, and of a
+#: new entry (its time, and as much again for its memory: about 60 bytes, so that the work
+#: budget bounds the memory too).
 COMBO_COST = 4
 STEP_COST = 1
+ENTRY_COST = 32
 
 
 class StructureTables(NamedTuple):
@@ -270,7 +273,7 @@ def _new_entry(st, e, bits, size, aux):
 @njit(cache=True, nogil=True)
 def _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits):
     # The blocks on s (f first or root, above a table entry on s - f) into the store from
-    # n_e; returns the new end, or -1 when the hash table needs more room.
+    # n_e; returns the new end, or -1 (-2) when the hash table (the store) needs more room.
     lo, hi, ref = idx
     loc, stamp = ht
     k_s = n_bits(s)
@@ -286,6 +289,8 @@ def _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits):
             if e < 0:
                 if 4 * (n_e - start + 1) > loc.shape[0]:
                     return -1
+                if n_e == st.weight.shape[0]:
+                    return -2
                 e = n_e
                 n_e += 1
                 _new_entry(st, e, bits, sz, 0)
@@ -300,7 +305,8 @@ def _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits):
 @njit(cache=True, nogil=True)
 def _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits):
     # The structures on s (a block holding s's lowest subtask beside a structure on the rest)
-    # into the store from n_e; returns the new end, or -1 when the hash table needs room.
+    # into the store from n_e; returns the new end, or -1 (-2) when the hash table (the
+    # store) needs more room.
     lo, hi, ref = idx
     loc, stamp = ht
     start = n_e
@@ -318,6 +324,8 @@ def _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits):
                 if e < 0:
                     if 4 * (n_e - start + 1) > loc.shape[0]:
                         return -1
+                    if n_e == st.weight.shape[0]:
+                        return -2
                     e = n_e
                     n_e += 1
                     _new_entry(st, e, bits, sz, a)
@@ -345,6 +353,16 @@ def _with_room(st, need):
     big.best[:k] = st.best
     big.count[:k] = st.count
     return big
+
+
+@njit(cache=True, nogil=True)
+def _more_room(st, ht, code):
+    # A step stopped on a full table (-1: the hash table, -2: the store): twice the room. The
+    # store only ever holds the groups found, never as many entries as combinations counted.
+    if code == -2:
+        return _with_room(st, 2 * st.weight.shape[0]), ht
+    cap = 2 * ht[0].shape[0]
+    return st, (np.zeros(cap, dtype=np.int64), np.zeros(cap, dtype=np.int64))
 
 
 @njit(cache=True, nogil=True)
@@ -397,19 +415,19 @@ def _inside(pb, max_work):
         for j in range(n_f):
             ref_s = max(ref_s, ref[pb.child_kind, s ^ (1 << fs[j])] + pb.factor[n_bits(s)])
         work += STEP_COST * n * n_bits(s) + COMBO_COST * n_comb
-        if work > max_work:
+        if work > max_work:  # also when the last step's entries passed it
             return False, st, idx, lists, work
-        st = _with_room(st, n_e + n_comb)
-        while True:
+        while True:  # again with more room when a table fills up (rarely)
             cur += 1
             stop = _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits)
             if stop >= 0:
                 break
-            ht = (np.zeros(2 * ht[0].shape[0], np.int64), np.zeros(2 * ht[0].shape[0], np.int64))
+            st, ht = _more_room(st, ht, stop)
         lo[BLOCK, s], hi[BLOCK, s] = n_e, stop
         ref[BLOCK, s] = _close(st.weight, n_e, stop, ref_s)
         if stop > n_e:
             _append_block(lists, s, n_sets, n)
+        work += ENTRY_COST * (stop - n_e)
         n_e = stop
         if not pb.use_part:
             continue
@@ -424,18 +442,18 @@ def _inside(pb, max_work):
         work += STEP_COST * steps + COMBO_COST * n_comb
         if work > max_work:
             return False, st, idx, lists, work
-        st = _with_room(st, n_e + n_comb)
         while True:
             cur += 1
             stop = _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits)
             if stop >= 0:
                 break
-            ht = (np.zeros(2 * ht[0].shape[0], np.int64), np.zeros(2 * ht[0].shape[0], np.int64))
+            st, ht = _more_room(st, ht, stop)
         lo[PART, s], hi[PART, s] = n_e, stop
         ref[PART, s] = _close(st.weight, n_e, stop, ref_s)
+        work += ENTRY_COST * (stop - n_e)
         n_e = stop
-    return True, _Store(st.bits[:n_e], st.size[:n_e], st.aux[:n_e], st.weight[:n_e],
-                        st.best[:n_e], st.count[:n_e]), idx, lists, work
+    return work <= max_work, _Store(st.bits[:n_e], st.size[:n_e], st.aux[:n_e],
+                                    st.weight[:n_e], st.best[:n_e], st.count[:n_e]), idx, lists, work
 
 
 def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf):
@@ -451,7 +469,9 @@ def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf):
     model : Model
     max_work : float
         Stop before the work would exceed this (units of :data:`COMBO_COST`,
-        :data:`STEP_COST`; it depends on the data only).
+        :data:`STEP_COST`, :data:`ENTRY_COST`; it depends on the data only). A step's
+        combinations are counted before it runs, its new entries after (so the memory passes
+        the budget by one step's entries at most).
 
     Returns
     -------

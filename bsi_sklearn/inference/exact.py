@@ -57,8 +57,9 @@ MAX_KEPT = 1_000_000
 #: Pairs of groups whose total mass is bounded below exp(_MARGIN) of the evidence are skipped
 #: (and never when ``tol`` is 0).
 _MARGIN = math.log(1e-17)
-_LIST_COST = 20
+_LIST_COST = 4
 _EMIT_COST = 4
+_KEPT_COST = 16
 
 
 class ExactResult:
@@ -140,9 +141,10 @@ class ExactWorkExceeded(RuntimeError):
 class _Budget:
     # Work in units of one pair-of-groups evaluation (about 5-10 ns here): a combination of two
     # entries of the structure tables costs _structures.COMBO_COST of them, a structure the
-    # last walk rebuilds _LIST_COST, a hypothesis it may list _EMIT_COST. Every amount is
-    # spent before the work (or the allocation) it pays for, and depends on the data only,
-    # never on timing.
+    # last walk rebuilds _LIST_COST per subtask, a (global, eventual) subset pair it looks at
+    # _EMIT_COST and one it may list _KEPT_COST more (counted as if every one were listed:
+    # the heap, the sort, the result's arrays). Every amount is spent before the work (or the
+    # allocation) it pays for, and depends on the data only, never on timing.
     def __init__(self, max_work):
         self.left = np.inf if max_work is None else float(max_work)
 
@@ -188,7 +190,7 @@ class _Found(NamedTuple):
 def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
     # The subset-pair groups each flagged structure group may reach keep with; the work and
     # the number of hypotheses the last walk may list.
-    ss = found.ss
+    ss, n = found.ss, found.tables.lo.shape[1].bit_length() - 1
     flagged = np.flatnonzero(flag)
     budget.spend(len(flagged) * len(hs.lw), "the pairs of the flagged groups")
     n_in = np.diff(subsets.t_start).astype(float)[subsets.pair_t] * \
@@ -210,7 +212,8 @@ def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
         pass_ll.append(ll[ok])
         pass_start[g + 1] = len(ok)
         n_list += members[g] * items[ok].sum()
-        work += members[g] * (_LIST_COST + len(ok) + _EMIT_COST * items[ok].sum())
+        work += members[g] * (_LIST_COST * (n + 1) + len(ok)
+                              + (_EMIT_COST + _KEPT_COST) * items[ok].sum())
     budget.spend(work, f"listing the hypotheses of {members[flagged].sum():,.0f} order "
                  "structures")
     pass_h = np.concatenate(pass_h).astype(np.int64) if pass_h else np.empty(0, np.int64)
@@ -218,7 +221,7 @@ def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
     return np.cumsum(pass_start), pass_h, pass_ll, n_list
 
 
-def _grouped(clause_bits, full, labels, model, log_keep, max_kept, max_work):
+def _grouped(clause_bits, full, labels, model, log_keep, max_kept, max_work, tol):
     budget = _Budget(max_work)
     subsets = group_subsets(clause_bits, full, model, budget.spend)
     hs, h_order = _subset_side(subsets.groups, labels)
@@ -264,25 +267,40 @@ def _grouped(clause_bits, full, labels, model, log_keep, max_kept, max_work):
                  g_sorted[marked].astype(np.int64), pass_start, pass_h, pass_ll,
                  h_order.astype(np.int64), keep)
     mass_h = mass_h[np.argsort(h_order)]  # back to the groups' own order
-    room = int(max(1, min(n_list, max_kept)))  # at most what may be listed
-    while True:
-        par = np.empty((room, model.n), dtype=np.int64)
-        idx, lp = np.empty((room, 3), dtype=np.int64), np.empty(room)
-        n_out = list_hypotheses(model, hs, subsets, ls, par, idx, lp)
-        if n_out <= room or room == max_kept:
-            break
-        room = min(n_out, max_kept)  # rare: walk again with room for more
-    n_out = min(n_out, room)
+    # Room for every hypothesis that may be listed (n_list bounds them), or the max_kept most
+    # probable (a min-heap keeps those).
+    room = int(max(1, min(n_list, max_kept)))
+    par = np.empty((room, model.n), dtype=np.int16 if model.n < 2**15 else np.int64)
+    idx, lp = np.empty((room, 2), dtype=np.int64), np.empty(room)
+    n_out = min(list_hypotheses(model, hs, subsets, ls, par, idx, lp), room)
     par, idx, lp = par[:n_out], idx[:n_out], lp[:n_out] - log_z
     kept = lp >= log_keep
-    par, idx, lp = par[kept], idx[kept], lp[kept]
-    # Ties by structure (lexicographic parent array), then global and eventual masks.
-    order = np.lexsort((idx[:, 2], idx[:, 1], *par.T[::-1], -lp))
+    par, idx, lp = par[kept].astype(np.int64), idx[kept], lp[kept]
+    order = _sorted_head(par, idx[:, 0], idx[:, 1], lp, log_keep > -np.inf, tol)
     marg = np.concatenate([*_subset_marginals(subsets, mass_h, model.n_g, model.n), marg_o])
-    return log_z, par[order], idx[order, 1], idx[order, 2], lp[order], marg
+    return log_z, par[order], idx[order, 0], idx[order, 1], lp[order], marg
 
 
-def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, max_work):
+def _sorted_head(par, t, e, lp, cut, tol):
+    # Positions of the listed hypotheses in the result's order (descending posterior; ties by
+    # structure, lexicographic parent array, then global and eventual masks), only as far as
+    # the shortest prefix covering 1 - tol may reach (with a margin for rounding) when cut.
+    head = np.arange(len(lp))
+    if cut and len(lp):
+        by_lp = np.argsort(-lp, kind="stable")
+        cum = np.cumsum(np.exp(lp[by_lp]))
+        stop = min(int(np.searchsorted(cum, 1.0 - tol)) + 1, len(lp))
+        head = np.flatnonzero(lp >= lp[by_lp[stop - 1]] - 1e-9)
+    n = par.shape[1]
+    n_g = int(t.max(initial=0)).bit_length()
+    if (n + 1) ** n * 2 ** (n_g + n) < 2**62:  # (parent array, t, e) as one number, in order
+        key = (par[head] + 1) @ ((n + 1) ** np.arange(n - 1, -1, -1, dtype=np.int64))
+        key = (((key << n_g) | t[head]) << n) | e[head]
+        return head[np.lexsort((key, -lp[head]))]
+    return head[np.lexsort((e[head], t[head], *par[head].T[::-1], -lp[head]))]
+
+
+def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, max_work, tol):
     n_g, n = model.n_g, model.n
     structures = support_structures(model)
     parts_s = ungrouped_structures(structures, clause_bits, full, model)
@@ -365,7 +383,7 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
     engine = _grouped if grouped else _ungrouped
     log_z, structures, t_masks, e_masks, keep_lp, marg = engine(clause_bits, full, labels,
                                                                 model, log_keep, max_kept,
-                                                                max_work)
+                                                                max_work, tol)
     # Smallest prefix of the sorted kept hypotheses that covers 1 - tol.
     cum = np.cumsum(np.exp(keep_lp))
     if tol > 0:
