@@ -41,6 +41,8 @@ BENCHMARKS = {
     "exact": ("bench_exact", "exact enumeration time vs number of hypotheses"),
     "exact_limit": ("bench_exact_limit", "issue-13 targets: the dinner table and 2 x 9 exactly, "
                                          "against one chain; ten subtasks; peak memory"),
+    "exact_noroles": ("bench_exact_noroles", "issue-19 targets: LFE missions without roles, "
+                                             "the default classifier exact within a second"),
     "accuracy": ("bench_accuracy", "MCMC posterior vs exact enumeration (total variation)"),
     "predict": ("bench_predict", "predict_proba throughput"),
     "monitor": ("bench_monitor", "runtime monitoring: PosteriorMonitor.update and "

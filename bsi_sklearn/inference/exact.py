@@ -350,11 +350,13 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
         much the rest hold. The clause marginals and the evidence are exact either way. The
         ungrouped reference ignores it.
     max_work : float or None, default=None
-        Work budget, in evaluations of a pair of groups (about 5-10 ns each here; a structure
-        walked counts 100, a hypothesis that may be listed 20): :class:`ExactWorkExceeded` is
-        raised as soon as the enumeration is
-        known to need more. The count depends on the data only, so the outcome is the same on
-        every machine. ``None``: no limit. The ungrouped reference ignores it.
+        Work budget, in evaluations of a pair of groups (about 5-10 ns each here; a
+        combination of two entries of the structure tables counts 4, a new entry 32, a
+        (global, eventual) subset pair that may be listed 20): :class:`ExactWorkExceeded` is
+        raised as soon as the enumeration is known to need more, before that work is done or
+        its memory allocated. The count depends on the data only, never on the support's
+        size or on timing, so the outcome is the same on every machine. ``None``: no limit.
+        The ungrouped reference ignores it.
 
     Raises
     ------
