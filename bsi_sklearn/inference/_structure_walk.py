@@ -44,7 +44,9 @@ def _part_down(pb, tabs, s, cand, n_c, ht, cur, acc, rec, n_rec, bits):
                 if and_pop(tabs.bits[x], tabs.bits[y], bits, pb.pos) < pb.thr:
                     continue
                 _, e = find(loc, stamp, cur, tabs.bits, tabs.size, tabs.aux, bits,
-                             tabs.size[x] + tabs.size[y], tabs.aux[x] + tabs.aux[y] + pb.aux_inc)
+                            tabs.size[x] + tabs.size[y], tabs.aux[x] + tabs.aux[y] + pb.aux_inc)
+                if e < 0:  # cannot happen: the inside pass made every entry it combines into
+                    continue
                 if out[e] > 0.0:
                     out[x] += out[e] * tabs.weight[y] * scale
                     out[y] += out[e] * tabs.weight[x] * scale
@@ -72,7 +74,9 @@ def _block_down(pb, tabs, s, fs, n_f, rs, ht, cur, acc, rec, n_rec, bits):
             if and_pop(tabs.bits[z], rs[j], bits, pb.pos) < pb.thr:
                 continue
             _, e = find(loc, stamp, cur, tabs.bits, tabs.size, tabs.aux, bits,
-                         tabs.size[z] + k_s - 1, 0)
+                        tabs.size[z] + k_s - 1, 0)
+            if e < 0:
+                continue
             if out[e] > 0.0:
                 out[z] += out[e] * scale
                 mass += out[e] * tabs.weight[z] * scale

@@ -260,7 +260,7 @@ class _Store(NamedTuple):
     count: np.ndarray
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _new_entry(st, e, bits, size, aux):
     st.bits[e] = bits
     st.size[e] = size
@@ -338,14 +338,18 @@ def _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits):
 
 
 @njit(cache=True, nogil=True)
+def _new_store(room, n_words):
+    # Every entry is written (_new_entry) before it is read: no need to fill.
+    return _Store(np.empty((room, n_words), dtype=np.uint64), np.empty(room, dtype=np.int64),
+                  np.empty(room, dtype=np.int64), np.empty(room), np.empty(room), np.empty(room))
+
+
+@njit(cache=True, nogil=True)
 def _with_room(st, need):
     if need <= st.weight.shape[0]:
         return st
-    room = max(need, 2 * st.weight.shape[0])
     k = st.weight.shape[0]
-    big = _Store(np.zeros((room, st.bits.shape[1]), dtype=np.uint64),
-                 np.zeros(room, dtype=np.int64), np.zeros(room, dtype=np.int64),
-                 np.zeros(room), np.full(room, -np.inf), np.zeros(room))
+    big = _new_store(max(need, 2 * k), st.bits.shape[1])
     big.bits[:k] = st.bits
     big.size[:k] = st.size
     big.aux[:k] = st.aux
@@ -385,9 +389,7 @@ def _inside(pb, max_work):
     n = pb.n
     n_sets = 1 << n
     n_words = pb.full.shape[0]
-    st = _with_room(_Store(np.zeros((0, n_words), dtype=np.uint64), np.zeros(0, np.int64),
-                           np.zeros(0, np.int64), np.zeros(0), np.zeros(0), np.zeros(0)),
-                    1024)
+    st = _new_store(1024, n_words)
     _new_entry(st, 0, pb.full, 0, 0)  # entry 0: the empty structure (and chain)
     st.weight[0] = 1.0
     st.best[0] = 0.0
