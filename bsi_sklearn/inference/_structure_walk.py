@@ -145,7 +145,7 @@ def _descend(tabs, pb, out, mark):
             continue
         cur += 1
         ht = local_table(ht, cur, tabs, lo[BLOCK, s], hi[BLOCK, s])
-        n_f, n_comb = first_subtasks(pb, lo, hi, s, fs, rs)
+        n_f, n_comb, _ = first_subtasks(pb, lo, hi, s, fs, rs)
         if marked:
             rec = _rec_room(rec, n_rec + n_comb)
         n_rec = _block_down(pb, tabs, s, fs, n_f, rs, ht, cur, acc, rec, n_rec, bits)

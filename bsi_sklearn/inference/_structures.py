@@ -235,19 +235,22 @@ def candidates(s, n, lo, hi, lists, out):
 def first_subtasks(pb, lo, hi, s, fs, rs):
     # The subtasks f that can come first (or be the root) in a block on s: the rest s - f
     # has a non-empty table and the orders f -> rest keep thr acceptable demonstrations.
-    # Returns how many (fs, rs: f and its orders' bitset) and the entries they combine.
+    # Returns how many (fs, rs: f and its orders' bitset), the entries they combine and the
+    # steps taken (one per subtask, and one per order clause read).
     n_f = 0
     n_comb = 0
+    steps = pb.n
     for f in range(pb.n):
         c = s ^ (1 << f)
         if not (s >> f) & 1 or hi[pb.child_kind, c] == lo[pb.child_kind, c]:
             continue
+        steps += pb.n
         if _orders_from(pb, f, c, rs[n_f]) < pb.thr:
             continue
         fs[n_f] = f
         n_comb += hi[pb.child_kind, c] - lo[pb.child_kind, c]
         n_f += 1
-    return n_f, n_comb
+    return n_f, n_comb, steps
 
 
 # ----------------------------------------------------------------------------- inside pass
@@ -412,11 +415,11 @@ def _inside(pb, max_work):
     work = 0
     for s in range(1, n_sets):
         # Blocks on s; the work of every step is counted before it is done.
-        n_f, n_comb = first_subtasks(pb, lo, hi, s, fs, rs)
+        n_f, n_comb, steps = first_subtasks(pb, lo, hi, s, fs, rs)
         ref_s = -np.inf
         for j in range(n_f):
             ref_s = max(ref_s, ref[pb.child_kind, s ^ (1 << fs[j])] + pb.factor[n_bits(s)])
-        work += STEP_COST * n * n_bits(s) + COMBO_COST * n_comb
+        work += STEP_COST * steps + COMBO_COST * n_comb
         if work > max_work:  # also when the last step's entries passed it
             return False, st, idx, lists, work
         while True:  # again with more room when a table fills up (rarely)

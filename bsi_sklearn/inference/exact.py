@@ -158,7 +158,8 @@ def _evidence(clause_bits, full, labels, model, thr, cut, hs, lik, margin, budge
     # Group the structures that satisfy at least thr acceptable demonstrations; log evidence
     # over them (relative to the groups' ref) and what the later passes need.
     n = model.n
-    budget.spend(STEP_COST * 2.0**n * (n + 1), f"the tables of 2**{n} subsets of subtasks")
+    # Before its arrays over the 2**n subsets (about 60 bytes each) are allocated.
+    budget.spend(STEP_COST * 8 * 2.0**n, f"the tables of 2**{n} subsets of subtasks")
     tables, work = structure_tables(clause_bits, full, labels.pos, thr, model,
                                     max(budget.left, 0.0))
     budget.spend(work if tables is not None else np.inf, "grouping the order structures")
