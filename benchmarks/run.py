@@ -41,6 +41,8 @@ BENCHMARKS = {
     "exact": ("bench_exact", "exact enumeration time vs number of hypotheses"),
     "exact_limit": ("bench_exact_limit", "issue-13 targets: the dinner table and 2 x 9 exactly, "
                                          "against one chain; ten subtasks; peak memory"),
+    "exact_noroles": ("bench_exact_noroles", "issue-19 targets: LFE missions without roles, "
+                                             "the default classifier exact within a second"),
     "accuracy": ("bench_accuracy", "MCMC posterior vs exact enumeration (total variation)"),
     "mcmc_mixing": ("bench_mcmc_mixing", "issue-19 targets: default MCMC fits vs exact on the "
                                          "LFE template and samples2LTL files"),

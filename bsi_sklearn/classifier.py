@@ -71,12 +71,12 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         Likelihood of a misclassified demonstration, in (0, 1). ``None`` uses the paper's
         ``log eps = -4 log(2) (|T| + |Omega| + |Omega|(|Omega|-1)/2)``.
     inference : {"auto", "exact", "mcmc"}, default="auto"
-        ``"auto"`` enumerates the posterior exactly when the support has at most
-        ``max_exact_hypotheses`` hypotheses and the enumeration needs at most about a second
-        of work on a 2020s CPU core (a count of the work that depends on the data only, so the
-        choice is the same on every machine; nearly flat posteriors, e.g. a ``"ci"``
-        likelihood with a large ``epsilon``, need the most), and samples with MCMC otherwise.
-        ``inference_`` says which it did.
+        ``"auto"`` enumerates the posterior exactly when the enumeration needs at most about a
+        second of work on a 2020s CPU core, however large the support, and samples with MCMC
+        otherwise. The work is counted, not timed: the count depends on the data only, so the
+        choice is the same on every machine and for every ``n_jobs``. A peaked posterior over
+        1e19 hypotheses can be cheap and a nearly flat one over 1e8 (e.g. a ``"ci"``
+        likelihood with a large ``epsilon``) expensive. ``inference_`` says which it did.
     n_samples : int, default=10_000
         MCMC sweeps recorded per chain, after ``burn_in`` (a sweep redraws every coordinate).
     burn_in : int, default=100
@@ -92,11 +92,14 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         ``1 + ceil(log2 L)`` rungs (8 for 72 demonstrations of the paper's LFE template). An
         integer sets the number of rungs between 1 and ``1 / L``; 1 turns tempering off.
         Time grows linearly with it.
-    max_exact_hypotheses : int, default=10_000_000_000
-        Largest support enumerated exactly. Exact inference sums interchangeable parts of the
-        hypotheses and skips, with a bound, those that cannot add 1e-17 of the posterior, so
-        its time depends on the data far more than on this number: the paper's dinner table
-        (2.0e8 hypotheses under Prior 2, 2.4e9 under Prior 3) takes milliseconds.
+    max_exact_hypotheses : int or None, default=None
+        Largest support enumerated exactly; ``None``: no cap (``"auto"`` decides by the work
+        alone). Exact inference sums interchangeable parts of the hypotheses and skips, with a
+        bound, those that cannot add 1e-17 of the posterior, so its time depends on the data,
+        not on the support's size: the paper's dinner table (2.0e8 hypotheses under Prior 2,
+        2.4e9 under Prior 3) takes milliseconds, and the LFE missions with every proposition in
+        every role (3.5e15 under Prior 2) tens of milliseconds. With a cap, ``"auto"`` samples
+        larger supports and ``"exact"`` refuses them.
     tol : float, default=1e-9
         Posterior mass exact inference may drop (its least probable hypotheses); the mass
         actually dropped is ``posterior_.dropped_mass``.
@@ -201,9 +204,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     def __init__(self, *, prior="sets_of_chains", likelihood="cb", global_candidates=None,
                  subtasks=None, conditions=None, p_global=0.8, p_eventual=0.8, p_part=0.3,
                  n_new=5.0, epsilon=None, inference="auto", n_samples=10_000, burn_in=100,
-                 n_chains=4, n_temperatures="auto", max_exact_hypotheses=10_000_000_000,
-                 tol=1e-9, binarize=None, pos_label=None, n_jobs=None, random_state=None,
-                 verbose=0):
+                 n_chains=4, n_temperatures="auto", max_exact_hypotheses=None, tol=1e-9,
+                 binarize=None, pos_label=None, n_jobs=None, random_state=None, verbose=0):
         self.prior = prior
         self.likelihood = likelihood
         self.global_candidates = global_candidates
@@ -256,7 +258,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         "burn_in": [Interval(Integral, 0, None, closed="left")],
         "n_chains": [Interval(Integral, 1, None, closed="left")],
         "n_temperatures": [StrOptions({"auto"}), Interval(Integral, 1, None, closed="left")],
-        "max_exact_hypotheses": [Interval(Integral, 0, None, closed="left")],
+        "max_exact_hypotheses": [Interval(Integral, 0, None, closed="left"), None],
         "tol": [Interval(Real, 0.0, 1.0, closed="left")],
         "binarize": [None, Interval(Real, None, None, closed="neither")],
         "pos_label": "no_validation",
@@ -310,10 +312,12 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         n_hyp = count_hypotheses(self.prior, n_g, n)
         inference = self.inference
         work = None
+        over_cap = self.max_exact_hypotheses is not None and n_hyp > self.max_exact_hypotheses
         if inference == "auto":
-            inference = "exact" if n_hyp <= self.max_exact_hypotheses else "mcmc"
+            # The exact engine's own work count decides, whatever the support's size.
+            inference = "mcmc" if over_cap else "exact"
             work = _AUTO_EXACT_WORK
-        elif inference == "exact" and n_hyp > self.max_exact_hypotheses:
+        elif inference == "exact" and over_cap:
             raise ValueError(
                 f"inference='exact' needs {n_hyp:,} hypotheses ({n_g} global candidates, {n} "
                 f"subtasks, prior={self.prior!r}), above max_exact_hypotheses="
@@ -356,13 +360,13 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         warnings.warn(
             f"With the default roles all {n_props} propositions are global candidates and "
             f"subtasks: the support has {n_hyp:.3g} hypotheses, too many to enumerate "
-            f"(max_exact_hypotheses={self.max_exact_hypotheses:,}, and about a second of "
+            f"(max_exact_hypotheses={self.max_exact_hypotheses}, and about a second of "
             "enumeration for inference='auto'), so MCMC samples it, and "
             "the most probable specifications fill with trivial clauses. Say which propositions "
             "play which role with global_candidates=, subtasks= and conditions= (a dataset's "
             "Bunch has them: BSIClassifier(**data.roles)).",
             UserWarning,
-            stacklevel=3,
+            stacklevel=4,
         )
 
     def _warn_disagreement(self, n_hyp):
@@ -392,7 +396,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
                 f"MCMC chains have not mixed: the split-R-hat of their log posteriors is "
                 f"{diag['rhat']:.3g} (> {RHAT_WARN}; mcmc_diagnostics_['rhat']).")
         for message in problems:
-            warnings.warn(f"{message} {advice}", ConvergenceWarning, stacklevel=3)
+            warnings.warn(f"{message} {advice}", ConvergenceWarning, stacklevel=4)
 
     def _fit_exact(self, truth, y01, roles, model, max_work):
         res = exact_posterior(truth, y01, model, tol=float(self.tol), max_work=max_work)

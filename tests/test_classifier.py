@@ -162,3 +162,19 @@ def test_degenerate_templates(inference, roles):
     assert clf.predict_proba(X).shape == (2, 2)
     if roles == dict(subtasks=[], global_candidates=[]):
         assert clf.map_specification_ == Specification()
+
+
+def test_warnings_point_at_the_callers_line():
+    # fit -> _fit -> _warn_*: stacklevel must reach the user's call, not the package's.
+    import warnings
+
+    rng = np.random.RandomState(0)
+    X = [rng.randint(0, 2, size=(5, 4)) for _ in range(12)]
+    y = rng.randint(0, 2, 12)
+    clf = BSIClassifier(inference="mcmc", n_samples=4, n_chains=2, n_temperatures=1,
+                        burn_in=0, random_state=0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        clf.fit(X, y)
+    assert len(caught) == 2  # 4 untempered samples on random data: disagree, not mixed
+    assert all(w.filename == __file__ for w in caught), [w.filename for w in caught]

@@ -12,14 +12,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from bsi_sklearn.clauses import pack_rows, popcounts
-from bsi_sklearn.inference._exact_parts import (
-    Pruning,
-    group_structures,
-    new_walk,
-    next_kept_structure,
-)
+from bsi_sklearn.clauses import pack_rows
+from bsi_sklearn.inference._exact_parts import structure_groups
 from bsi_sklearn.inference._grouping import group_rows
+from bsi_sklearn.inference._structures import structure_tables
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.model import make_model
 from bsi_sklearn.priors import (
@@ -90,39 +86,47 @@ def test_group_rows_sums_weights_in_order_of_first_appearance():
     assert np.allclose(g.best, np.log([0.3, 0.2, 0.4]))
 
 
-def _walk_all(prior, n, clause_bits, full, pos, min_pos):
-    model = make_model(prior=prior, likelihood="cb", n_globals=0, n_subtasks=n)
-    rule = Pruning(clause_bits, pos, np.zeros(int(popcounts(full[None], pos)[0]) + 1), -np.inf,
-                   min_pos, 2**62)
-    wk = new_walk(n, full)
-    seen = []
-    while next_kept_structure(wk, model, rule):
-        seen.append((tuple(wk.parent), wk.bits[n].copy(), int(wk.size[n])))
-    return seen
+def _structure_bits(parent, truth, n):
+    # Brute force: a structure's demonstration bitset (as a bool row) and number of orders.
+    orders = [(a, v) for v in range(n) for a in _ancestors(parent, v)]
+    sat = np.ones(truth.shape[0], bool)
+    for a, v in orders:
+        sat &= truth[:, n + a * n + v] == 1
+    return sat, len(orders)
 
 
 @pytest.mark.parametrize("prior", PRIORS)
-def test_pruned_walk_keeps_exactly_the_structures_every_positive_satisfies(prior):
-    rng = np.random.default_rng(4)
-    n, n_demos = 4, 40
+@pytest.mark.parametrize("n", [0, 1, 4, 5])
+def test_structure_tables_group_exactly_the_structures_satisfying_thr_positives(prior, n):
+    rng = np.random.default_rng(4 + n)
+    n_demos = 40
     truth = (rng.random((n_demos, n + n * n)) < 0.85).astype(np.uint8)  # no globals
     y = rng.random(n_demos) < 0.6
     clause_bits = pack_rows(np.ascontiguousarray(truth.T))
     full = pack_rows(np.ones((1, n_demos), dtype=np.uint8))[0]
     pos = pack_rows(y.astype(np.uint8)[None])[0]
-    everything = _walk_all(prior, n, clause_bits, full, pos, 0)
-    assert [s[0] for s in everything] == [tuple(r) for r in enumerate_structures(prior, n)]
-    for parent, bits, size in everything:
-        orders = [(a, v) for v in range(n) for a in _ancestors(parent, v)]
-        sat = np.ones(n_demos, bool)
-        for a, v in orders:
-            sat &= truth[:, n + a * n + v] == 1
-        assert size == len(orders)
-        assert np.array_equal(bits, pack_rows(sat.astype(np.uint8)[None])[0])
-    kept = [s[0] for s in _walk_all(prior, n, clause_bits, full, pos, int(y.sum()))]
-    want = [s[0] for s in everything
-            if popcounts(s[1][None], pos)[0] == y.sum()]
-    assert kept == want
+    model = make_model(prior=prior, likelihood="cb", n_globals=0, n_subtasks=n, p_part=0.4,
+                       n_new=2.5)
+    for thr in (0, int(y.sum()) - 2, int(y.sum())):
+        want = {}
+        for parent in enumerate_structures(prior, n):
+            sat, size = _structure_bits(parent, truth, n)
+            if (sat & y).sum() >= thr:
+                key = (tuple(pack_rows(sat.astype(np.uint8)[None])[0].tolist()), size)
+                w, c, b = want.get(key, (0.0, 0, -np.inf))
+                lp = log_prior_structure(parent, model)
+                want[key] = (w + math.exp(lp), c + 1, max(b, lp))
+        tables, work = structure_tables(clause_bits, full, pos, thr, model)
+        groups, members, _ = structure_groups(tables, model)
+        got = {(tuple(b), int(s)): (w * math.exp(groups.ref), int(m), best)
+               for b, s, w, m, best in zip(groups.bits.tolist(), groups.size, groups.weight,
+                                           members, groups.best)}
+        assert set(got) == set(want)
+        for key, (w, c, b) in want.items():
+            assert got[key][0] == pytest.approx(w, rel=1e-12)
+            assert got[key][1] == c
+            assert got[key][2] == pytest.approx(b, abs=1e-12)
+        assert work > 0 or n == 0
 
 
 def _ancestors(parent, v):
@@ -201,13 +205,13 @@ def test_structure_groups_hold_the_whole_prior():
     clause_bits = pack_rows(np.ascontiguousarray(truth.T))
     full = pack_rows(np.ones((1, len(y)), dtype=np.uint8))[0]
     pos = pack_rows((y == 1).astype(np.uint8)[None])[0]
-    rule = Pruning(clause_bits, pos, np.zeros(int(y.sum()) + 1), -np.inf, 0, 2**62)
-    _, groups, members, n_visited, complete = group_structures(full, model, rule)
+    tables, work = structure_tables(clause_bits, full, pos, 0, model)
+    groups, members, _ = structure_groups(tables, model)
     assert (groups.weight * np.exp(groups.ref)).sum() == pytest.approx(1.0, abs=1e-12)
     assert len(groups.size) < count_structures("forest", 5)
-    assert complete and members.sum() == n_visited == count_structures("forest", 5)
-    _, _, _, n_visited, complete = group_structures(full, model, rule._replace(max_visits=100))
-    assert not complete and n_visited == 101
+    assert members.sum() == count_structures("forest", 5)
+    assert structure_tables(clause_bits, full, pos, 0, model, max_work=work - 1)[0] is None
+    assert structure_tables(clause_bits, full, pos, 0, model, max_work=work)[0] is not None
 
 
 def test_work_budget_stops_before_the_work_and_is_deterministic():

@@ -32,7 +32,8 @@ N_TEST = 20
 #: The supervised variant adds ``ceil(NEGATIVE_RATIO * n)`` negatives to ``n`` positives.
 NEGATIVE_RATIO = 0.5
 #: Every setting's support is small enough (at most 1.3 million hypotheses) for exact
-#: inference; the MCMC settings only apply if a custom run exceeds ``max_exact_hypotheses``.
+#: inference; the MCMC settings only apply if a custom run's enumeration exceeds auto's work
+#: budget.
 CLASSIFIER_PARAMS = {"inference": "auto", "n_samples": 10_000, "burn_in": 100, "n_chains": 4}
 
 #: Sizes, repeats and held-out demonstrations of a quick run (``bsi reproduce --quick``).

@@ -18,13 +18,11 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn.clauses import popcount
-from bsi_sklearn.inference._exact_parts import ancestor_masks, new_walk, next_kept_structure
-from bsi_sklearn.inference._grouping import lookup
 from bsi_sklearn.likelihood import log_likelihood
 from bsi_sklearn.priors import structure_log_prior
 
-__all__ = ["StructureSide", "SubsetSide", "Likelihoods", "Expansion", "likelihood_tables",
-           "log_evidence", "group_masses", "walk_structures", "MAX_CELLS"]
+__all__ = ["StructureSide", "SubsetSide", "Likelihoods", "Listing", "likelihood_tables",
+           "log_evidence", "group_masses", "list_hypotheses", "MAX_CELLS"]
 
 #: Largest (satisfied positives x satisfied negatives) table of the passes' caches; above it
 #: every pair of groups pays a log and an exp instead.
@@ -211,17 +209,6 @@ def group_masses(ss, hs, lik, log_z, keep, cut):
     return mass_s, mass_h, flag
 
 
-class Expansion(NamedTuple):
-    """What the last walk needs to split masses and expand the kept hypotheses."""
-
-    rank: np.ndarray        # table group id -> position in the sorted StructureSide
-    mass_s: np.ndarray      # posterior mass of each (sorted) structure group
-    ref_s: float
-    flag: np.ndarray        # (sorted) structure groups that may hold a kept hypothesis
-    h_order: np.ndarray     # SubsetSide position -> subset-pair group id
-    keep: float             # absolute log posterior (unnormalised) a kept hypothesis reaches
-
-
 @njit(cache=True, nogil=True)
 def _heap_add(heap_lp, heap_slot, size, value, slot):
     # Min-heap of (log posterior, slot of out_*): the least probable kept hypothesis on top.
@@ -255,91 +242,153 @@ def _heap_replace_top(heap_lp, heap_slot, size, value):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _put(out_par, out_idx, out_lp, slot, parent, ordinal, t, e, value):
-    for v in range(parent.shape[0]):  # a loop, not a row copy (see _grouping._grown)
+def _put(out_par, out_idx, out_lp, slot, parent, t, e, value):
+    for v in range(parent.shape[0]):
         out_par[slot, v] = parent[v]
-    out_idx[slot, 0] = ordinal
-    out_idx[slot, 1] = t
-    out_idx[slot, 2] = e
+    out_idx[slot, 0] = t
+    out_idx[slot, 1] = e
     out_lp[slot] = value
 
 
-@njit(cache=True, nogil=True)
-def walk_structures(full, model, rule, table, ss, hs, lik, ex, subsets, out_par, out_idx,
-                    out_lp):
-    """Walk the structures the rule keeps again: order-clause marginals and kept hypotheses.
+class Listing(NamedTuple):
+    """What the listing of the kept hypotheses needs (see :func:`list_hypotheses`)."""
 
-    Each structure's share of its group's mass goes to its order clauses; the hypotheses at or
-    above ``ex.keep`` are written to ``out_*`` (structure, [ordinal, global mask, eventual
-    mask], unnormalised log posterior), in no particular order; when there are more than they
-    have room for, a min-heap keeps the most probable. Returns the order-clause marginals
-    (``n * n``, ``a * n + v`` for ``a -> v``) and the number of hypotheses at or above
-    ``ex.keep``, which may exceed the room in ``out_*``.
+    rec_start: np.ndarray   # (E + 1,) derivations of table entry e: rec[rec_start[e]:...]
+    rec: np.ndarray         # (R, 4) rows (entry, a, b, f) (see _structures.descend)
+    targets: np.ndarray     # (T,) whole-set entries whose structures are listed
+    group: np.ndarray       # (T,) each target's structure group (sorted StructureSide order)
+    pass_start: np.ndarray  # (G + 1,) CSR by structure group: the subset-pair groups that
+    pass_h: np.ndarray      # may reach keep with it (SubsetSide positions)
+    pass_ll: np.ndarray     # and the pair's log likelihood
+    h_order: np.ndarray     # SubsetSide position -> subset-pair group id
+    keep: float             # absolute log posterior (unnormalised) a kept hypothesis reaches
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _expand(rec, k, attach, parent, pend_e, pend_a, n_pend):
+    # Apply derivation k to an entry hanging under `attach`: a block puts its first subtask
+    # (or root) f under attach and hangs the rest under f; a structure hangs its block and
+    # its rest under attach. The empty structure (entry 0) needs nothing.
+    f = rec[k, 3]
+    if f >= 0:
+        parent[f] = attach
+        if rec[k, 1] != 0:
+            pend_e[n_pend] = rec[k, 1]
+            pend_a[n_pend] = f
+            n_pend += 1
+        return n_pend
+    if rec[k, 2] != 0:
+        pend_e[n_pend] = rec[k, 2]
+        pend_a[n_pend] = attach
+        n_pend += 1
+    pend_e[n_pend] = rec[k, 1]
+    pend_a[n_pend] = attach
+    return n_pend + 1
+
+
+@njit(cache=True, nogil=True)
+def list_hypotheses(model, hs, subsets, ls, out_par, out_idx, out_lp):
+    """Enumerate the structures of the target entries and list their kept hypotheses.
+
+    Every structure of a target is rebuilt from its derivations (a depth-first walk with a
+    stack of the entries still to expand); the hypotheses at or above ``ls.keep`` are written
+    to ``out_*`` (structure, [global mask, eventual mask], unnormalised log posterior), in no
+    particular order; when there are more than they have room for, a min-heap keeps the most
+    probable. Returns the number of hypotheses at or above ``ls.keep``, which may exceed the
+    room in ``out_*``.
     """
     n = model.n
-    by_mask = np.zeros((n, 1 << n))  # mass by (subtask, its ancestor mask)
-    wk = new_walk(n, full)
-    parent = wk.parent
+    parent = np.full(n, -1, dtype=np.int64)
     scratch = np.zeros(n, dtype=np.int64)
-    anc = np.zeros(n, dtype=np.int64)
+    depth = 2 * n + 2
+    pend_e = np.empty(n + 1, dtype=np.int64)
+    pend_a = np.empty(n + 1, dtype=np.int64)
+    fr_e = np.empty(depth, dtype=np.int64)
+    fr_a = np.empty(depth, dtype=np.int64)
+    fr_k = np.empty(depth, dtype=np.int64)
+    fr_n = np.empty(depth, dtype=np.int64)
+    fr_pe = np.empty((depth, n + 1), dtype=np.int64)
+    fr_pa = np.empty((depth, n + 1), dtype=np.int64)
     cap = out_lp.shape[0]
     heap_lp = np.empty(cap)
     heap_slot = np.empty(cap, dtype=np.int64)
     k = 0
-    ordinal = -1
-    while next_kept_structure(wk, model, rule):
-        ordinal += 1
-        lp = structure_log_prior(parent, model, scratch)
-        if lp == -np.inf:
-            continue
-        g = ex.rank[lookup(table, wk.bits[n], wk.size[n])]
-        if ex.mass_s[g] == 0.0 and not ex.flag[g]:
-            continue
-        ancestor_masks(parent, anc)
-        if ss.weight[g] > 0.0 and ex.mass_s[g] > 0.0:
-            share = ex.mass_s[g] * (math.exp(lp - ex.ref_s) / ss.weight[g])
-            for v in range(n):
-                by_mask[v, anc[v]] += share
-        if not ex.flag[g]:
-            continue
-        size = ss.size[g]
-        for hi in range(hs.pos.shape[0]):
-            ps, ns = _counts(ss.bits, g, hs.pos, hs.neg, hi)
-            k_conj = size + hs.size[hi]
-            ll = lik.pos[k_conj, ps] + lik.neg[k_conj, ns]
-            floor = ex.keep
-            if k >= cap and heap_lp[0] > floor:
-                floor = heap_lp[0]  # the heap is full: beat its least probable
-            need = floor - lp - ll  # a member's log prior must reach this
-            if hs.best[hi] < need:
-                continue
-            h = ex.h_order[hi]
-            for q in range(subsets.pair_start[h], subsets.pair_start[h + 1]):
-                gt = subsets.pair_t[q]
-                ge = subsets.pair_e[q]
-                if subsets.t_groups.best[gt] + subsets.e_groups.best[ge] < need:
+    for ti in range(ls.targets.shape[0]):
+        g = ls.group[ti]
+        n_pend = 0
+        if ls.targets[ti] != 0:
+            pend_e[0] = ls.targets[ti]
+            pend_a[0] = -1
+            n_pend = 1
+        d = 0
+        down = True
+        while True:
+            if down:
+                if n_pend > 0:
+                    n_pend -= 1
+                    fr_e[d] = pend_e[n_pend]
+                    fr_a[d] = pend_a[n_pend]
+                    fr_n[d] = n_pend
+                    fr_pe[d, :n_pend] = pend_e[:n_pend]
+                    fr_pa[d, :n_pend] = pend_a[:n_pend]
+                    fr_k[d] = ls.rec_start[fr_e[d]]
+                    n_pend = _expand(ls.rec, fr_k[d], fr_a[d], parent, pend_e, pend_a, n_pend)
+                    d += 1
                     continue
-                for it in range(subsets.t_start[gt], subsets.t_start[gt + 1]):
-                    t = subsets.t_items[it]
-                    for ie in range(subsets.e_start[ge], subsets.e_start[ge + 1]):
-                        e = subsets.e_items[ie]
-                        lp_te = subsets.t_lp[t] + subsets.e_lp[e]
-                        if lp_te < need:
-                            continue
-                        value = lp + lp_te + ll
-                        k += 1
-                        if k <= cap:
-                            _put(out_par, out_idx, out_lp, k - 1, parent, ordinal, t, e, value)
-                            _heap_add(heap_lp, heap_slot, k - 1, value, k - 1)
-                        elif value > heap_lp[0]:
-                            _put(out_par, out_idx, out_lp, heap_slot[0], parent, ordinal, t, e,
-                                 value)
-                            _heap_replace_top(heap_lp, heap_slot, cap, value)
-    marg = np.zeros(n * n)
-    for v in range(n):
-        for m in range(1, 1 << n):
-            if by_mask[v, m] != 0.0:
-                for a in range(n):
-                    if (m >> a) & 1:
-                        marg[a * n + v] += by_mask[v, m]
-    return marg, k
+                lp = structure_log_prior(parent, model, scratch)
+                k = _list_one(parent, lp, g, hs, subsets, ls, k, out_par, out_idx, out_lp,
+                              heap_lp, heap_slot)
+                down = False
+                continue
+            if d == 0:
+                break
+            d -= 1
+            nxt = fr_k[d] + 1
+            if nxt == ls.rec_start[fr_e[d] + 1]:
+                continue
+            fr_k[d] = nxt
+            n_pend = fr_n[d]
+            pend_e[:n_pend] = fr_pe[d, :n_pend]
+            pend_a[:n_pend] = fr_pa[d, :n_pend]
+            n_pend = _expand(ls.rec, nxt, fr_a[d], parent, pend_e, pend_a, n_pend)
+            d += 1
+            down = True
+    return k
+
+
+@njit(cache=True, nogil=True)
+def _list_one(parent, lp, g, hs, subsets, ls, k, out_par, out_idx, out_lp, heap_lp,
+              heap_slot):
+    # The hypotheses of one structure (log prior lp, structure group g) at or above keep.
+    cap = out_lp.shape[0]
+    for j in range(ls.pass_start[g], ls.pass_start[g + 1]):
+        hi = ls.pass_h[j]
+        ll = ls.pass_ll[j]
+        floor = ls.keep
+        if k >= cap and heap_lp[0] > floor:
+            floor = heap_lp[0]  # the heap is full: beat its least probable
+        need = floor - lp - ll  # a member's log prior must reach this
+        if hs.best[hi] < need:
+            continue
+        h = ls.h_order[hi]
+        for q in range(subsets.pair_start[h], subsets.pair_start[h + 1]):
+            gt = subsets.pair_t[q]
+            ge = subsets.pair_e[q]
+            if subsets.t_groups.best[gt] + subsets.e_groups.best[ge] < need:
+                continue
+            for it in range(subsets.t_start[gt], subsets.t_start[gt + 1]):
+                t = subsets.t_items[it]
+                for ie in range(subsets.e_start[ge], subsets.e_start[ge + 1]):
+                    e = subsets.e_items[ie]
+                    lp_te = subsets.t_lp[t] + subsets.e_lp[e]
+                    if lp_te < need:
+                        continue
+                    value = lp + lp_te + ll
+                    k += 1
+                    if k <= cap:
+                        _put(out_par, out_idx, out_lp, k - 1, parent, t, e, value)
+                        _heap_add(heap_lp, heap_slot, k - 1, value, k - 1)
+                    elif value > heap_lp[0]:
+                        _put(out_par, out_idx, out_lp, heap_slot[0], parent, t, e, value)
+                        _heap_replace_top(heap_lp, heap_slot, cap, value)
+    return k

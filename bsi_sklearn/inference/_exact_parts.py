@@ -3,29 +3,27 @@
 A hypothesis is an order structure, a subset of the global candidates and a subset of the
 eventual subtasks. Each part is described by the bitset of demonstrations it satisfies, its
 number of conjuncts and its log prior. The exact posterior runs over *groups* of parts that
-share ``(bitset, size)`` (:mod:`bsi_sklearn.inference._grouping`): order structures are generated
-depth-first and grouped as they come, without an array over all of them; the two subsets are
-grouped, then combined into groups of (global subset, eventual subset) pairs.
+share ``(bitset, size)`` (:mod:`bsi_sklearn.inference._grouping`): the two subsets are grouped
+here, then combined into groups of (global subset, eventual subset) pairs; the order structures
+are counted in the tables of :mod:`bsi_sklearn.inference._structures` and their whole
+structures grouped here.
 """
 
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
-from bsi_sklearn.clauses import popcount
-from bsi_sklearn.inference._grouping import (
-    Groups,
-    add_weight,
-    group_rows,
-    insert,
-    new_table,
-    with_room,
-)
-from bsi_sklearn.priors import log_prior_subset, next_assignment, structure_log_prior
+from bsi_sklearn.inference._grouping import Groups, group_rows
+from bsi_sklearn.inference._structures import whole_kind
+from bsi_sklearn.priors import log_prior_subset
 
-__all__ = ["PartTable", "SubsetGroups", "Pruning", "StructureWalk", "subset_table", "new_walk",
-           "next_kept_structure", "ancestor_masks", "group_structures", "group_subsets"]
+__all__ = ["PartTable", "SubsetGroups", "subset_table", "group_subsets", "top_entries",
+           "structure_groups", "ROW_COST", "PAIR_COST"]
+
+#: Work units (evaluations of a pair of groups, about 5-10 ns) of one row of a subset table
+#: (built, then grouped by sorting) and of one pair of (global, eventual) subset groups.
+ROW_COST = 20
+PAIR_COST = 20
 
 
 class PartTable(NamedTuple):
@@ -70,184 +68,6 @@ def subset_table(clause_bits, first_clause, n_items, p, full):
     return PartTable(bits, size, lp[size])
 
 
-class Pruning(NamedTuple):
-    """Which partial structures the walk abandons.
-
-    A partial structure's known orders only shrink the set of demonstrations it satisfies, so
-    ``P`` (the acceptable demonstrations its orders satisfy so far) bounds every completion.
-    The walk skips a partial structure when ``P < min_pos`` or ``bound[P] < cut``.
-    """
-
-    clause_bits: np.ndarray  # (n_clauses, n_words) uint64
-    pos: np.ndarray          # (n_words,) acceptable demonstrations
-    bound: np.ndarray        # (n_pos + 1,) non-decreasing bound on the log likelihood
-    cut: float
-    min_pos: int
-    max_visits: int          # the walk stops after this many structures (a work budget)
-
-
-class StructureWalk(NamedTuple):
-    """State of the depth-first walk over order structures (see :func:`next_kept_structure`)."""
-
-    parent: np.ndarray     # (n,) the current (partial) structure
-    n_children: np.ndarray
-    state: np.ndarray      # (4,) for priors.next_assignment
-    bits: np.ndarray       # (n + 1, n_words): AND of the orders known after each level
-    size: np.ndarray       # (n + 1,): number of those orders
-    above: np.ndarray      # (n,) scratch: new ancestors
-    below: np.ndarray      # (n,) scratch: new descendants
-
-
-@njit(cache=True, nogil=True)
-def new_walk(n, full):
-    """A walk at its start; ``full`` is the all-demonstrations bitset."""
-    bits = np.empty((n + 1, full.shape[0]), dtype=np.uint64)
-    for w in range(full.shape[0]):  # not bits[0] = full: see _grouping._grown
-        bits[0, w] = full[w]
-    return StructureWalk(np.full(n, -2, dtype=np.int64), np.zeros(n, dtype=np.int64),
-                         np.zeros(4, dtype=np.int64), bits, np.zeros(n + 1, dtype=np.int64),
-                         np.empty(max(n, 1), dtype=np.int64), np.empty(max(n, 1), dtype=np.int64))
-
-
-@njit(cache=True, nogil=True)
-def _add_orders(wk, v, clause_bits, base):
-    # Node v just got its parent: the orders that became known are (a, d) for every new
-    # ancestor a (the parent's chain up to the first node not placed yet, inclusive) and every
-    # d in {v} and the placed nodes whose chain stopped at v.
-    n = wk.parent.shape[0]
-    n_above = 0
-    a = wk.parent[v]
-    while a >= 0:
-        wk.above[n_above] = a
-        n_above += 1
-        if a > v:
-            break
-        a = wk.parent[a]
-    n_below = 1
-    wk.below[0] = v
-    for d in range(v):
-        x = wk.parent[d]
-        while 0 <= x < v:
-            x = wk.parent[x]
-        if x == v:
-            wk.below[n_below] = d
-            n_below += 1
-    n_words = wk.bits.shape[1]
-    for w in range(n_words):
-        wk.bits[v + 1, w] = wk.bits[v, w]
-    for i in range(n_above):
-        for j in range(n_below):
-            c = base + wk.above[i] * n + wk.below[j]
-            for w in range(n_words):
-                wk.bits[v + 1, w] &= clause_bits[c, w]
-    wk.size[v + 1] = wk.size[v] + n_above * n_below
-
-
-@njit(cache=True, nogil=True)
-def next_kept_structure(wk, model, rule):
-    """Advance the walk to the next order structure the pruning rule keeps.
-
-    Returns False when there is none left; otherwise the structure is in ``wk.parent``, its
-    bitset in ``wk.bits[n]`` and its number of orders in ``wk.size[n]``.
-    """
-    n = wk.parent.shape[0]
-    if n == 0:
-        done = wk.state[2] == 1
-        wk.state[2] = 1
-        return not done
-    base = model.n_g + n
-    descend = True
-    while True:
-        v = next_assignment(wk.parent, wk.n_children, wk.state, model.prior, descend)
-        if v < 0:
-            return False
-        _add_orders(wk, v, rule.clause_bits, base)
-        p = 0
-        for w in range(rule.pos.shape[0]):
-            p += popcount(wk.bits[v + 1, w] & rule.pos[w])
-        if p < rule.min_pos or rule.bound[p] < rule.cut:
-            descend = False
-            continue
-        if v == n - 1:
-            return True
-        descend = True
-
-
-@njit(cache=True, nogil=True)
-def ancestor_masks(parent, anc):
-    """Each subtask's ancestors as a bit mask, into ``anc``; returns the number of orders."""
-    size = 0
-    for v in range(parent.shape[0]):
-        m = 0
-        a = parent[v]
-        while a >= 0:
-            m |= 1 << a
-            size += 1
-            a = parent[a]
-        anc[v] = m
-    return size
-
-
-@njit(cache=True, nogil=True)
-def _fill_groups(wk, model, rule, table, weight, best, members, ref, scratch, visits):
-    # Group kept structures until the walk ends (returns 1), the table is full (0) or more
-    # than rule.max_visits structures were seen (2); the walk resumes at the next call
-    # (growing arrays inside this loop would make numba reload them at every step).
-    n = model.n
-    room = table.bits.shape[0]
-    while table.count[0] < room:
-        if not next_kept_structure(wk, model, rule):
-            return 1
-        visits[0] += 1
-        if visits[0] > rule.max_visits:
-            return 2
-        lp = structure_log_prior(wk.parent, model, scratch)
-        if lp == -np.inf:
-            continue
-        g = insert(table, wk.bits[n], wk.size[n])
-        members[g] += 1
-        ref[0] = add_weight(weight, best, ref[0], g, lp, lp)
-    return 0
-
-
-@njit(cache=True, nogil=True)
-def group_structures(full, model, rule):
-    """Walk the order structures the rule keeps and group them by ``(bitset, size)``.
-
-    Returns ``(table, groups, members, n_visited, complete)``: the hash table (to find a
-    structure's group again), the groups with their summed prior weights, each group's number
-    of structures, how many structures were walked, and False when the walk stopped at
-    ``rule.max_visits``. Memory grows with the number of groups only.
-    """
-    n = model.n
-    table = new_table(full.shape[0], 4096)
-    weight = np.zeros(table.bits.shape[0])
-    best = np.full(table.bits.shape[0], -np.inf)
-    members = np.zeros(table.bits.shape[0], dtype=np.int64)
-    ref = np.full(1, -np.inf)
-    visits = np.zeros(1, dtype=np.int64)
-    wk = new_walk(n, full)
-    scratch = np.zeros(n, dtype=np.int64)
-    while True:
-        code = _fill_groups(wk, model, rule, table, weight, best, members, ref, scratch, visits)
-        if code:
-            break
-        table = with_room(table)
-        room = table.bits.shape[0]
-        w2 = np.zeros(room)
-        b2 = np.full(room, -np.inf)
-        m2 = np.zeros(room, dtype=np.int64)
-        for g in range(weight.shape[0]):  # loops, not slice copies (see _grouping._grown)
-            w2[g] = weight[g]
-            b2[g] = best[g]
-            m2[g] = members[g]
-        weight, best, members = w2, b2, m2
-    k = table.count[0]
-    groups = Groups(table.bits[:k].copy(), table.size[:k].copy(), weight[:k].copy(), ref[0],
-                    best[:k].copy())
-    return table, groups, members[:k].copy(), visits[0], code == 1
-
-
 def _members(gid, n_groups):
     # CSR lists of the items of each group, items in increasing order.
     ok = np.flatnonzero(gid >= 0)
@@ -257,9 +77,15 @@ def _members(gid, n_groups):
     return np.cumsum(start), order.astype(np.int64)
 
 
-def group_subsets(clause_bits, full, model):
-    """Group the global subsets, the eventual subsets, then pairs of their groups."""
+def group_subsets(clause_bits, full, model, spend=None):
+    """Group the global subsets, the eventual subsets, then pairs of their groups.
+
+    ``spend(work, what)``, when given, is called before each table is allocated (work in the
+    units of :data:`ROW_COST`, :data:`PAIR_COST`); it raises to stop.
+    """
     n_g, n = model.n_g, model.n
+    if spend is not None:
+        spend(ROW_COST * (2.0**n_g + 2.0**n), f"the subset tables (2**{n_g} + 2**{n} rows)")
     t_tab = subset_table(clause_bits, 0, n_g, model.p_global, full)
     e_tab = subset_table(clause_bits, n_g, n, model.p_eventual, full)
     t_gid, tg = group_rows(t_tab.bits, t_tab.size, t_tab.lp)
@@ -267,6 +93,9 @@ def group_subsets(clause_bits, full, model):
     t_start, t_items = _members(t_gid, len(tg.size))
     e_start, e_items = _members(e_gid, len(eg.size))
     # Pairs of groups: every (global group, eventual group), then grouped again.
+    if spend is not None:
+        spend(PAIR_COST * float(len(tg.size)) * len(eg.size),
+              f"{len(tg.size):,} x {len(eg.size):,} pairs of subset groups")
     a, b = np.divmod(np.arange(len(tg.size) * len(eg.size)), len(eg.size))
     with np.errstate(divide="ignore"):
         lw = np.log(tg.weight)[a] + tg.ref + np.log(eg.weight)[b] + eg.ref
@@ -275,3 +104,44 @@ def group_subsets(clause_bits, full, model):
     pair_start, pairs = _members(pair_gid, len(groups.size))
     return SubsetGroups(groups, pair_start, a[pairs], b[pairs], tg, t_start, t_items, t_tab.lp,
                         eg, e_start, e_items, e_tab.lp, lw[pairs])
+
+
+def top_entries(tables, model):
+    """The entries of the structure tables that hold whole structures.
+
+    Returns ``(ids, log_weight, log_best)``: the entries on the whole set of subtasks, each
+    entry's summed prior weight and its most probable member's log prior, both absolute (the
+    prior's factor of the whole structure, e.g. Prior 2's by number of chains, added).
+    """
+    n = model.n
+    whole = (1 << n) - 1
+    kind = whole_kind(model)
+    ids = np.arange(tables.lo[kind, whole], tables.hi[kind, whole])
+    if n == 0:
+        top = np.zeros(len(ids))
+    elif model.forest:
+        top = np.full(len(ids), float(model.forest_const))
+    else:
+        aux = tables.aux[ids] if kind == 1 else np.ones(len(ids), dtype=np.int64)  # one chain
+        top = np.asarray(model.lp_chains, dtype=np.float64)[aux]
+    with np.errstate(divide="ignore"):
+        lw = np.log(tables.weight[ids]) + tables.ref[kind, whole] + top
+    return ids, lw, tables.best[ids] + top
+
+
+def structure_groups(tables, model):
+    """The whole structures grouped by (bitset, orders), as the passes take them.
+
+    Returns ``(groups, members, gid)``: the groups (summed prior weights, most probable
+    member), each group's number of structures (float: it may pass 2**63) and each entry of
+    :func:`top_entries`' group (-1 for an entry of prior weight 0).
+    """
+    ids, lw, best = top_entries(tables, model)
+    if len(ids) == 0:
+        n_words = tables.bits.shape[1]
+        return (Groups(np.empty((0, n_words), np.uint64), np.empty(0, np.int64), np.empty(0),
+                       -np.inf, np.empty(0)), np.empty(0), np.empty(0, np.int64))
+    gid, groups = group_rows(tables.bits[ids], tables.size[ids], lw, best)
+    ok = gid >= 0
+    members = np.bincount(gid[ok], weights=tables.count[ids][ok], minlength=len(groups.size))
+    return groups, members, gid

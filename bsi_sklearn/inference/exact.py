@@ -3,40 +3,50 @@
 A hypothesis' likelihood depends only on how many acceptable and unacceptable demonstrations it
 satisfies and on its number of conjuncts, so order structures, and pairs of (global subset,
 eventual subset), that satisfy the same demonstrations with the same number of conjuncts are
-interchangeable: their prior weights are summed into groups
-(:mod:`bsi_sklearn.inference._exact_parts`) and the enumeration runs over pairs of groups. A
-first pass computes the normaliser, building per pair of groups only a histogram over
-(satisfied positives, satisfied negatives); a second pass gives every group its posterior mass
-and flags the structure groups that may hold a hypothesis above the keep threshold; a last walk
-over the order structures splits the masses into clause marginals and lists the kept
-hypotheses. Order structures and pairs of groups that cannot add 1e-17 of the evidence are
-skipped, with a bound (:mod:`bsi_sklearn.inference._exact_kernels`). The result is the
-posterior of the ungrouped enumeration (:mod:`bsi_sklearn.inference._exact_ungrouped`, the
-reference it is tested against) up to rounding.
+interchangeable: their prior weights are summed into groups and the enumeration runs over pairs
+of groups. The order structures are counted, not walked one by one: a dynamic programme over
+subsets of subtasks groups them however many there are
+(:mod:`bsi_sklearn.inference._structures`); the subsets are grouped in
+:mod:`bsi_sklearn.inference._exact_parts`. A first pass computes the normaliser, building per
+pair of groups only a histogram over (satisfied positives, satisfied negatives); a second pass
+gives every group its posterior mass and flags the structure groups that may hold a hypothesis
+above the keep threshold; a walk back down the structure tables splits the masses into clause
+marginals and yields the derivations from which the kept hypotheses are listed
+(:mod:`bsi_sklearn.inference._structure_walk`). Structures and pairs of groups that cannot add
+1e-17 of the evidence are skipped, with a bound
+(:mod:`bsi_sklearn.inference._exact_kernels`). The result is the posterior of the ungrouped
+enumeration (:mod:`bsi_sklearn.inference._exact_ungrouped`, the reference it is tested against)
+up to rounding. Whether the enumeration runs is decided by a count of its work that depends on
+the data only (``max_work``), never by the size of the support.
 """
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
 from bsi_sklearn.clauses import pack_rows, popcounts
 from bsi_sklearn.inference._exact_kernels import (
-    Expansion,
+    Listing,
     StructureSide,
     SubsetSide,
     group_masses,
     likelihood_tables,
+    list_hypotheses,
     log_evidence,
-    walk_structures,
 )
 from bsi_sklearn.inference._exact_parts import (
     PartTable,
-    Pruning,
-    group_structures,
     group_subsets,
+    structure_groups,
     subset_table,
+    top_entries,
 )
-from bsi_sklearn.inference._exact_ungrouped import LabelMasks, structure_tables, ungrouped_kernel
+from bsi_sklearn.inference._exact_ungrouped import LabelMasks, ungrouped_kernel
+from bsi_sklearn.inference._exact_ungrouped import structure_tables as ungrouped_structures
+from bsi_sklearn.inference._grouping import Groups
+from bsi_sklearn.inference._structure_walk import descend
+from bsi_sklearn.inference._structures import STEP_COST, StructureTables, structure_tables
 from bsi_sklearn.priors import PRIORS, count_hypotheses, support_structures
 
 __all__ = ["exact_posterior", "ExactResult", "ExactWorkExceeded", "MAX_KEPT"]
@@ -47,8 +57,9 @@ MAX_KEPT = 1_000_000
 #: Pairs of groups whose total mass is bounded below exp(_MARGIN) of the evidence are skipped
 #: (and never when ``tol`` is 0).
 _MARGIN = math.log(1e-17)
-_STRUCTURE_COST = 100
-_EMIT_COST = 20
+_LIST_COST = 4
+_EMIT_COST = 4
+_KEPT_COST = 16
 
 
 class ExactResult:
@@ -128,15 +139,14 @@ class ExactWorkExceeded(RuntimeError):
 
 
 class _Budget:
-    # Work in units of one pair-of-groups evaluation (about 5-10 ns here): a structure walked
-    # costs about _STRUCTURE_COST of them, a hypothesis the last walk may list (every subset
-    # pair of a structure whose group may hold a kept hypothesis) about _EMIT_COST. The count
-    # depends on the data only, never on timing.
+    # Work in units of one pair-of-groups evaluation (about 5-10 ns here): a combination of two
+    # entries of the structure tables costs _structures.COMBO_COST of them, a structure the
+    # last walk rebuilds _LIST_COST per subtask, a (global, eventual) subset pair it looks at
+    # _EMIT_COST and one it may list _KEPT_COST more (counted as if every one were listed:
+    # the heap, the sort, the result's arrays). Every amount is spent before the work (or the
+    # allocation) it pays for, and depends on the data only, never on timing.
     def __init__(self, max_work):
         self.left = np.inf if max_work is None else float(max_work)
-
-    def visits(self):
-        return int(min(self.left / _STRUCTURE_COST, 2**62))
 
     def spend(self, work, what):
         self.left -= work
@@ -144,27 +154,77 @@ class _Budget:
             raise ExactWorkExceeded(f"exact enumeration stopped: {what} exceeds its work budget")
 
 
-def _evidence(full, model, rule, hs, lik, margin, budget):
-    # Group the structures the rule keeps; log evidence over them (relative to the groups'
-    # ref) and what the later passes need.
-    table, sg, members, n_visited, complete = group_structures(full, model, rule)
-    budget.spend(_STRUCTURE_COST * n_visited, f"walking {n_visited:,} order structures")
-    if not complete:
-        budget.spend(np.inf, "walking the order structures")
+def _evidence(clause_bits, full, labels, model, thr, cut, hs, lik, margin, budget):
+    # Group the structures that satisfy at least thr acceptable demonstrations; log evidence
+    # over them (relative to the groups' ref) and what the later passes need.
+    n = model.n
+    # Before its arrays over the 2**n subsets (about 60 bytes each) are allocated.
+    budget.spend(STEP_COST * 8 * 2.0**n, f"the tables of 2**{n} subsets of subtasks")
+    tables, work = structure_tables(clause_bits, full, labels.pos, thr, model,
+                                    max(budget.left, 0.0))
+    budget.spend(work if tables is not None else np.inf, "grouping the order structures")
+    sg, members, gid = structure_groups(tables, model)
     budget.spend(len(sg.size) * len(hs.lw),
                  f"{len(sg.size):,} x {len(hs.lw):,} pairs of groups")
-    ss, rank = _structure_side(sg, rule.pos)
+    ss, rank = _structure_side(sg, labels.pos)
+    found = _Found(tables, sg, members, gid, ss, rank, -np.inf, 0.0, work)
     if not ss.weight.sum() > 0.0:
-        return table, sg, ss, rank, members, -np.inf, 0.0
+        return found
     prior_total = math.log(ss.weight.sum()) + np.logaddexp.reduce(hs.lw)
     log_z_rel = log_evidence(ss, hs, lik, margin - prior_total,
-                             rule.cut - sg.ref + margin - prior_total)
-    return table, sg, ss, rank, members, log_z_rel, margin - prior_total
+                             cut - sg.ref + margin - prior_total)
+    return found._replace(log_z_rel=log_z_rel, offset=margin - prior_total)
 
 
-def _grouped(clause_bits, full, labels, model, log_keep, max_kept, max_work):
+class _Found(NamedTuple):
+    tables: StructureTables
+    sg: Groups           # structure groups, table order
+    members: np.ndarray  # structures per group (float)
+    gid: np.ndarray      # group of each whole-set entry
+    ss: StructureSide    # the groups sorted for the passes
+    rank: np.ndarray     # table order -> sorted position
+    log_z_rel: float
+    offset: float
+    work: int            # of the tables (the walk down them costs as much)
+
+
+def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
+    # The subset-pair groups each flagged structure group may reach keep with; the work and
+    # the number of hypotheses the last walk may list.
+    ss, n = found.ss, found.tables.lo.shape[1].bit_length() - 1
+    flagged = np.flatnonzero(flag)
+    budget.spend(len(flagged) * len(hs.lw), "the pairs of the flagged groups")
+    n_in = np.diff(subsets.t_start).astype(float)[subsets.pair_t] * \
+        np.diff(subsets.e_start).astype(float)[subsets.pair_e]
+    items = np.add.reduceat(n_in, subsets.pair_start[:-1]) if len(n_in) else n_in
+    items = items[h_order]  # SubsetSide order
+    members = np.zeros(len(ss.weight))
+    members[found.rank] = found.members
+    pass_start = np.zeros(len(ss.weight) + 1, dtype=np.int64)
+    pass_h, pass_ll = [], []
+    work = n_list = 0.0
+    for g in flagged:
+        ps = popcounts(hs.pos, ss.bits[g])
+        ns = popcounts(hs.neg, ss.bits[g])
+        k = ss.size[g] + hs.size
+        ll = lik.pos[k, ps] + lik.neg[k, ns]
+        ok = np.flatnonzero(hs.best + ss.best[g] + ll >= keep)
+        pass_h.append(ok)
+        pass_ll.append(ll[ok])
+        pass_start[g + 1] = len(ok)
+        n_list += members[g] * items[ok].sum()
+        work += members[g] * (_LIST_COST * (n + 1) + len(ok)
+                              + (_EMIT_COST + _KEPT_COST) * items[ok].sum())
+    budget.spend(work, f"listing the hypotheses of {members[flagged].sum():,.0f} order "
+                 "structures")
+    pass_h = np.concatenate(pass_h).astype(np.int64) if pass_h else np.empty(0, np.int64)
+    pass_ll = np.concatenate(pass_ll) if pass_ll else np.empty(0)
+    return np.cumsum(pass_start), pass_h, pass_ll, n_list
+
+
+def _grouped(clause_bits, full, labels, model, log_keep, max_kept, max_work, tol):
     budget = _Budget(max_work)
-    subsets = group_subsets(clause_bits, full, model)
+    subsets = group_subsets(clause_bits, full, model, budget.spend)
     hs, h_order = _subset_side(subsets.groups, labels)
     max_conj = model.n_g + model.n + model.n * (model.n - 1) // 2
     lik = likelihood_tables(int(labels.n_pos), int(labels.n_neg), max_conj, model)
@@ -177,47 +237,74 @@ def _grouped(clause_bits, full, labels, model, log_keep, max_kept, max_work):
     if margin > -np.inf and n_pos > 0:
         # A lower bound of the evidence from the structures whose orders every acceptable
         # demonstration satisfies; then every structure that could add more than exp(margin)
-        # of it.
-        rule = Pruning(clause_bits, labels.pos, bound, -np.inf, n_pos, budget.visits())
-        _, sg1, _, _, _, log_z1, _ = _evidence(full, model, rule, hs, lik, margin, budget)
-        if log_z1 > -np.inf:
-            cut = log_z1 + sg1.ref + margin - h_total
-    rule = Pruning(clause_bits, labels.pos, bound, cut, 0, budget.visits())
-    table, sg, ss, rank, members, log_z_rel, offset = _evidence(full, model, rule, hs, lik,
-                                                                margin, budget)
-    log_z = log_z_rel + sg.ref
+        # of it: those satisfying at least thr acceptable demonstrations (bound is
+        # non-decreasing in them).
+        first = _evidence(clause_bits, full, labels, model, n_pos, -np.inf, hs, lik, margin,
+                          budget)
+        if first.log_z_rel > -np.inf:
+            cut = first.log_z_rel + first.sg.ref + margin - h_total
+    thr = int(np.searchsorted(bound, cut)) if cut > -np.inf else 0
+    found = _evidence(clause_bits, full, labels, model, thr, cut, hs, lik, margin, budget)
+    sg, ss = found.sg, found.ss
+    log_z = found.log_z_rel + sg.ref
     keep = log_keep + log_z
-    cut_pairs = log_z_rel + offset
     budget.spend(len(ss.weight) * len(hs.lw), "the second pass")
-    mass_s, mass_h, flag = group_masses(ss, hs, lik, log_z_rel, keep, cut_pairs)
-    n_expand = int(members[flag.astype(bool)[rank]].sum())  # members: table order
-    n_subsets = 2 ** (model.n_g + model.n)
-    budget.spend(_EMIT_COST * n_expand * n_subsets + _STRUCTURE_COST * int(members.sum()),
-                 f"listing the hypotheses of {n_expand:,} order structures")
-    ex = Expansion(rank, mass_s, sg.ref, flag, h_order, keep)
+    mass_s, mass_h, flag = group_masses(ss, hs, lik, found.log_z_rel, keep,
+                                        found.log_z_rel + found.offset)
+    pass_start, pass_h, pass_ll, n_list = _listing(found, hs, h_order, subsets, lik, flag,
+                                                   keep, budget)
+    # Down the structure tables: order marginals, and the derivations of the flagged groups.
+    ids, lw, _ = top_entries(found.tables, model)
+    g_sorted = np.where(found.gid >= 0, found.rank[np.maximum(found.gid, 0)], -1)
+    top_out = np.zeros(len(ids))
+    held = (g_sorted >= 0) & (mass_s[np.maximum(g_sorted, 0)] > 0)
+    top_out[held] = (mass_s[g_sorted[held]] / ss.weight[g_sorted[held]]
+                     * np.exp(lw[held] - np.log(found.tables.weight[ids[held]]) - sg.ref))
+    marked = (g_sorted >= 0) & (flag[np.maximum(g_sorted, 0)] == 1)
+    budget.spend(found.work, "the walk down the structure tables")
+    marg_o, rec_start, rec = descend(found.tables, clause_bits, full, labels.pos, thr, model,
+                                     ids, top_out, marked)
+    ls = Listing(rec_start, rec, ids[marked].astype(np.int64),
+                 g_sorted[marked].astype(np.int64), pass_start, pass_h, pass_ll,
+                 h_order.astype(np.int64), keep)
     mass_h = mass_h[np.argsort(h_order)]  # back to the groups' own order
-    room = max(1, min(n_expand * n_subsets, max_kept))  # at most what may be listed
-    while True:
-        par = np.empty((room, model.n), dtype=np.int64)
-        idx, lp = np.empty((room, 3), dtype=np.int64), np.empty(room)
-        marg_o, n_out = walk_structures(full, model, rule, table, ss, hs, lik, ex, subsets, par,
-                                        idx, lp)
-        if n_out <= room or room == max_kept:
-            break
-        room = min(n_out, max_kept)  # rare: walk again with room for more
-    n_out = min(n_out, room)
+    # Room for every hypothesis that may be listed (n_list bounds them), or the max_kept most
+    # probable (a min-heap keeps those).
+    room = int(max(1, min(n_list, max_kept)))
+    par = np.empty((room, model.n), dtype=np.int16 if model.n < 2**15 else np.int64)
+    idx, lp = np.empty((room, 2), dtype=np.int64), np.empty(room)
+    n_out = min(list_hypotheses(model, hs, subsets, ls, par, idx, lp), room)
     par, idx, lp = par[:n_out], idx[:n_out], lp[:n_out] - log_z
     kept = lp >= log_keep
-    par, idx, lp = par[kept], idx[kept], lp[kept]
-    order = np.lexsort((idx[:, 2], idx[:, 1], idx[:, 0], -lp))
+    par, idx, lp = par[kept].astype(np.int64), idx[kept], lp[kept]
+    order = _sorted_head(par, idx[:, 0], idx[:, 1], lp, log_keep > -np.inf, tol)
     marg = np.concatenate([*_subset_marginals(subsets, mass_h, model.n_g, model.n), marg_o])
-    return log_z, par[order], idx[order, 1], idx[order, 2], lp[order], marg
+    return log_z, par[order], idx[order, 0], idx[order, 1], lp[order], marg
 
 
-def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, max_work):
+def _sorted_head(par, t, e, lp, cut, tol):
+    # Positions of the listed hypotheses in the result's order (descending posterior; ties by
+    # structure, lexicographic parent array, then global and eventual masks), only as far as
+    # the shortest prefix covering 1 - tol may reach (with a margin for rounding) when cut.
+    head = np.arange(len(lp))
+    if cut and len(lp):
+        by_lp = np.argsort(-lp, kind="stable")
+        cum = np.cumsum(np.exp(lp[by_lp]))
+        stop = min(int(np.searchsorted(cum, 1.0 - tol)) + 1, len(lp))
+        head = np.flatnonzero(lp >= lp[by_lp[stop - 1]] - 1e-9)
+    n = par.shape[1]
+    n_g = int(t.max(initial=0)).bit_length()
+    if (n + 1) ** n * 2 ** (n_g + n) < 2**62:  # (parent array, t, e) as one number, in order
+        key = (par[head] + 1) @ ((n + 1) ** np.arange(n - 1, -1, -1, dtype=np.int64))
+        key = (((key << n_g) | t[head]) << n) | e[head]
+        return head[np.lexsort((key, -lp[head]))]
+    return head[np.lexsort((e[head], t[head], *par[head].T[::-1], -lp[head]))]
+
+
+def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, max_work, tol):
     n_g, n = model.n_g, model.n
     structures = support_structures(model)
-    parts_s = structure_tables(structures, clause_bits, full, model)
+    parts_s = ungrouped_structures(structures, clause_bits, full, model)
     parts_t = PartTable(*subset_table(clause_bits, 0, n_g, model.p_global, full))
     parts_e = PartTable(*subset_table(clause_bits, n_g, n, model.p_eventual, full))
     log_z, keep_idx, keep_lp, mass_s, mass_t, mass_e = ungrouped_kernel(
@@ -264,11 +351,13 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
         much the rest hold. The clause marginals and the evidence are exact either way. The
         ungrouped reference ignores it.
     max_work : float or None, default=None
-        Work budget, in evaluations of a pair of groups (about 5-10 ns each here; a structure
-        walked counts 100, a hypothesis that may be listed 20): :class:`ExactWorkExceeded` is
-        raised as soon as the enumeration is
-        known to need more. The count depends on the data only, so the outcome is the same on
-        every machine. ``None``: no limit. The ungrouped reference ignores it.
+        Work budget, in evaluations of a pair of groups (about 5-10 ns each here; a
+        combination of two entries of the structure tables counts 4, a new entry 32, a
+        (global, eventual) subset pair that may be listed 20): :class:`ExactWorkExceeded` is
+        raised as soon as the enumeration is known to need more, before that work is done or
+        its memory allocated. The count depends on the data only, never on the support's
+        size or on timing, so the outcome is the same on every machine. ``None``: no limit.
+        The ungrouped reference ignores it.
 
     Raises
     ------
@@ -297,7 +386,7 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
     engine = _grouped if grouped else _ungrouped
     log_z, structures, t_masks, e_masks, keep_lp, marg = engine(clause_bits, full, labels,
                                                                 model, log_keep, max_kept,
-                                                                max_work)
+                                                                max_work, tol)
     # Smallest prefix of the sorted kept hypotheses that covers 1 - tol.
     cum = np.cumsum(np.exp(keep_lp))
     if tol > 0:
