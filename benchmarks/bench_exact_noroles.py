@@ -37,9 +37,9 @@ def run(cfg):
         for mo in cfg.pick(("MO1", "MO2", "MO3"), ("MO1",)):
             y = labels[mo].to_numpy()
             auto = BSIClassifier(random_state=0)
-            t_auto, _, _, _ = time_call(lambda c=auto, y=y: c.fit(X, y), reps)
+            t_auto, _, _, _ = time_call(lambda c=auto, X=X, y=y: c.fit(X, y), reps)
             exact = BSIClassifier(inference="exact", max_exact_hypotheses=10**30)
-            t_exact, _, _, _ = time_call(lambda c=exact, y=y: c.fit(X, y), reps)
+            t_exact, _, _, _ = time_call(lambda c=exact, X=X, y=y: c.fit(X, y), reps)
             tv = total_variation(auto.posterior_, exact.posterior_)
             cells.append({"missions": n, "seed": seed, "objective": mo,
                           "auto": auto.inference_, "auto_fit_s": t_auto,

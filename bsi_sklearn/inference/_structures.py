@@ -457,8 +457,9 @@ def _inside(pb, max_work):
         ref[PART, s] = _close(st.weight, n_e, stop, ref_s)
         work += ENTRY_COST * (stop - n_e)
         n_e = stop
-    return work <= max_work, _Store(st.bits[:n_e], st.size[:n_e], st.aux[:n_e],
-                                    st.weight[:n_e], st.best[:n_e], st.count[:n_e]), idx, lists, work
+    st = _Store(st.bits[:n_e], st.size[:n_e], st.aux[:n_e], st.weight[:n_e], st.best[:n_e],
+                st.count[:n_e])
+    return work <= max_work, st, idx, lists, work
 
 
 def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf):
