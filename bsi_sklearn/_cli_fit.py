@@ -46,8 +46,9 @@ Input files:
              0,2,1,1,1,1
 The extension decides the format (any other is an error); --format reads every FILE as one.
 
-Roles: by default every proposition is a global candidate and a subtask, which makes the
-support huge and fills the answer with trivial clauses; say which propositions play which role
+Roles: by default every proposition is a global candidate and a subtask: the support is huge
+(exact inference still finishes when the data are peaked) and the answer may hold clauses that
+every demonstration satisfies, so they say nothing; say which propositions play which role
 with --globals, --subtasks and --conditions (names, or column indices counted from 0; give
 the FILEs first, since --globals and --subtasks take every name that follows them, or end
 their list with --). A bad file or option exits with status 2 and a message naming the file,

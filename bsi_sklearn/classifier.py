@@ -352,19 +352,21 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         return self
 
     def _warn_default_roles(self, n_props, n_hyp):
-        """Say once that default roles make the support too large to enumerate."""
+        """Say once that, with the default roles, exact enumeration was out of reach."""
         if (self.global_candidates, self.subtasks, self.conditions) != (None, None, None):
             return
         # The message does not depend on the data beyond its size, so Python's default warning
         # filter shows it once per process and problem size, not once per fold.
+        reason = ("is above max_exact_hypotheses"
+                  if self.max_exact_hypotheses is not None and n_hyp > self.max_exact_hypotheses
+                  else "needs more than inference='auto''s work budget to enumerate exactly "
+                       "(about a second)")
         warnings.warn(
             f"With the default roles all {n_props} propositions are global candidates and "
-            f"subtasks: the support has {n_hyp:.3g} hypotheses, too many to enumerate "
-            f"(max_exact_hypotheses={self.max_exact_hypotheses}, and about a second of "
-            "enumeration for inference='auto'), so MCMC samples it, and "
-            "the most probable specifications fill with trivial clauses. Say which propositions "
-            "play which role with global_candidates=, subtasks= and conditions= (a dataset's "
-            "Bunch has them: BSIClassifier(**data.roles)).",
+            f"subtasks: the support ({n_hyp:.3g} hypotheses) {reason}, so MCMC samples it. "
+            "Say which propositions play which role with global_candidates=, subtasks= and "
+            "conditions= (a dataset's Bunch has them: BSIClassifier(**data.roles)) to make "
+            "the posterior smaller and exact.",
             UserWarning,
             stacklevel=4,
         )
