@@ -39,8 +39,9 @@ __all__ = ["LFEDataset", "make_lfe_dataset", "load_lfe_dataset", "random_scenari
 _FORMAT = "bsi-sklearn-lfe"
 _FORMAT_VERSION = 1
 _COLUMNS = {"tracks": TRACK_COLUMNS, "weapons": WEAPON_COLUMNS, "sites": SITE_COLUMNS}
-# pandas 3 parses floats exactly by default (and deprecates the option); pandas 2 needs it.
-_EXACT_FLOATS = ({} if int(pd.__version__.split(".")[0]) >= 3
+# pandas 3.1 parses floats exactly by default (and deprecates the option); pandas 2 and 3.0
+# need it (3.0.6 reads 9.355507060774123 back as 9.355507060774125).
+_EXACT_FLOATS = ({} if tuple(int(v) for v in pd.__version__.split(".")[:2]) >= (3, 1)
                  else {"float_precision": "round_trip"})
 _NUMERIC = {"tracks": _FLOAT_TRACK, "weapons": _FLOAT_WEAPON, "sites": _FLOAT_SITE}
 
