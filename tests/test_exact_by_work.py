@@ -51,7 +51,9 @@ def _roles(draw_roles, rng, n_props):
                              replace=False))
     conditions = None
     if draw_roles == "conditions" and subtasks:
-        conditions = {int(w): int(rng.choice(props)) for w in subtasks if rng.random() < 0.6}
+        # a subtask is never its own condition (roles.resolve_roles refuses it)
+        conditions = {int(w): int(rng.choice([p for p in props if p != w]))
+                      for w in subtasks if rng.random() < 0.6 and len(props) > 1}
     return [int(g) for g in globals_], [int(w) for w in subtasks], conditions
 
 
