@@ -1,0 +1,381 @@
+"""The baselines a practitioner would try first on labelled traces, beside the paper's networks.
+
+Two scikit-learn classifiers of variable-length sequences (a list of ``(T_i, n_features)``
+arrays or DataFrames, the propositions of a mission over time), fitted on one or several
+binary objectives at once:
+
+- :class:`TemporalLogisticRegression`: a logistic regression on five plain temporal features
+  of every proposition (:func:`temporal_features`), in a :class:`~sklearn.pipeline.Pipeline`
+  that drops duplicated features and standardises, with the regularisation strength chosen by
+  an inner stratified cross-validation on the training set only.
+- :class:`MiniRocketClassifier`: MiniRocket (Dempster, Schmidt and Webb, "MiniRocket: a very
+  fast (almost) deterministic transform for time series classification", KDD 2021), sktime's
+  :class:`~sktime.transformations.panel.rocket.MiniRocketMultivariateVariable` (unequal
+  lengths) followed by a standardisation and :class:`~sklearn.linear_model.RidgeClassifierCV`
+  (its regularisation chosen by leave-one-out on the training set), as in the paper. sktime
+  is the optional extra ``bsi-sklearn[practitioner]``; :func:`minirocket_available` says
+  whether it is installed, and the classifier raises ``ModuleNotFoundError`` naming the extra
+  otherwise.
+
+Neither imports torch. Both are deterministic given ``random_state``.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+from numbers import Integral
+
+import numpy as np
+from sklearn.base import BaseEstimator, ClassifierMixin, TransformerMixin
+from sklearn.linear_model import LogisticRegression, RidgeClassifierCV
+from sklearn.model_selection import GridSearchCV, StratifiedKFold
+from sklearn.pipeline import make_pipeline
+from sklearn.preprocessing import StandardScaler
+from sklearn.utils import check_random_state
+from sklearn.utils.validation import check_is_fitted
+
+from baselines._sequences import check_consistent_sequences, check_sequences
+
+__all__ = [
+    "MINIROCKET_MISSING",
+    "PRACTITIONER_BASELINES",
+    "TEMPORAL_FEATURES",
+    "DropDuplicateColumns",
+    "MiniRocketClassifier",
+    "TemporalLogisticRegression",
+    "make_practitioner_baseline",
+    "minirocket_available",
+    "require_minirocket",
+    "temporal_features",
+]
+
+#: The five features of every proposition, in column order (see :func:`temporal_features`).
+TEMPORAL_FEATURES = ("first", "last", "fraction_true", "first_true_step", "last_false_step")
+
+#: The practitioner's rows of ``bsi-lfe compare`` and ``bsi-lfe study``, in display order.
+PRACTITIONER_BASELINES = ("Logistic regression", "MiniRocket")
+
+#: The message of the error raised where MiniRocket is requested and sktime is not installed.
+MINIROCKET_MISSING = (
+    "MiniRocket needs sktime, an optional dependency of bsi-sklearn that is not installed: "
+    'pip install "bsi-sklearn[practitioner]"'
+)
+
+#: Inverse regularisation strengths tried by :class:`TemporalLogisticRegression`.
+LOGISTIC_CS = tuple(float(c) for c in np.logspace(-3, 3, 13))
+#: Ridge penalties tried by :class:`MiniRocketClassifier` (Dempster et al.'s grid).
+RIDGE_ALPHAS = tuple(float(a) for a in np.logspace(-3, 3, 10))
+
+
+def temporal_features(X):
+    """Five plain features of every column of every sequence.
+
+    For each feature (proposition) ``p`` of a sequence of ``T`` steps, a value counting as
+    true when it is non-zero:
+
+    - ``first``: its value at the first step;
+    - ``last``: its value at the last step;
+    - ``fraction_true``: the fraction of steps at which it is true;
+    - ``first_true_step``: the first step (from 0) at which it is true, ``T`` when never;
+    - ``last_false_step``: the last step at which it is false, ``-1`` when never.
+
+    These are not independent: for a proposition that turns true once and stays true,
+    ``last_false_step == first_true_step - 1`` on every sequence, and one that never changes
+    gives constant columns. :class:`DropDuplicateColumns` removes such columns on the
+    training set.
+
+    Parameters
+    ----------
+    X : list of array-like or DataFrame
+        Sequences ``(T_i, n_features)`` (the formats of :class:`baselines.LSTMSequenceClassifier`).
+
+    Returns
+    -------
+    features : ndarray of shape (n_sequences, 5 * n_features)
+        Column ``5 * p + k`` is feature ``TEMPORAL_FEATURES[k]`` of column ``p``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from baselines.practitioner import temporal_features
+    >>> temporal_features([np.array([[0, 1], [1, 1], [1, 0]])]).tolist()
+    [[0.0, 1.0, 0.6666666666666666, 1.0, 0.0, 1.0, 0.0, 0.6666666666666666, 0.0, 2.0]]
+    """
+    return _temporal_features(check_sequences(X, estimator_name="temporal_features"))
+
+
+def _temporal_features(sequences):
+    n, p = sequences.n_sequences, sequences.n_features
+    out = np.empty((n, p, len(TEMPORAL_FEATURES)))
+    for i in range(n):
+        x = sequences.sequence(i)
+        true = x != 0
+        t = len(x)
+        out[i, :, 0] = x[0]
+        out[i, :, 1] = x[-1]
+        out[i, :, 2] = true.mean(axis=0)
+        out[i, :, 3] = np.where(true.any(axis=0), true.argmax(axis=0), t)
+        out[i, :, 4] = np.where((~true).any(axis=0), t - 1 - (~true)[::-1].argmax(axis=0), -1)
+    return out.reshape(n, p * len(TEMPORAL_FEATURES))
+
+
+def _feature_names(sequences):
+    names = (sequences.feature_names if sequences.feature_names is not None
+             else [f"x{j}" for j in range(sequences.n_features)])
+    return np.array([f"{name}:{kind}" for name in names for kind in TEMPORAL_FEATURES],
+                    dtype=object)
+
+
+class DropDuplicateColumns(TransformerMixin, BaseEstimator):
+    """Drop constant columns and columns that are an affine function of an earlier column.
+
+    Found on the data given to ``fit`` (the training set): a column is dropped when it is
+    constant, or when its absolute Pearson correlation with an earlier kept column is 1 (up to
+    ``tol``), i.e. it carries nothing that column does not. A linear model then does not
+    split one feature's weight over copies of it, which would weaken its regularisation.
+
+    Parameters
+    ----------
+    tol : float, default=1e-9
+
+    Attributes
+    ----------
+    keep_ : ndarray of int
+        Positions of the kept columns.
+    n_features_in_ : int
+    """
+
+    def __init__(self, tol=1e-9):
+        self.tol = tol
+
+    def fit(self, X, y=None):
+        """Find the columns to keep on ``X``."""
+        X = np.asarray(X, dtype=float)
+        self.n_features_in_ = X.shape[1]
+        centred = X - X.mean(axis=0)
+        norms = np.sqrt((centred ** 2).sum(axis=0))
+        scale = np.maximum(np.abs(X).max(axis=0), 1.0)
+        varying = norms > self.tol * scale * np.sqrt(len(X))
+        units = np.zeros_like(centred)
+        units[:, varying] = centred[:, varying] / norms[varying]
+        duplicate = np.abs(units.T @ units) >= 1 - self.tol  # |correlation| = 1
+        keep = []
+        for j in np.flatnonzero(varying):
+            if not duplicate[j, keep].any():
+                keep.append(int(j))
+        if not keep:  # every column constant: keep one, the model then predicts its prior
+            keep = [0]
+        self.keep_ = np.array(keep, dtype=np.int64)
+        return self
+
+    def transform(self, X):
+        """Keep the columns found by ``fit``."""
+        check_is_fitted(self)
+        return np.asarray(X, dtype=float)[:, self.keep_]
+
+
+class _MultiObjective(ClassifierMixin, BaseEstimator):
+    """One binary model per objective on shared features; a single-class objective is constant.
+
+    Subclasses define ``_features(sequences, fit)`` and ``_fit_one(F, y, seed)``.
+    """
+
+    def fit(self, X, y):
+        """Fit on sequences ``X`` and binary labels ``y`` (n,) or (n, n_objectives)."""
+        sequences = check_sequences(X, estimator_name=type(self).__name__)
+        y = np.asarray(y)
+        if y.ndim not in (1, 2) or len(y) != sequences.n_sequences:
+            raise ValueError(f"y must be 1-D or 2-D with one row per sequence "
+                             f"({sequences.n_sequences}), got shape {y.shape}")
+        self._multi_output = y.ndim == 2
+        Y = y.reshape(len(y), -1)
+        self.n_features_in_ = sequences.n_features
+        if sequences.feature_names is not None:
+            self.feature_names_in_ = sequences.feature_names
+        elif hasattr(self, "feature_names_in_"):
+            del self.feature_names_in_
+        rng = check_random_state(self.random_state)
+        seeds = rng.randint(np.iinfo(np.int32).max, size=Y.shape[1] + 1)
+        F = self._features(sequences, fit=True, seed=int(seeds[-1]))
+        self.estimators_, classes = [], []
+        for k in range(Y.shape[1]):
+            values = np.unique(Y[:, k])
+            classes.append(values)
+            self.estimators_.append(values[0] if len(values) == 1
+                                    else self._fit_one(F, Y[:, k], int(seeds[k])))
+        self.classes_ = classes if self._multi_output else classes[0]
+        return self
+
+    def predict(self, X):
+        """Labels ``(n,)``, or ``(n, n_objectives)`` when fitted on 2-D ``y``."""
+        check_is_fitted(self, "estimators_")
+        sequences = check_sequences(X, estimator_name=type(self).__name__)
+        check_consistent_sequences(sequences, self.n_features_in_,
+                                   getattr(self, "feature_names_in_", None),
+                                   type(self).__name__)
+        F = self._features(sequences, fit=False, seed=None)
+        columns = [est.predict(F) if hasattr(est, "predict") else np.full(len(F), est)
+                   for est in self.estimators_]
+        pred = np.column_stack(columns)
+        return pred if self._multi_output else pred[:, 0]
+
+
+class TemporalLogisticRegression(_MultiObjective):
+    """Logistic regression on :func:`temporal_features`, regularisation by inner CV.
+
+    The pipeline is ``DropDuplicateColumns -> StandardScaler -> LogisticRegression`` (L2,
+    lbfgs). Its ``C`` is chosen among ``Cs`` by a stratified, shuffled ``k``-fold
+    cross-validation on the training set only (``k = min(max_folds, smallest class count)``,
+    scored by log-loss, which separates values of ``C`` that tie on accuracy on a few
+    missions), then the pipeline is refitted on every training sequence. With one sequence of
+    a class there is nothing to cross-validate: ``C = 1``. An objective with one class in the
+    training set is predicted constant.
+
+    Parameters
+    ----------
+    Cs : sequence of float, default=13 values from 1e-3 to 1e3, log-spaced
+    max_folds : int, default=3
+        Folds of the inner cross-validation (as the study's BSI GridSearchCV).
+    random_state : int, RandomState or None, default=None
+        Shuffles the inner folds.
+
+    Attributes
+    ----------
+    estimators_ : list
+        Per objective, the fitted pipeline (a ``GridSearchCV``'s best) or the constant label.
+    chosen_C_ : list of float or None
+        Per objective, the ``C`` used (``None`` for a constant objective).
+    classes_ : ndarray or list of ndarray
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from baselines.practitioner import TemporalLogisticRegression
+    >>> X = [np.array([[0], [1], [1]]), np.array([[0], [0], [0]])] * 4
+    >>> y = np.array([1, 0] * 4)
+    >>> TemporalLogisticRegression(random_state=0).fit(X, y).predict(X[:2]).tolist()
+    [1, 0]
+    """
+
+    def __init__(self, *, Cs=LOGISTIC_CS, max_folds=3, random_state=None):
+        self.Cs = Cs
+        self.max_folds = max_folds
+        self.random_state = random_state
+
+    def fit(self, X, y):
+        """Fit one pipeline per objective (see the class docstring)."""
+        if isinstance(self.max_folds, bool) or not isinstance(self.max_folds, Integral) \
+                or self.max_folds < 2:
+            raise ValueError(f"max_folds must be an integer >= 2, got {self.max_folds!r}")
+        super().fit(X, y)
+        self.chosen_C_ = [float(est[-1].C) if hasattr(est, "predict") else None
+                          for est in self.estimators_]
+        return self
+
+    def _features(self, sequences, fit, seed):
+        return _temporal_features(sequences)
+
+    def _fit_one(self, F, y, seed):
+        pipe = make_pipeline(DropDuplicateColumns(), StandardScaler(),
+                             LogisticRegression(C=1.0, max_iter=10_000))
+        n_min = int(np.unique(y, return_counts=True)[1].min())
+        if n_min < 2:
+            return pipe.fit(F, y)
+        cv = StratifiedKFold(min(int(self.max_folds), n_min), shuffle=True, random_state=seed)
+        search = GridSearchCV(pipe, {"logisticregression__C": list(self.Cs)},
+                              scoring="neg_log_loss", cv=cv, n_jobs=1, error_score="raise")
+        search.fit(F, y)
+        return search.best_estimator_
+
+
+def minirocket_available():
+    """Whether sktime (MiniRocket, the ``[practitioner]`` extra) is installed."""
+    return importlib.util.find_spec("sktime") is not None
+
+
+def require_minirocket():
+    """The MiniRocket transform (sktime), or an error naming the extra to install.
+
+    Returns
+    -------
+    transform : type
+        ``sktime.transformations.panel.rocket.MiniRocketMultivariateVariable``.
+
+    Raises
+    ------
+    ModuleNotFoundError
+        When sktime is not installed; the message says
+        ``pip install "bsi-sklearn[practitioner]"``.
+    """
+    try:
+        module = importlib.import_module("sktime.transformations.panel.rocket")
+    except ModuleNotFoundError as exc:
+        if exc.name is None or exc.name.split(".")[0] != "sktime":
+            raise
+        raise ModuleNotFoundError(MINIROCKET_MISSING, name="sktime") from exc
+    return module.MiniRocketMultivariateVariable
+
+
+class MiniRocketClassifier(_MultiObjective):
+    """MiniRocket features, standardised, then a ridge classifier per objective.
+
+    The transform is sktime's ``MiniRocketMultivariateVariable`` (unequal lengths; about
+    ``num_kernels`` PPV features from the fixed 84 kernels of length 9, dilations up to the
+    longest training sequence, biases from quantiles of the convolution outputs of training
+    sequences, random channel combinations), fitted on the training sequences only. Each
+    objective gets a :class:`~sklearn.linear_model.RidgeClassifierCV` over ``alphas``
+    (efficient leave-one-out on the training set), as Dempster et al. do; an objective with
+    one class in the training set is predicted constant.
+
+    Parameters
+    ----------
+    num_kernels : int, default=10_000
+    alphas : sequence of float, default=10 values from 1e-3 to 1e3, log-spaced
+    random_state : int, RandomState or None, default=None
+        Seeds the transform (channel combinations and the sequences its biases come from).
+
+    Attributes
+    ----------
+    transform_ : sktime transformer
+    scaler_ : StandardScaler
+    estimators_ : list
+        Per objective, the fitted ``RidgeClassifierCV`` or the constant label.
+    classes_ : ndarray or list of ndarray
+
+    Raises
+    ------
+    ModuleNotFoundError
+        In ``fit``, when sktime is not installed (the message names the extra).
+    """
+
+    def __init__(self, *, num_kernels=10_000, alphas=RIDGE_ALPHAS, random_state=None):
+        self.num_kernels = num_kernels
+        self.alphas = alphas
+        self.random_state = random_state
+
+    def _features(self, sequences, fit, seed):
+        import pandas as pd
+
+        frames = [pd.DataFrame(sequences.sequence(i)) for i in range(sequences.n_sequences)]
+        if fit:
+            transform = require_minirocket()
+            self.transform_ = transform(num_kernels=int(self.num_kernels), n_jobs=1,
+                                        random_state=seed).fit(frames)
+        F = np.asarray(self.transform_.transform(frames), dtype=float)
+        if fit:
+            self.scaler_ = StandardScaler().fit(F)
+        return self.scaler_.transform(F)
+
+    def _fit_one(self, F, y, seed):
+        return RidgeClassifierCV(alphas=list(self.alphas)).fit(F, y)
+
+
+def make_practitioner_baseline(name, *, random_state=None):
+    """One of :data:`PRACTITIONER_BASELINES` by name, with the defaults above."""
+    if name == "Logistic regression":
+        return TemporalLogisticRegression(random_state=random_state)
+    if name == "MiniRocket":
+        return MiniRocketClassifier(random_state=random_state)
+    raise ValueError(f"unknown practitioner baseline {name!r}; choose among "
+                     f"{list(PRACTITIONER_BASELINES)}")
