@@ -34,6 +34,7 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 from sklearn.utils import check_random_state
 from sklearn.utils.validation import check_is_fitted
+from threadpoolctl import threadpool_limits
 
 from baselines._sequences import check_consistent_sequences, check_sequences
 
@@ -178,11 +179,17 @@ class DropDuplicateColumns(TransformerMixin, BaseEstimator):
 class _MultiObjective(ClassifierMixin, BaseEstimator):
     """One binary model per objective on shared features; a single-class objective is constant.
 
-    Subclasses define ``_features(sequences, fit)`` and ``_fit_one(F, y, seed)``.
+    Subclasses define ``_features(sequences, fit, seed)`` and ``_fit_one(F, y, seed)``. Fit and
+    predict run on one BLAS thread, so that the results do not depend on how many cores the
+    process has (a worker of ``n_jobs=2`` or a whole machine).
     """
 
     def fit(self, X, y):
         """Fit on sequences ``X`` and binary labels ``y`` (n,) or (n, n_objectives)."""
+        with threadpool_limits(1):
+            return self._fit(X, y)
+
+    def _fit(self, X, y):
         sequences = check_sequences(X, estimator_name=type(self).__name__)
         y = np.asarray(y)
         if y.ndim not in (1, 2) or len(y) != sequences.n_sequences:
@@ -196,8 +203,10 @@ class _MultiObjective(ClassifierMixin, BaseEstimator):
         elif hasattr(self, "feature_names_in_"):
             del self.feature_names_in_
         rng = check_random_state(self.random_state)
-        seeds = rng.randint(np.iinfo(np.int32).max, size=Y.shape[1] + 1)
-        F = self._features(sequences, fit=True, seed=int(seeds[-1]))
+        # the features' seed first: objective k gets the same seed alone or with others
+        feature_seed = int(rng.randint(np.iinfo(np.int32).max))
+        seeds = rng.randint(np.iinfo(np.int32).max, size=Y.shape[1])
+        F = self._features(sequences, fit=True, seed=feature_seed)
         self.estimators_, classes = [], []
         for k in range(Y.shape[1]):
             values = np.unique(Y[:, k])
@@ -209,6 +218,10 @@ class _MultiObjective(ClassifierMixin, BaseEstimator):
 
     def predict(self, X):
         """Labels ``(n,)``, or ``(n, n_objectives)`` when fitted on 2-D ``y``."""
+        with threadpool_limits(1):
+            return self._predict(X)
+
+    def _predict(self, X):
         check_is_fitted(self, "estimators_")
         sequences = check_sequences(X, estimator_name=type(self).__name__)
         check_consistent_sequences(sequences, self.n_features_in_,
