@@ -28,6 +28,7 @@ from baselines.practitioner import (
 )
 from bsi_sklearn.classifier import BSIClassifier
 from lfe.annotate import MISSION_OBJECTIVES, annotate_scenarios
+from lfe.compare import BSI_ROWS as COMPARE_BSI_ROWS
 from lfe.compare import _weighted_f1  # the comparison's scorer, shared within lfe
 from lfe.dataset import make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
@@ -59,10 +60,9 @@ NETWORKS = tuple(PAPER_BASELINES)
 #: What a practitioner would try first (:mod:`baselines.practitioner`): a logistic regression
 #: on plain temporal features of the propositions, and MiniRocket with a ridge classifier.
 PRACTITIONER = tuple(PRACTITIONER_BASELINES)
-#: BSI rows with fixed hyperparameters: name -> ``BSIClassifier`` parameters.
-BSI_ROWS = {"BSI (Prior 2)": {"prior": "sets_of_chains"},
-            "BSI (Prior 3)": {"prior": "forest"},
-            "BSI (Prior 2, CI)": {"prior": "sets_of_chains", "likelihood": "ci"}}
+#: BSI rows with fixed hyperparameters: name -> ``BSIClassifier`` parameters (the
+#: comparison's: Prior 2 and Prior 3 with the CB likelihood, Prior 2 with the CI likelihood).
+BSI_ROWS = dict(COMPARE_BSI_ROWS)
 #: BSI whose hyperparameters an inner cross-validation on the training set chooses.
 BSI_CV = "BSI (GridSearchCV)"
 #: Always predict the training set's most frequent outcome.

@@ -253,8 +253,8 @@ def test_a_warning_raised_in_a_cell_goes_into_its_files(tmp_path, monkeypatch):
     real = practitioner.TemporalLogisticRegression.fit
 
     def warning_fit(self, X, y):
-        warnings.warn("a warning from the logistic row", RuntimeWarning)
-        warnings.warn("a warning from the logistic row", RuntimeWarning)
+        warnings.warn("a warning from the logistic row", RuntimeWarning, stacklevel=2)
+        warnings.warn("a warning from the logistic row", RuntimeWarning, stacklevel=2)
         return real(self, X, y)
 
     monkeypatch.setattr(practitioner.TemporalLogisticRegression, "fit", warning_fit)
