@@ -82,9 +82,12 @@ def temporal_features(X):
     - ``last_false_step``: the last step at which it is false, ``-1`` when never.
 
     These are not independent: for a proposition that turns true once and stays true,
-    ``last_false_step == first_true_step - 1`` on every sequence, and one that never changes
-    gives constant columns. :class:`DropDuplicateColumns` removes such columns on the
-    training set.
+    ``last_false_step == first_true_step - 1`` on every sequence; one that starts with the
+    same value in every mission has a constant ``first`` (and ``first_true_step`` 0 when it
+    starts true); one that never changes within a mission (a briefing condition) has
+    ``last == fraction_true == first``. :class:`DropDuplicateColumns` removes such columns on
+    the training set: on the 272 missions of a default study repeat, 30 of the paper set's 55
+    columns remain, and 48 of the extended set's 95.
 
     Parameters
     ----------
