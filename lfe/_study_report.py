@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 
 from bsi_sklearn.experiments.tables import markdown_table
 from lfe._study_cells import (
@@ -184,13 +185,19 @@ def _warnings_section(warned):
     lines = ["## Warnings raised while fitting and scoring", ""]
     if warned is None or warned.empty:
         return lines + ["None: no row raised a warning in any cell.", ""]
-    total = warned.groupby(["classifier", "category", "message"], sort=False)["count"].agg(
-        ["sum", "size"]).reset_index()
-    total.columns = ["classifier", "category", "message", "warnings", "cells"]
-    total["message"] = [m if len(m) <= 160 else m[:157] + "..." for m in total["message"]]
-    return lines + [f"{int(warned['count'].sum())} warnings in all; per row, category and "
-                    "message (the count per cell is in study_warnings.csv):", "",
-                    markdown_table(total), ""]
+    cells = ["repeat", "noise", "propositions", "n_train"]
+    rows = []
+    for (name, category), group in warned.groupby(["classifier", "category"], sort=False):
+        example = group["message"].iloc[0].replace("|", "\\|")  # a cell of the table
+        rows.append({"classifier": name, "category": category,
+                     "warnings": int(group["count"].sum()),
+                     "cells": len(group[cells].drop_duplicates()),
+                     "distinct messages": group["message"].nunique(),
+                     "first message": example if len(example) <= 200
+                     else example[:197] + "..."})
+    total = int(warned["count"].sum())
+    return lines + [f"{total} warnings in all; per row and category (every message, per cell, "
+                    "in study_warnings.csv):", "", markdown_table(pd.DataFrame(rows)), ""]
 
 
 def study_markdown(table, paired, config, warned=None):
