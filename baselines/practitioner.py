@@ -9,21 +9,18 @@ binary objectives at once:
   that drops duplicated features and standardises, with the regularisation strength chosen by
   an inner stratified cross-validation on the training set only.
 - :class:`MiniRocketClassifier`: MiniRocket (Dempster, Schmidt and Webb, "MiniRocket: a very
-  fast (almost) deterministic transform for time series classification", KDD 2021), sktime's
-  :class:`~sktime.transformations.panel.rocket.MiniRocketMultivariateVariable` (unequal
-  lengths) followed by a standardisation and :class:`~sklearn.linear_model.RidgeClassifierCV`
-  (its regularisation chosen by leave-one-out on the training set), as in the paper. sktime
-  is the optional extra ``bsi-sklearn[practitioner]``; :func:`minirocket_available` says
-  whether it is installed, and the classifier raises ``ModuleNotFoundError`` naming the extra
-  otherwise.
+  fast (almost) deterministic transform for time series classification", KDD 2021) in the
+  multivariate, unequal-length form of sktime's ``MiniRocketMultivariateVariable``
+  (:mod:`baselines._minirocket`, numpy and numba), followed by a standardisation and
+  :class:`~sklearn.linear_model.RidgeClassifierCV` (its regularisation chosen by
+  leave-one-out on the training set), as in the paper.
 
-Neither imports torch. Both are deterministic given ``random_state``.
+Neither imports torch nor needs any package beyond the classifier's own (scikit-learn, numba).
+Both are deterministic given ``random_state``.
 """
 
 from __future__ import annotations
 
-import importlib
-import importlib.util
 from numbers import Integral
 
 import numpy as np
@@ -36,18 +33,16 @@ from sklearn.utils import check_random_state
 from sklearn.utils.validation import check_is_fitted
 from threadpoolctl import threadpool_limits
 
+from baselines._minirocket import fit_minirocket, transform_minirocket
 from baselines._sequences import check_consistent_sequences, check_sequences
 
 __all__ = [
-    "MINIROCKET_MISSING",
     "PRACTITIONER_BASELINES",
     "TEMPORAL_FEATURES",
     "DropDuplicateColumns",
     "MiniRocketClassifier",
     "TemporalLogisticRegression",
     "make_practitioner_baseline",
-    "minirocket_available",
-    "require_minirocket",
     "temporal_features",
 ]
 
@@ -56,12 +51,6 @@ TEMPORAL_FEATURES = ("first", "last", "fraction_true", "first_true_step", "last_
 
 #: The practitioner's rows of ``bsi-lfe compare`` and ``bsi-lfe study``, in display order.
 PRACTITIONER_BASELINES = ("Logistic regression", "MiniRocket")
-
-#: The message of the error raised where MiniRocket is requested and sktime is not installed.
-MINIROCKET_MISSING = (
-    "MiniRocket needs sktime, an optional dependency of bsi-sklearn that is not installed: "
-    'pip install "bsi-sklearn[practitioner]"'
-)
 
 #: Inverse regularisation strengths tried by :class:`TemporalLogisticRegression`.
 LOGISTIC_CS = tuple(float(c) for c in np.logspace(-3, 3, 13))
@@ -305,44 +294,16 @@ class TemporalLogisticRegression(_MultiObjective):
         return search.best_estimator_
 
 
-def minirocket_available():
-    """Whether sktime (MiniRocket, the ``[practitioner]`` extra) is installed."""
-    return importlib.util.find_spec("sktime") is not None
-
-
-def require_minirocket():
-    """The MiniRocket transform (sktime), or an error naming the extra to install.
-
-    Returns
-    -------
-    transform : type
-        ``sktime.transformations.panel.rocket.MiniRocketMultivariateVariable``.
-
-    Raises
-    ------
-    ModuleNotFoundError
-        When sktime is not installed; the message says
-        ``pip install "bsi-sklearn[practitioner]"``.
-    """
-    try:
-        module = importlib.import_module("sktime.transformations.panel.rocket")
-    except ModuleNotFoundError as exc:
-        if exc.name is None or exc.name.split(".")[0] != "sktime":
-            raise
-        raise ModuleNotFoundError(MINIROCKET_MISSING, name="sktime") from exc
-    return module.MiniRocketMultivariateVariable
-
-
 class MiniRocketClassifier(_MultiObjective):
     """MiniRocket features, standardised, then a ridge classifier per objective.
 
-    The transform is sktime's ``MiniRocketMultivariateVariable`` (unequal lengths; about
-    ``num_kernels`` PPV features from the fixed 84 kernels of length 9, dilations up to the
-    longest training sequence, biases from quantiles of the convolution outputs of training
-    sequences, random channel combinations), fitted on the training sequences only. Each
-    objective gets a :class:`~sklearn.linear_model.RidgeClassifierCV` over ``alphas``
-    (efficient leave-one-out on the training set), as Dempster et al. do; an objective with
-    one class in the training set is predicted constant.
+    The transform (:func:`baselines._minirocket.fit_minirocket`: about ``num_kernels`` PPV
+    features from the fixed 84 kernels of length 9, dilations up to the longest training
+    sequence, biases from quantiles of the convolution outputs of training sequences, random
+    channel combinations) is fitted on the training sequences only. Each objective gets a
+    :class:`~sklearn.linear_model.RidgeClassifierCV` over ``alphas`` (efficient leave-one-out
+    on the training set), as Dempster et al. do; an objective with one class in the training
+    set is predicted constant. Every sequence needs at least 9 steps.
 
     Parameters
     ----------
@@ -350,35 +311,40 @@ class MiniRocketClassifier(_MultiObjective):
     alphas : sequence of float, default=10 values from 1e-3 to 1e3, log-spaced
     random_state : int, RandomState or None, default=None
         Seeds the transform (channel combinations and the sequences its biases come from).
+    max_dilations_per_kernel : int, default=32
 
     Attributes
     ----------
-    transform_ : sktime transformer
+    transform_ : MiniRocketParameters
+        The fitted transform.
     scaler_ : StandardScaler
     estimators_ : list
         Per objective, the fitted ``RidgeClassifierCV`` or the constant label.
     classes_ : ndarray or list of ndarray
 
-    Raises
-    ------
-    ModuleNotFoundError
-        In ``fit``, when sktime is not installed (the message names the extra).
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from baselines.practitioner import MiniRocketClassifier
+    >>> X = [np.repeat([[0], [1]], [t, 12 - t], axis=0) for t in (2, 3, 9, 10)] * 3
+    >>> y = np.array([1, 1, 0, 0] * 3)
+    >>> MiniRocketClassifier(num_kernels=84, random_state=0).fit(X, y).predict(X[:4]).tolist()
+    [1, 1, 0, 0]
     """
 
-    def __init__(self, *, num_kernels=10_000, alphas=RIDGE_ALPHAS, random_state=None):
+    def __init__(self, *, num_kernels=10_000, alphas=RIDGE_ALPHAS, random_state=None,
+                 max_dilations_per_kernel=32):
         self.num_kernels = num_kernels
         self.alphas = alphas
         self.random_state = random_state
+        self.max_dilations_per_kernel = max_dilations_per_kernel
 
     def _features(self, sequences, fit, seed):
-        import pandas as pd
-
-        frames = [pd.DataFrame(sequences.sequence(i)) for i in range(sequences.n_sequences)]
         if fit:
-            transform = require_minirocket()
-            self.transform_ = transform(num_kernels=int(self.num_kernels), n_jobs=1,
-                                        random_state=seed).fit(frames)
-        F = np.asarray(self.transform_.transform(frames), dtype=float)
+            self.transform_ = fit_minirocket(
+                sequences.data, sequences.offsets, num_features=int(self.num_kernels),
+                max_dilations_per_kernel=int(self.max_dilations_per_kernel), seed=seed)
+        F = transform_minirocket(sequences.data, sequences.offsets, self.transform_)
         if fit:
             self.scaler_ = StandardScaler().fit(F)
         return self.scaler_.transform(F)

@@ -23,8 +23,6 @@ from baselines import FAIR_TRAINING, PAPER_BASELINES
 from baselines.practitioner import (
     PRACTITIONER_BASELINES,
     make_practitioner_baseline,
-    minirocket_available,
-    require_minirocket,
 )
 from bsi_sklearn.classifier import BSIClassifier
 from lfe.annotate import MISSION_OBJECTIVES, annotate_scenarios
@@ -47,7 +45,6 @@ __all__ = [
     "derive_seed",
     "draw_training_set",
     "network_settings",
-    "practitioner_rows",
     "repeat_dataset",
     "repeat_seeds",
     "run_cell",
@@ -301,17 +298,15 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
         MCMC chains, inner cross-validation folds, MiniRocket's kernels).
     settings : dict
         ``networks`` (:class:`baselines.LSTMSequenceClassifier` parameters), ``bsi``
-        (:class:`bsi_sklearn.BSIClassifier` parameters), ``grid`` (the inner search's) and
-        ``practitioner`` (the rows of :data:`PRACTITIONER` to run, see
-        :func:`practitioner_rows`; all of them when absent).
+        (:class:`bsi_sklearn.BSIClassifier` parameters) and ``grid`` (the inner search's).
 
     Returns
     -------
     rows : list of dict
-        One per row run (:data:`ROWS`, less the practitioner rows not asked for) and
-        objective: ``classifier``, ``objective``, ``f1``, ``accuracy``, ``warnings`` (how many
-        warnings fitting and scoring that row raised in this cell), ``fit_s`` and ``detail``
-        (the chosen hyperparameters, the networks' chosen epochs).
+        One per row (:data:`ROWS`) and objective: ``classifier``, ``objective``, ``f1``,
+        ``accuracy``, ``warnings`` (how many warnings fitting and scoring that row raised in
+        this cell), ``fit_s`` and ``detail`` (the chosen hyperparameters, the networks' chosen
+        epochs).
     warnings : list of dict
         ``classifier, category, message, count`` of every warning raised (see
         :class:`_WarningLog`).
@@ -324,12 +319,9 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
     props = data["props"][propositions]
     roles = data["roles"][propositions]
     objectives = list(MISSION_OBJECTIVES)
-    practitioner = settings.get("practitioner", PRACTITIONER)
-    # import what the rows need before recording, so that a warning raised on import (once
-    # per process) is not counted in whichever cell a worker happens to run first
+    # import torch before recording, so that a warning raised on import (once per process) is
+    # not counted in whichever cell a worker happens to run first
     make_network = baselines.make_paper_baseline
-    if "MiniRocket" in practitioner:
-        require_minirocket()
     log = _WarningLog()
 
     def sub(seqs, idx):
@@ -352,7 +344,7 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
         fit_s[name] = time.perf_counter() - start
         detail[name] = f"epochs={clf.refit_epochs_ or clf.best_epoch_}"
     X_train, X_test = sub(props, train), sub(props, test)
-    for name in practitioner:
+    for name in PRACTITIONER:
         start = time.perf_counter()
         with log.recording(name):
             clf = make_practitioner_baseline(name, random_state=model_seed).fit(X_train,
@@ -386,8 +378,6 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
     preds[CEILING] = data["clean"][test]
     rows = []
     for name in ROWS:
-        if name not in preds:
-            continue
         for k, mo in enumerate(objectives):
             truth, pred = y[test, k], np.asarray(preds[name])[:, k]
             rows.append({"classifier": name, "objective": mo,
@@ -396,11 +386,6 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
                          "warnings": log.total(name),
                          "fit_s": fit_s.get(name, 0.0), "detail": detail.get(name, "")})
     return rows, log.records()
-
-
-def practitioner_rows():
-    """The rows of :data:`PRACTITIONER` this installation can run (MiniRocket needs sktime)."""
-    return [name for name in PRACTITIONER if name != "MiniRocket" or minirocket_available()]
 
 
 def bsi_settings(quick):

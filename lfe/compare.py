@@ -6,7 +6,7 @@ Bi-LSTM Coupled, BSI with Prior 2 and BSI with Prior 3), weighted F1 over both o
 mission objective; and the F1 of the MAP specification fitted on the whole dataset. Beside
 the paper's rows, on the same folds: BSI with the CI likelihood, and what a practitioner
 would try first (:mod:`baselines.practitioner`: a logistic regression on plain temporal
-features, and MiniRocket when sktime is installed).
+features, and MiniRocket).
 """
 
 from __future__ import annotations
@@ -27,7 +27,6 @@ from baselines import FAIR_TRAINING, PAPER_BASELINES
 from baselines.practitioner import (
     PRACTITIONER_BASELINES,
     make_practitioner_baseline,
-    minirocket_available,
 )
 from bsi_sklearn.classifier import BSIClassifier
 from bsi_sklearn.experiments.tables import markdown_table
@@ -74,7 +73,7 @@ CLASSIFIERS = (*PAPER_BASELINES, *BSI_PRIORS)
 MAJORITY = "Majority class"
 
 #: Every row of the comparison, in display order: the paper's six, BSI with the CI likelihood,
-#: the practitioner's rows (MiniRocket only where sktime is installed) and the majority class.
+#: the practitioner's rows and the majority class.
 ROWS = (*CLASSIFIERS, "BSI (Prior 2, CI)", *PRACTITIONER_BASELINES, MAJORITY)
 
 #: The paper's Table "Weighted F1 scores for both scenario outcomes for each of the
@@ -102,7 +101,7 @@ class ComparisonResult:
     Attributes
     ----------
     f1 : DataFrame
-        Weighted F1 per classifier (rows, :data:`ROWS` less those not run) and
+        Weighted F1 per classifier (rows, :data:`ROWS`) and
         objective (columns), on the out-of-fold predictions of every scenario pooled, as the
         paper computes it ("predictions ... assimilated at the end").
     f1_folds : DataFrame
@@ -161,10 +160,6 @@ class ComparisonResult:
         for mo in objectives:
             folds[mo] = [f"{m:.3f} ± {s:.3f}" for m, s in
                          zip(self.table[f"{mo} fold mean"], self.table[f"{mo} fold std"])]
-        missing = [name for name in PRACTITIONER_BASELINES if name not in self.f1.index]
-        note = ("" if not missing else
-                f" Not run: {', '.join(missing)} (sktime is not installed: pip install "
-                '"bsi-sklearn[practitioner]").')
         mapf = self.map_f1.copy()
         mapf["f1"] = [f"{v:.3f}" for v in mapf["f1"]]
         mapf["paper"] = [_fmt(v) for v in mapf["paper"]]
@@ -179,7 +174,7 @@ class ComparisonResult:
             "paper's protocol); *paper*: the paper's Table of weighted F1 scores (its own 24 "
             "JSAF missions), for reference. Beside the paper's rows: BSI with the CI "
             "likelihood, a logistic regression on temporal features of the propositions and "
-            "MiniRocket (`baselines.practitioner`), on the same folds." + note,
+            "MiniRocket (`baselines.practitioner`), on the same folds.",
             "",
             markdown_table(main),
             "",
@@ -486,7 +481,7 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     and the CI likelihood, and the practitioner's rows (:mod:`baselines.practitioner`): a
     logistic regression on five temporal features per proposition, its regularisation chosen
     by an inner cross-validation on the training folds only, and MiniRocket with a ridge
-    classifier (left out, with a note in the tables, when sktime is not installed).
+    classifier.
 
     Parameters
     ----------
@@ -580,10 +575,8 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
               for name in BSI_ROWS for f, (tr, te) in enumerate(folds)]
     tasks += [("baseline", name, f, tr, te, baseline_params, int(fold_seeds[f]))
               for name in PAPER_BASELINES for f, (tr, te) in enumerate(folds)]
-    practitioner = [name for name in PRACTITIONER_BASELINES
-                    if name != "MiniRocket" or minirocket_available()]
     tasks += [("practitioner", name, f, tr, te, {}, int(fold_seeds[f]))
-              for name in practitioner for f, (tr, te) in enumerate(folds)]
+              for name in PRACTITIONER_BASELINES for f, (tr, te) in enumerate(folds)]
     tasks += [("majority", MAJORITY, f, tr, te, {}, 0) for f, (tr, te) in enumerate(folds)]
 
     jobs = (delayed(_run_task)(kind, name, f, data, tr, te, params, s)
@@ -597,7 +590,7 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     # nothing is lost (the tables do not depend on n_jobs), and the user sees it.
     outputs = list(outputs)
 
-    names = [name for name in ROWS if name != "MiniRocket" or "MiniRocket" in practitioner]
+    names = list(ROWS)
     pred = {name: np.full(labels.shape, -1, dtype=np.int64) for name in names}
     time_rows, fold_rows, map_rows = [], [], []
     for (kind, name, f, _, test, _, _), out in zip(tasks, outputs):
@@ -645,7 +638,6 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
         "quick": bool(quick), "split": split,
         "fold_sizes": [(len(tr), len(te)) for tr, te in folds],
         "baseline_params": baseline_params, "bsi_params": bsi_params,
-        "practitioner": practitioner,
         "dataset": dict(dataset.info),
     }
     return ComparisonResult(f1, pd.DataFrame(fold_rows), pd.DataFrame(map_rows), times,
@@ -711,9 +703,5 @@ def _console_table(result):
     print("\nSeconds per fold (fit / predict):", file=buf)
     for name, row in result.times.iterrows():
         print(f"  {name:<19} {row['fit_s_mean']:8.2f} / {row['predict_s_mean']:.3f}", file=buf)
-    missing = [name for name in PRACTITIONER_BASELINES if name not in result.f1.index]
-    if missing:
-        print(f"\nNot run: {', '.join(missing)} (sktime is not installed: pip install "
-              '"bsi-sklearn[practitioner]")', file=buf)
     print(f"\nWhole run: {result.elapsed:.1f} s wall clock", file=buf)
     return buf.getvalue().rstrip("\n")

@@ -28,7 +28,6 @@ from lfe._study_cells import (
     derive_seed,
     draw_training_set,
     network_settings,
-    practitioner_rows,
     repeat_seeds,
     run_cell,
     search_grid,
@@ -120,8 +119,7 @@ def _run_cell(data, repeat, noise, propositions, n_train, config, seeds):
     split_seed = derive_seed(config["seed"], repeat, 2, n_train)
     model_seed = derive_seed(config["seed"], repeat, 3, n_train)
     train = draw_training_set(data["clean"], data["n_pool"], n_train, split_seed)
-    settings = {"networks": config["networks"], "bsi": config["bsi"], "grid": config["grid"],
-                "practitioner": config["practitioner"]}
+    settings = {"networks": config["networks"], "bsi": config["bsi"], "grid": config["grid"]}
     start = time.perf_counter()
     rows, warned = run_cell(data, noise=noise, propositions=propositions, n_train=n_train,
                             train=train, model_seed=model_seed, settings=settings)
@@ -143,7 +141,7 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
     :data:`baselines.FAIR_TRAINING`: early stopping picks the number of epochs on a validation
     split, then a refit on every training mission), what a practitioner would try first
     (:mod:`baselines.practitioner`: a logistic regression on plain temporal features of the
-    propositions, and MiniRocket with a ridge classifier when sktime is installed), BSI with
+    propositions, and MiniRocket with a ridge classifier), BSI with
     Prior 2 and Prior 3, BSI with Prior 2 and the CI likelihood, BSI with
     ``GridSearchCV``-chosen hyperparameters (inner cross-validation on the training set only),
     the majority class, and the noise-free commander rule as a ceiling -- and the test set
@@ -209,20 +207,12 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
     config = {"sizes": sizes, "repeats": repeats, "test_size": test_size, "noise": noise,
               "propositions": propositions, "seed": seed, "quick": bool(quick),
               "networks": network_settings(quick), "bsi": bsi_settings(quick),
-              "grid": search_grid(quick), "practitioner": practitioner_rows()}
+              "grid": search_grid(quick), "rows": list(ROWS)}
     cells_dir = out / "cells"
     config_path = out / "config.json"
     stored = json.dumps(config, sort_keys=True)
     if config_path.exists():
-        previous = json.loads(config_path.read_text())
-        if previous.get("practitioner") not in (None, config["practitioner"]) and \
-                json.dumps({**previous, "practitioner": config["practitioner"]},
-                           sort_keys=True) == stored:
-            raise ValueError(f"{out} holds a study with the practitioner rows "
-                             f"{previous['practitioner']}, this installation runs "
-                             f"{config['practitioner']} (MiniRocket needs sktime: pip install "
-                             '"bsi-sklearn[practitioner]"); give another --out or delete it')
-        if json.dumps(previous, sort_keys=True) != stored:
+        if json.dumps(json.loads(config_path.read_text()), sort_keys=True) != stored:
             raise ValueError(f"{out} holds a study with other arguments (see {config_path}); "
                              "give another --out or delete it")
     cells_dir.mkdir(parents=True, exist_ok=True)

@@ -8,21 +8,25 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from baselines._minirocket import (
+    KERNEL_INDICES,
+    _kernel_output,
+    fit_dilations,
+    fit_minirocket,
+    transform_minirocket,
+)
+from baselines._sequences import check_sequences
 from baselines.practitioner import (
-    MINIROCKET_MISSING,
     PRACTITIONER_BASELINES,
     TEMPORAL_FEATURES,
     DropDuplicateColumns,
     MiniRocketClassifier,
     TemporalLogisticRegression,
     make_practitioner_baseline,
-    minirocket_available,
     temporal_features,
 )
 
 ROOT = Path(__file__).resolve().parents[2]
-needs_sktime = pytest.mark.skipif(not minirocket_available(),
-                                  reason="sktime (the [practitioner] extra) is not installed")
 
 
 def _rule_data(n=24, seed=0):
@@ -118,7 +122,6 @@ def test_logistic_several_objectives_and_edge_cases():
         clf.predict([x[:, :2] for x in X])
 
 
-@needs_sktime
 def test_minirocket_learns_a_rule_and_is_deterministic():
     X, y = _rule_data(30)
     Xt, yt = _rule_data(30, seed=1)
@@ -135,19 +138,6 @@ def test_minirocket_learns_a_rule_and_is_deterministic():
     np.testing.assert_array_equal(pred[:, 0], clf.predict(Xt))
 
 
-def test_minirocket_without_sktime_names_the_extra(monkeypatch):
-    import baselines.practitioner as practitioner
-
-    def missing(name):
-        raise ModuleNotFoundError(f"No module named {name!r}", name="sktime")
-
-    monkeypatch.setattr(practitioner.importlib, "import_module", missing)
-    X, y = _rule_data(6)
-    with pytest.raises(ModuleNotFoundError, match=r"bsi-sklearn\[practitioner\]") as info:
-        MiniRocketClassifier(random_state=0).fit(X, y)
-    assert info.value.name == "sktime" and str(info.value) == MINIROCKET_MISSING
-
-
 def test_factory_and_no_torch():
     assert isinstance(make_practitioner_baseline("Logistic regression", random_state=1),
                       TemporalLogisticRegression)
@@ -159,3 +149,72 @@ def test_factory_and_no_torch():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          cwd=ROOT, check=True).stdout.strip()
     assert out == "False"
+
+
+def _naive_output(x, dilation, channels, top):
+    """The kernel's output by its definition: weights -1, and 2 at ``top``, zero padding."""
+    weights = np.full(9, -1.0)
+    weights[list(top)] = 2.0
+    summed = x[:, channels].sum(axis=1)
+    padded = np.concatenate([np.zeros(4 * dilation), summed, np.zeros(4 * dilation)])
+    return np.array([sum(weights[j] * padded[t + j * dilation] for j in range(9))
+                     for t in range(len(x))])
+
+
+def test_minirocket_kernels_and_dilations():
+    assert KERNEL_INDICES.shape == (84, 3)
+    assert len({tuple(k) for k in KERNEL_INDICES}) == 84 and KERNEL_INDICES.max() == 8
+    # the reference code's dilations: 2 ** x, x evenly spaced up to log2((L - 1) / 8)
+    dilations, per_dilation = fit_dilations(260, 10_000, 32)
+    assert dilations[0] == 1 and dilations[-1] == 32 and (np.diff(dilations) > 0).all()
+    assert per_dilation.sum() == 10_000 // 84
+    dilations, per_dilation = fit_dilations(9, 84, 32)
+    assert dilations.tolist() == [1] and per_dilation.tolist() == [1]
+
+
+def test_minirocket_transform_matches_its_definition():
+    rng = np.random.default_rng(0)
+    X = [rng.random((int(rng.integers(9, 40)), 3)) for _ in range(6)]
+    seqs = check_sequences(X)
+    params = fit_minirocket(seqs.data, seqs.offsets, num_features=840, seed=0)
+    assert params.n_features == 840 - 840 % 84
+    for x in X[:2]:
+        for d in params.dilations[:3]:
+            for k in (0, 41, 83):
+                out = np.empty(len(x))
+                _kernel_output(x, d, np.array([0, 2]), KERNEL_INDICES[k], out)
+                np.testing.assert_allclose(out, _naive_output(x, d, [0, 2], KERNEL_INDICES[k]),
+                                           atol=1e-12)
+    features = transform_minirocket(seqs.data, seqs.offsets, params)
+    assert features.shape == (6, params.n_features)
+    assert ((features >= 0) & (features <= 1)).all()
+    # the first pair (smallest dilation, first kernel): PPV against each of its biases
+    x = X[4]
+    channels = params.channels[:params.channels_per_pair[0]]
+    out = _naive_output(x, params.dilations[0], channels, KERNEL_INDICES[0])
+    for f in range(params.features_per_dilation[0]):
+        assert features[4, f] == pytest.approx(np.mean(out > params.biases[f]))
+    # every bias is a quantile of the output of one training sequence
+    outputs = [_naive_output(x, params.dilations[0], channels, KERNEL_INDICES[0]) for x in X]
+    assert any(params.biases[0] == pytest.approx(np.quantile(o, (1 + 5 ** 0.5) / 2 % 1))
+               for o in outputs)
+
+
+def test_minirocket_is_seeded_and_reads_each_sequence_alone():
+    rng = np.random.default_rng(1)
+    X = [rng.integers(0, 2, (int(rng.integers(9, 30)), 4)) for _ in range(8)]
+    seqs = check_sequences(X)
+    a = fit_minirocket(seqs.data, seqs.offsets, num_features=168, seed=5)
+    b = fit_minirocket(seqs.data, seqs.offsets, num_features=168, seed=5)
+    c = fit_minirocket(seqs.data, seqs.offsets, num_features=168, seed=6)
+    np.testing.assert_array_equal(a.biases, b.biases)
+    np.testing.assert_array_equal(a.channels, b.channels)
+    assert not np.array_equal(a.channels, c.channels) or not np.array_equal(a.biases, c.biases)
+    every = transform_minirocket(seqs.data, seqs.offsets, a)
+    one = check_sequences(X[3:4])
+    np.testing.assert_array_equal(transform_minirocket(one.data, one.offsets, a), every[3:4])
+    with pytest.raises(ValueError, match="at least 9 steps"):
+        short = check_sequences([np.zeros((8, 2))])
+        fit_minirocket(short.data, short.offsets)
+    with pytest.raises(ValueError, match="fitted on 4 channels"):
+        transform_minirocket(seqs.data[:, :3], seqs.offsets, a)

@@ -10,7 +10,6 @@ import pandas as pd
 import pytest
 from sklearn.metrics import f1_score
 
-from baselines.practitioner import minirocket_available
 from lfe import make_lfe_dataset
 from lfe.cli import main
 from lfe.compare import (
@@ -27,8 +26,7 @@ from lfe.compare import (
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 PAPER = Path(__file__).parents[2] / ".." / "shared" / "paper"
-#: The rows this installation runs: MiniRocket only where sktime is installed.
-RAN = [r for r in ROWS if r != "MiniRocket" or minirocket_available()]
+RAN = list(ROWS)
 FILES = ("f1_table.csv", "f1_table.md", "f1_table.tex", "f1_bars.png", "times.csv",
          "map_f1.csv")
 
@@ -60,7 +58,7 @@ def test_quick_run_writes_every_file(quick_run):
         assert (out / name).is_file(), name
     table = pd.read_csv(out / "f1_table.csv", index_col="classifier")
     assert list(table.index) == RAN
-    assert {"BSI (Prior 2, CI)", "Logistic regression", MAJORITY} <= set(RAN)
+    assert {"BSI (Prior 2, CI)", "Logistic regression", "MiniRocket", MAJORITY} <= set(RAN)
     for mo in ("MO1", "MO2", "MO3"):
         assert table[mo].between(0, 1).all()
         assert table[f"{mo} fold mean"].between(0, 1).all()
@@ -236,14 +234,3 @@ def test_practitioner_rows_share_the_folds(small_dataset, small_run):
         for k, mo in enumerate(("MO1", "MO2", "MO3")):
             np.testing.assert_array_equal(
                 small_run.predictions[("Logistic regression", mo)].to_numpy()[test], pred[:, k])
-
-
-def test_without_sktime_minirocket_is_left_out_with_a_note(small_dataset, monkeypatch):
-    import lfe.compare
-
-    monkeypatch.setattr(lfe.compare, "minirocket_available", lambda: False)
-    res = compare(small_dataset, quick=True, seed=3, verbose=0)
-    assert "MiniRocket" not in res.f1.index and "Logistic regression" in res.f1.index
-    assert res.config["practitioner"] == ["Logistic regression"]
-    assert "Not run: MiniRocket" in res.to_markdown()
-    assert "bsi-sklearn[practitioner]" in lfe.compare._console_table(res)

@@ -9,15 +9,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from baselines.practitioner import minirocket_available
 from lfe._study_cells import BSI_ROWS, PRACTITIONER, ROWS, derive_seed, draw_training_set
 from lfe._study_stats import t_interval
 from lfe.cli import main
 
 TINY = ["--quick", "--sizes", "4", "--test-size", "6", "--repeats", "2", "--verbose", "0"]
 TABLES = ("study.csv", "study_paired.csv", "study_runs.csv", "study_warnings.csv")
-#: The rows this installation runs: MiniRocket only where sktime is installed.
-RAN = [r for r in ROWS if r != "MiniRocket" or minirocket_available()]
+RAN = list(ROWS)
 
 
 def _run(argv):
@@ -49,7 +47,7 @@ def test_files_and_columns(tiny_run):
     assert {"classifier", "objective", "n_train", "noise", "propositions", "mean", "ci_low",
             "ci_high", "n_runs"} <= set(table.columns)
     assert set(table["classifier"]) == set(RAN)
-    assert {"Logistic regression", "BSI (Prior 2, CI)"} <= set(RAN)
+    assert {"Logistic regression", "MiniRocket", "BSI (Prior 2, CI)"} <= set(RAN)
     assert set(table["n_train"]) == {4} and set(table["metric"]) == {"f1", "accuracy"}
     assert (table["n_runs"] == 2).all()
     paired = pd.read_csv(out / "study_paired.csv")
@@ -271,23 +269,3 @@ def test_a_warning_raised_in_a_cell_goes_into_its_files(tmp_path, monkeypatch):
     assert row["count"] == 2 and row["category"] == "RuntimeWarning"
     assert "Logistic regression RuntimeWarning x2" in printed
     assert "a warning from the logistic row" in (tmp_path / "study.md").read_text()
-
-
-def test_without_sktime_the_minirocket_rows_are_left_out_with_a_note(tmp_path, monkeypatch):
-    import lfe._study_cells
-
-    monkeypatch.setattr(lfe._study_cells, "minirocket_available", lambda: False)
-    status, _, _ = _run([*TINY, "--repeats", "1", "--out", str(tmp_path)])
-    assert status == 0
-    config = json.loads((tmp_path / "config.json").read_text())
-    assert config["practitioner"] == ["Logistic regression"]
-    table = pd.read_csv(tmp_path / "study.csv")
-    assert "MiniRocket" not in set(table["classifier"])
-    assert "Logistic regression" in set(table["classifier"])
-    text = (tmp_path / "study.md").read_text()
-    assert "Not run here: MiniRocket" in text and "bsi-sklearn[practitioner]" in text
-    if minirocket_available():
-        # the same folder on an installation with sktime: refused, naming the reason
-        monkeypatch.undo()
-        status, _, err = _run([*TINY, "--repeats", "1", "--out", str(tmp_path)])
-        assert status == 2 and "practitioner rows" in err
