@@ -10,7 +10,9 @@ cluster.
 
 from __future__ import annotations
 
+import contextlib
 import time
+import warnings
 
 import numpy as np
 from sklearn.dummy import DummyClassifier
@@ -18,8 +20,13 @@ from sklearn.metrics import f1_score, make_scorer
 from sklearn.model_selection import GridSearchCV, KFold, StratifiedKFold, train_test_split
 
 from baselines import FAIR_TRAINING, PAPER_BASELINES
+from baselines.practitioner import (
+    PRACTITIONER_BASELINES,
+    make_practitioner_baseline,
+)
 from bsi_sklearn.classifier import BSIClassifier
 from lfe.annotate import MISSION_OBJECTIVES, annotate_scenarios
+from lfe.compare import BSI_ROWS as COMPARE_BSI_ROWS
 from lfe.compare import _weighted_f1  # the comparison's scorer, shared within lfe
 from lfe.dataset import make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
@@ -31,6 +38,7 @@ __all__ = [
     "CEILING",
     "MAJORITY",
     "NETWORKS",
+    "PRACTITIONER",
     "ROWS",
     "TIME_NOISE",
     "bsi_settings",
@@ -46,8 +54,12 @@ __all__ = [
 
 #: The four recurrent baselines, in the paper's order.
 NETWORKS = tuple(PAPER_BASELINES)
-#: BSI rows with a fixed prior: name -> ``BSIClassifier(prior=...)``.
-BSI_ROWS = {"BSI (Prior 2)": "sets_of_chains", "BSI (Prior 3)": "forest"}
+#: What a practitioner would try first (:mod:`baselines.practitioner`): a logistic regression
+#: on plain temporal features of the propositions, and MiniRocket with a ridge classifier.
+PRACTITIONER = tuple(PRACTITIONER_BASELINES)
+#: BSI rows with fixed hyperparameters: name -> ``BSIClassifier`` parameters (the
+#: comparison's: Prior 2 and Prior 3 with the CB likelihood, Prior 2 with the CI likelihood).
+BSI_ROWS = dict(COMPARE_BSI_ROWS)
 #: BSI whose hyperparameters an inner cross-validation on the training set chooses.
 BSI_CV = "BSI (GridSearchCV)"
 #: Always predict the training set's most frequent outcome.
@@ -56,7 +68,7 @@ MAJORITY = "Majority class"
 #: best any classifier of the labels can expect, not a classifier.
 CEILING = "Noise-free rule (ceiling)"
 #: Every row of the study, in display order.
-ROWS = (*NETWORKS, *BSI_ROWS, BSI_CV, MAJORITY, CEILING)
+ROWS = (*NETWORKS, *PRACTITIONER, *BSI_ROWS, BSI_CV, MAJORITY, CEILING)
 #: Standard deviation (s) of the error on the marked phase times (``make_lfe_dataset``'s).
 TIME_NOISE = 10.0
 
@@ -200,10 +212,10 @@ def draw_training_set(clean, n_pool, n_train, seed):
     raise AssertionError("an unstratified split cannot fail")  # pragma: no cover
 
 
-def _fit_bsi(X, y, roles, params, seed, prior):
+def _fit_bsi(X, y, roles, params, seed, row):
     if not np.any(y == 1):
         return None  # BSI needs an acceptable mission; predict "failed" throughout
-    return BSIClassifier(prior=prior, random_state=seed, **roles, **params).fit(X, y)
+    return BSIClassifier(random_state=seed, **roles, **params, **row).fit(X, y)
 
 
 def _fit_bsi_cv(X, y, roles, params, grid, seed):
@@ -214,7 +226,7 @@ def _fit_bsi_cv(X, y, roles, params, grid, seed):
     if n_min == 1:
         # One mission of a class: some inner training fold would lack it (an inner fit
         # without an acceptable mission fails), so there is nothing to cross-validate.
-        return _fit_bsi(X, y, roles, params, seed, "sets_of_chains"), {}
+        return _fit_bsi(X, y, roles, params, seed, {"prior": "sets_of_chains"}), {}
     n_splits = min(3, len(y))
     cv = (StratifiedKFold(min(n_splits, n_min), shuffle=True, random_state=seed)
           if n_min >= 2 else KFold(n_splits, shuffle=True, random_state=seed))
@@ -227,6 +239,43 @@ def _fit_bsi_cv(X, y, roles, params, grid, seed):
     chosen = {k: (v if v is None or isinstance(v, str) else float(v))
               for k, v in search.best_params_.items()}
     return search.best_estimator_, chosen
+
+
+class _WarningLog:
+    """Every warning raised while one row of a cell is fitted and scored, counted.
+
+    Nothing is silenced: each warning is recorded (``warnings.catch_warnings(record=True)``
+    with the ``"always"`` action, so a repeated warning counts each time) and goes into the
+    cell's file, the study's ``study_warnings.csv`` and ``study_runs.csv`` (column
+    ``warnings``), and the count is printed at the end of the run.
+    """
+
+    def __init__(self):
+        self.counts = {}
+
+    @contextlib.contextmanager
+    def recording(self, name):
+        """Record the warnings of the block under the row ``name``."""
+        self.counts.setdefault(name, {})
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                yield
+            finally:
+                for w in caught:
+                    text = str(w.message).strip()
+                    key = (w.category.__name__, text.splitlines()[0] if text else "")
+                    self.counts[name][key] = self.counts[name].get(key, 0) + 1
+
+    def total(self, name):
+        """Warnings recorded under ``name``."""
+        return sum(self.counts.get(name, {}).values())
+
+    def records(self):
+        """One dict per row, category and message: ``classifier, category, message, count``."""
+        return [{"classifier": name, "category": category, "message": message, "count": n}
+                for name in ROWS for (category, message), n in
+                sorted(self.counts.get(name, {}).items())]
 
 
 def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings):
@@ -246,7 +295,7 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
         Positions of the training missions in the pool.
     model_seed : int
         Seed of every model of the cell (network weights, validation split and batch order,
-        MCMC chains, inner cross-validation folds).
+        MCMC chains, inner cross-validation folds, MiniRocket's kernels).
     settings : dict
         ``networks`` (:class:`baselines.LSTMSequenceClassifier` parameters), ``bsi``
         (:class:`bsi_sklearn.BSIClassifier` parameters) and ``grid`` (the inner search's).
@@ -254,9 +303,13 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
     Returns
     -------
     rows : list of dict
-        One per row of :data:`ROWS` and objective: ``classifier``, ``objective``, ``f1``,
-        ``accuracy``, ``fit_s`` and ``detail`` (the chosen hyperparameters, the networks'
-        chosen epochs).
+        One per row (:data:`ROWS`) and objective: ``classifier``, ``objective``, ``f1``,
+        ``accuracy``, ``warnings`` (how many warnings fitting and scoring that row raised in
+        this cell), ``fit_s`` and ``detail`` (the chosen hyperparameters, the networks' chosen
+        epochs).
+    warnings : list of dict
+        ``classifier, category, message, count`` of every warning raised (see
+        :class:`_WarningLog`).
     """
     import baselines
 
@@ -266,6 +319,10 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
     props = data["props"][propositions]
     roles = data["roles"][propositions]
     objectives = list(MISSION_OBJECTIVES)
+    # import torch before recording, so that a warning raised on import (once per process) is
+    # not counted in whichever cell a worker happens to run first
+    make_network = baselines.make_paper_baseline
+    log = _WarningLog()
 
     def sub(seqs, idx):
         return [seqs[i] for i in idx]
@@ -274,32 +331,43 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
     coupled = None  # the coupled networks' inputs, built once for both
     for name in NETWORKS:
         start = time.perf_counter()
-        clf = baselines.make_paper_baseline(name, random_state=model_seed,
-                                            **settings["networks"])
-        if clf.coupled and coupled is None:
-            # arrays, not frames: the same float64 values as pd.concat of the propositions and
-            # the flight features, without checking 51 column names per mission per call
-            coupled = [np.hstack([p.to_numpy(dtype=float), f.to_numpy(dtype=float)])
-                       for p, f in zip(props, data["flight"])]
-        X = coupled if clf.coupled else props
-        clf.fit(sub(X, train), y[train], phases=sub(data["phases"][noise], train))
-        preds[name] = clf.predict(sub(X, test))
+        with log.recording(name):
+            clf = make_network(name, random_state=model_seed, **settings["networks"])
+            if clf.coupled and coupled is None:
+                # arrays, not frames: the same float64 values as pd.concat of the propositions
+                # and the flight features, without checking 51 column names per mission
+                coupled = [np.hstack([p.to_numpy(dtype=float), f.to_numpy(dtype=float)])
+                           for p, f in zip(props, data["flight"])]
+            X = coupled if clf.coupled else props
+            clf.fit(sub(X, train), y[train], phases=sub(data["phases"][noise], train))
+            preds[name] = clf.predict(sub(X, test))
         fit_s[name] = time.perf_counter() - start
         detail[name] = f"epochs={clf.refit_epochs_ or clf.best_epoch_}"
     X_train, X_test = sub(props, train), sub(props, test)
+    for name in PRACTITIONER:
+        start = time.perf_counter()
+        with log.recording(name):
+            clf = make_practitioner_baseline(name, random_state=model_seed).fit(X_train,
+                                                                                y[train])
+            preds[name] = clf.predict(X_test)
+        fit_s[name] = time.perf_counter() - start
+        detail[name] = (" | ".join(f"C={c:.3g}" if c is not None else "constant"
+                                   for c in clf.chosen_C_) if hasattr(clf, "chosen_C_")
+                        else "")
     for name in (*BSI_ROWS, BSI_CV):
         start = time.perf_counter()
         columns, chosen = [], []
-        for k in range(len(objectives)):
-            if name == BSI_CV:
-                clf, params = _fit_bsi_cv(X_train, y[train, k], roles, settings["bsi"],
-                                          settings["grid"], model_seed)
-                chosen.append(";".join(f"{p}={v}" for p, v in sorted(params.items())))
-            else:
-                clf = _fit_bsi(X_train, y[train, k], roles, settings["bsi"], model_seed,
-                               BSI_ROWS[name])
-            columns.append(np.zeros(len(test), dtype=y.dtype) if clf is None
-                           else clf.predict(X_test))
+        with log.recording(name):
+            for k in range(len(objectives)):
+                if name == BSI_CV:
+                    clf, params = _fit_bsi_cv(X_train, y[train, k], roles, settings["bsi"],
+                                              settings["grid"], model_seed)
+                    chosen.append(";".join(f"{p}={v}" for p, v in sorted(params.items())))
+                else:
+                    clf = _fit_bsi(X_train, y[train, k], roles, settings["bsi"], model_seed,
+                                   BSI_ROWS[name])
+                columns.append(np.zeros(len(test), dtype=y.dtype) if clf is None
+                               else clf.predict(X_test))
         preds[name] = np.column_stack(columns)
         fit_s[name] = time.perf_counter() - start
         detail[name] = " | ".join(chosen)
@@ -315,8 +383,9 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
             rows.append({"classifier": name, "objective": mo,
                          "f1": _weighted_f1(truth, pred),
                          "accuracy": float(np.mean(truth == pred)),
+                         "warnings": log.total(name),
                          "fit_s": fit_s.get(name, 0.0), "detail": detail.get(name, "")})
-    return rows
+    return rows, log.records()
 
 
 def bsi_settings(quick):

@@ -3,9 +3,18 @@
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 
 from bsi_sklearn.experiments.tables import markdown_table
-from lfe._study_cells import BSI_CV, BSI_ROWS, CEILING, MAJORITY, NETWORKS, ROWS
+from lfe._study_cells import (
+    BSI_CV,
+    BSI_ROWS,
+    CEILING,
+    MAJORITY,
+    NETWORKS,
+    PRACTITIONER,
+    ROWS,
+)
 
 __all__ = ["plot_learning_curves", "study_markdown"]
 
@@ -48,7 +57,8 @@ def plot_learning_curves(table, objective, metric="f1"):
     sets = list(dict.fromkeys(sel["propositions"]))
     fig, axes = plt.subplots(len(noises), len(sets), squeeze=False, sharey=True,
                              figsize=(5.5 * len(sets), 3.8 * len(noises)), layout="constrained")
-    colors = dict(zip(ROWS, plt.get_cmap("tab10").colors))
+    palette = plt.get_cmap("tab20").colors
+    colors = {name: palette[(2 * i) % 20 + (2 * i) // 20] for i, name in enumerate(ROWS)}
     for i, noise in enumerate(noises):
         for j, ps in enumerate(sets):
             ax = axes[i, j]
@@ -58,7 +68,8 @@ def plot_learning_curves(table, objective, metric="f1"):
                 if line.empty:
                     continue
                 style = ("--" if name in (MAJORITY, CEILING)
-                         else "-" if name in (*BSI_ROWS, BSI_CV) else ":")
+                         else "-" if name in (*BSI_ROWS, BSI_CV)
+                         else "-." if name in PRACTITIONER else ":")
                 ax.plot(line["n_train"], line["mean"], style, marker="o", ms=3,
                         color=colors[name], label=name)
                 ax.fill_between(line["n_train"], line["ci_low"], line["ci_high"],
@@ -82,29 +93,8 @@ def _fmt_ci(mean, low, high):
     return f"{mean:+.3f} [{low:+.3f}, {high:+.3f}]"
 
 
-def study_markdown(table, paired, config):
-    """``study.md``: the protocol, the disclosure, the tables and which differences hold.
-
-    Parameters
-    ----------
-    table, paired : DataFrame
-        ``study.csv`` and ``study_paired.csv``.
-    config : dict
-        The study's settings (``config.json``).
-
-    Returns
-    -------
-    text : str
-    """
-    c = config
-    lines = [
-        "# bsi-lfe study: learning curves with 95 % intervals",
-        "",
-        f"Command: `{c['command']}`" + (" (--quick: a smoke test, not a result)"
-                                         if c["quick"] else ""),
-        "",
-        "## Protocol",
-        "",
+def _protocol(c):
+    return [
         f"- {c['repeats']} repeats; each simulates its own missions with "
         "`lfe.make_lfe_dataset` (its own dataset seed): a training pool of "
         f"{max(c['sizes'])} missions and a test set of {c['test_size']} fresh missions. "
@@ -118,51 +108,128 @@ def study_markdown(table, paired, config):
         "accuracy, in study.csv).",
         "- Intervals: 95 % Student-t intervals over the repeats (independent datasets), "
         "`mean ± t(0.975, n-1) sd / sqrt(n)`. Paired differences: BSI minus the best network "
-        "(highest mean F1 of the four at that size, noise and set), computed repeat by repeat "
-        "on the same missions, with the same t-interval; *significant* when it excludes 0.",
+        "(highest mean F1 of the four at that size, noise and set) and BSI minus the best "
+        "baseline (highest mean F1 of the networks and the practitioner's rows), computed "
+        "repeat by repeat on the same missions, with the same t-interval; *significant* when "
+        "it excludes 0.",
         "- Networks (LSTM, Bi-LSTM and their phase-coupled versions): "
         f"`{c['networks']}`. Early stopping (patience 20, or 5 with --quick) chooses the "
         "number of epochs on a 20 % validation split; a fresh network with the same initial "
         "weights is then refitted on every training mission for that many epochs; "
         "mini-batches of 4; torch's deterministic algorithms, one thread.",
-        f"- BSI: `{c['bsi']}`, CB likelihood, the proposition set's roles; Prior 2 "
-        "(`sets_of_chains`), Prior 3 (`forest`), and a `GridSearchCV` over "
-        f"`{c['grid']}` (weighted F1, 3-fold inner cross-validation on the training set only).",
+        "- Practitioner's rows (`baselines.practitioner`), one model per objective on the "
+        "propositions: *Logistic regression* on five plain features per proposition (value "
+        "at the first and at the last step, fraction of steps true, first step true, last "
+        "step false), constant and perfectly correlated columns of the training set dropped, "
+        "standardised, L2 penalty chosen among 13 values of C from 1e-3 to 1e3 by a 3-fold "
+        "stratified cross-validation on the training set only (log-loss; C = 1 when a class "
+        "has one mission); *MiniRocket* (Dempster et al. 2021, the multivariate "
+        "unequal-length form; about 10,000 features, fitted on the training missions), "
+        "standardised, then `RidgeClassifierCV` over 10 penalties from 1e-3 to 1e3 "
+        "(leave-one-out on the training set).",
+        f"- BSI: `{c['bsi']}`, the proposition set's roles; CB likelihood with Prior 2 "
+        "(`sets_of_chains`) and Prior 3 (`forest`), CI likelihood with Prior 2, and a "
+        f"`GridSearchCV` over `{c['grid']}` (weighted F1, 3-fold inner cross-validation on "
+        "the training set only).",
         "- Majority class: the training set's most frequent outcome. Noise-free rule: the "
         "commander's rule without judgement noise, scored against the noisy test labels (the "
         "ceiling of any classifier of those labels, e.g. about 1 - noise in accuracy).",
         f"- Seeds: every seed derives from --seed {c['seed']} (dataset, labels, training-set "
         "draw, models; numpy SeedSequence) and is recorded per run in study_runs.csv.",
+        "- Warnings: every warning raised while a row is fitted and scored is recorded, none "
+        "is silenced; their count per cell and row is in study_runs.csv (`warnings`) and "
+        "study_warnings.csv (with the messages), summed below.",
+    ]
+
+
+def _headline(paired):
+    lines = ["## Is BSI better than the best network, and than the best of all baselines? "
+             "(weighted F1, paired)", ""]
+    if paired["ci_low"].isna().all():
+        return lines + ["One repeat only: no interval, nothing can be called significant.", ""]
+    for versus, prefix, best in (("the best network", "", "best_network"),
+                                 ("the best baseline", "baseline_", "best_baseline")):
+        flag = paired[f"{prefix}significant"]
+        better = int((flag & (paired[f"{prefix}mean"] > 0)).sum())
+        worse = int((flag & (paired[f"{prefix}mean"] < 0)).sum())
+        lines.append(f"- Against {versus}: BSI significantly better in {better}, "
+                     f"significantly worse in {worse}, not significantly different in "
+                     f"{len(paired) - better - worse} of {len(paired)} comparisons.")
+        for _, r in paired[flag].iterrows():
+            mean, low, high = (r[f"{prefix}{k}"] for k in ("mean", "ci_low", "ci_high"))
+            word = "better" if mean > 0 else "worse"
+            lines.append(f"  - {r['bsi']} is significantly {word} than {r[best]} on "
+                         f"{r['objective']} with {r['n_train']} missions (noise "
+                         f"{r['noise']:g}, {r['propositions']}): {_fmt_ci(mean, low, high)}.")
+    view = paired.copy()
+    view["BSI - best network"] = [_fmt_ci(m, lo, hi) for m, lo, hi in
+                                  zip(view["mean"], view["ci_low"], view["ci_high"])]
+    view["BSI - best baseline"] = [
+        _fmt_ci(m, lo, hi) for m, lo, hi in
+        zip(view["baseline_mean"], view["baseline_ci_low"], view["baseline_ci_high"])]
+    for column in ("significant", "baseline_significant"):
+        view[column] = np.where(view[column], "yes", "no")
+    view = view.rename(columns={"significant": "significant (network)",
+                                "baseline_significant": "significant (baseline)"})
+    return lines + ["", markdown_table(view[[
+        "bsi", "objective", "n_train", "noise", "propositions", "best_network",
+        "BSI - best network", "significant (network)", "best_baseline", "BSI - best baseline",
+        "significant (baseline)"]]), ""]
+
+
+def _warnings_section(warned):
+    lines = ["## Warnings raised while fitting and scoring", ""]
+    if warned is None or warned.empty:
+        return lines + ["None: no row raised a warning in any cell.", ""]
+    cells = ["repeat", "noise", "propositions", "n_train"]
+    rows = []
+    for (name, category), group in warned.groupby(["classifier", "category"], sort=False):
+        example = group["message"].iloc[0].replace("|", "\\|")  # a cell of the table
+        rows.append({"classifier": name, "category": category,
+                     "warnings": int(group["count"].sum()),
+                     "cells": len(group[cells].drop_duplicates()),
+                     "distinct messages": group["message"].nunique(),
+                     "first message": example if len(example) <= 200
+                     else example[:197] + "..."})
+    total = int(warned["count"].sum())
+    return lines + [f"{total} warnings in all; per row and category (every message, per cell, "
+                    "in study_warnings.csv):", "", markdown_table(pd.DataFrame(rows)), ""]
+
+
+def study_markdown(table, paired, config, warned=None):
+    """``study.md``: the protocol, the disclosure, the tables and which differences hold.
+
+    Parameters
+    ----------
+    table, paired : DataFrame
+        ``study.csv`` and ``study_paired.csv``.
+    config : dict
+        The study's settings (``config.json``).
+    warned : DataFrame, default=None
+        ``study_warnings.csv``.
+
+    Returns
+    -------
+    text : str
+    """
+    c = config
+    lines = [
+        "# bsi-lfe study: learning curves with 95 % intervals",
+        "",
+        f"Command: `{c['command']}`" + (" (--quick: a smoke test, not a result)"
+                                         if c["quick"] else ""),
+        "",
+        *_headline(paired),
+        "## Protocol",
+        "",
+        *_protocol(c),
         "",
         "## What each proposition set expresses",
         "",
     ]
     for ps in c["propositions"]:
         lines.append(f"- *{ps}*: {EXPRESSIBILITY.get(ps, '')}")
-    lines += ["", "## Is BSI better than the best network? (weighted F1, paired)", ""]
-    sig = paired[paired["significant"]]
-    if paired["ci_low"].isna().all():
-        lines.append("One repeat only: no interval, nothing can be called significant.")
-    elif sig.empty:
-        lines.append("No difference between a BSI row and the best network is significant "
-                     "at 95 %: every interval contains 0.")
-    else:
-        for _, r in sig.iterrows():
-            word = "better" if r["mean"] > 0 else "worse"
-            lines.append(f"- {r['bsi']} is significantly {word} than {r['best_network']} on "
-                         f"{r['objective']} with {r['n_train']} missions (noise {r['noise']:g}, "
-                         f"{r['propositions']}): "
-                         f"{_fmt_ci(r['mean'], r['ci_low'], r['ci_high'])}.")
-        lines.append(f"- Every other difference ({len(paired) - len(sig)} of {len(paired)}) "
-                     "is not significant: its interval contains 0.")
-    view = paired.copy()
-    view["BSI - best network"] = [_fmt_ci(m, lo, hi) for m, lo, hi in
-                                  zip(view["mean"], view["ci_low"], view["ci_high"])]
-    view["significant"] = np.where(view["significant"], "yes", "no")
-    lines += ["", markdown_table(view[["bsi", "best_network", *["objective", "n_train", "noise",
-                                                                  "propositions"],
-                                       "BSI - best network", "significant"]]), ""]
-    lines += ["## Mean weighted F1 [95 % interval]", ""]
+    lines += ["", "## Mean weighted F1 [95 % interval]", ""]
     f1 = table[table["metric"] == "f1"]
     for (noise, ps), block in f1.groupby(["noise", "propositions"], sort=False):
         lines += [f"### Noise {noise:g}, {ps} propositions", ""]
@@ -174,6 +241,7 @@ def study_markdown(table, paired, config):
         wide = wide.reindex([r for r in ROWS if r in wide.index])
         wide.columns = [f"{mo} n={n}" for mo, n in wide.columns]
         lines += [markdown_table(wide.reset_index()), ""]
-    lines += ["Rows: " + ", ".join(NETWORKS) + ", " + ", ".join((*BSI_ROWS, BSI_CV))
+    lines += ["Rows: " + ", ".join((*NETWORKS, *PRACTITIONER, *BSI_ROWS, BSI_CV))
               + f", {MAJORITY}, {CEILING}.", ""]
+    lines += _warnings_section(warned)
     return "\n".join(lines)

@@ -4,8 +4,9 @@ Every interval is a Student-t interval over the repeats: the repeats are indepen
 simulated datasets, each scored on its own test set, so their scores are independent draws and
 ``mean ± t(0.975, n - 1) · sd / sqrt(n)`` covers the expected score of a classifier trained on
 ``n_train`` missions of this simulator. The paired differences subtract, repeat by repeat, the
-best network's score from BSI's on the same training and test missions, and take the same
-interval over those differences (a paired t-interval).
+best network's score (and the best baseline's: the networks and the practitioner's rows) from
+BSI's on the same training and test missions, and take the same interval over those
+differences (a paired t-interval).
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from lfe._study_cells import BSI_CV, BSI_ROWS, NETWORKS
+from lfe._study_cells import BSI_CV, BSI_ROWS, NETWORKS, PRACTITIONER
 
 __all__ = ["KEYS", "METRICS", "paired_differences", "summarise", "t_interval"]
 
@@ -72,12 +73,13 @@ def summarise(runs):
 
 
 def paired_differences(runs, metric="f1"):
-    """``study_paired.csv``: each BSI row minus the best network, paired over repeats.
+    """``study_paired.csv``: each BSI row minus the best network and the best baseline.
 
-    The best network of a cell (objective, size, noise, propositions) is the one with the
-    highest mean ``metric`` over the repeats; the difference is taken repeat by repeat on the
-    same missions, then averaged with a paired t-interval. The difference is *significant*
-    when its interval excludes 0.
+    The best network of a cell (objective, size, noise, propositions) is the one of
+    :data:`NETWORKS` with the highest mean ``metric`` over the repeats; the best baseline, the
+    one of the networks and the practitioner's rows (:data:`PRACTITIONER`, those that ran).
+    Each difference is taken repeat by repeat on the same missions, then averaged with a
+    paired t-interval; it is *significant* when its interval excludes 0.
 
     Parameters
     ----------
@@ -89,16 +91,23 @@ def paired_differences(runs, metric="f1"):
     -------
     table : DataFrame
         Columns ``bsi, best_network, objective, n_train, noise, propositions, metric, mean,
-        ci_low, ci_high, n_runs, significant``.
+        ci_low, ci_high, n_runs, significant`` (BSI minus the best network), then
+        ``best_baseline, baseline_mean, baseline_ci_low, baseline_ci_high,
+        baseline_significant`` (BSI minus the best baseline).
     """
     rows = []
     wide = runs.pivot_table(index=[*KEYS, "repeat"], columns="classifier", values=metric)
+    baselines = [name for name in (*NETWORKS, *PRACTITIONER) if name in wide.columns]
     for key, group in wide.groupby(level=KEYS, sort=False):
         best = group[list(NETWORKS)].mean().idxmax()
+        best_baseline = group[baselines].mean().idxmax()
         for bsi in (*BSI_ROWS, BSI_CV):
-            diff = group[bsi] - group[best]
-            mean, low, high = t_interval(diff)
+            mean, low, high = t_interval(group[bsi] - group[best])
+            b_mean, b_low, b_high = t_interval(group[bsi] - group[best_baseline])
             rows.append(dict(bsi=bsi, best_network=best, **dict(zip(KEYS, key)), metric=metric,
-                             mean=mean, ci_low=low, ci_high=high, n_runs=len(diff),
-                             significant=bool(low > 0 or high < 0)))
+                             mean=mean, ci_low=low, ci_high=high, n_runs=len(group),
+                             significant=bool(low > 0 or high < 0),
+                             best_baseline=best_baseline, baseline_mean=b_mean,
+                             baseline_ci_low=b_low, baseline_ci_high=b_high,
+                             baseline_significant=bool(b_low > 0 or b_high < 0)))
     return pd.DataFrame(rows)

@@ -3,7 +3,10 @@
 The paper's large-force-exercise evaluation: four-fold cross-validation over the 24 missions
 (18 training / 6 test scenarios per fold), six classifiers (LSTM, Bi-LSTM, LSTM Coupled,
 Bi-LSTM Coupled, BSI with Prior 2 and BSI with Prior 3), weighted F1 over both outcomes per
-mission objective; and the F1 of the MAP specification fitted on the whole dataset.
+mission objective; and the F1 of the MAP specification fitted on the whole dataset. Beside
+the paper's rows, on the same folds: BSI with the CI likelihood, and what a practitioner
+would try first (:mod:`baselines.practitioner`: a logistic regression on plain temporal
+features, and MiniRocket).
 """
 
 from __future__ import annotations
@@ -21,6 +24,10 @@ from sklearn.utils.parallel import Parallel, delayed
 
 import baselines
 from baselines import FAIR_TRAINING, PAPER_BASELINES
+from baselines.practitioner import (
+    PRACTITIONER_BASELINES,
+    make_practitioner_baseline,
+)
 from bsi_sklearn.classifier import BSIClassifier
 from bsi_sklearn.experiments.tables import markdown_table
 from bsi_sklearn.param_validation import (
@@ -37,11 +44,13 @@ from lfe.scenario import checked_once
 
 __all__ = [
     "BSI_PRIORS",
+    "BSI_ROWS",
     "CLASSIFIERS",
     "ComparisonResult",
     "MAJORITY",
     "PAPER_F1",
     "PAPER_MAP_F1",
+    "ROWS",
     "add_arguments",
     "compare",
     "run",
@@ -50,6 +59,11 @@ __all__ = [
 #: BSI classifiers of the comparison: name -> ``BSIClassifier(prior=...)``.
 BSI_PRIORS = {"BSI (Prior 2)": "sets_of_chains", "BSI (Prior 3)": "forest"}
 
+#: BSI rows of the comparison and of ``bsi-lfe study``: name -> ``BSIClassifier`` parameters
+#: (the paper's two priors with the CB likelihood, and Prior 2 with the CI likelihood).
+BSI_ROWS = {**{name: {"prior": prior} for name, prior in BSI_PRIORS.items()},
+            "BSI (Prior 2, CI)": {"prior": "sets_of_chains", "likelihood": "ci"}}
+
 #: The six classifiers of the paper's table, in its order.
 CLASSIFIERS = (*PAPER_BASELINES, *BSI_PRIORS)
 
@@ -57,6 +71,10 @@ CLASSIFIERS = (*PAPER_BASELINES, *BSI_PRIORS)
 #: that its recurrent models collapsed to exactly this; its baselines' F1 are the majority
 #: class's on its data.
 MAJORITY = "Majority class"
+
+#: Every row of the comparison, in display order: the paper's six, BSI with the CI likelihood,
+#: the practitioner's rows and the majority class.
+ROWS = (*CLASSIFIERS, "BSI (Prior 2, CI)", *PRACTITIONER_BASELINES, MAJORITY)
 
 #: The paper's Table "Weighted F1 scores for both scenario outcomes for each of the
 #: classifiers" (four-fold cross-validation on its 24 JSAF missions), for reference only.
@@ -83,7 +101,7 @@ class ComparisonResult:
     Attributes
     ----------
     f1 : DataFrame
-        Weighted F1 per classifier (rows, :data:`CLASSIFIERS` then :data:`MAJORITY`) and
+        Weighted F1 per classifier (rows, :data:`ROWS`) and
         objective (columns), on the out-of-fold predictions of every scenario pooled, as the
         paper computes it ("predictions ... assimilated at the end").
     f1_folds : DataFrame
@@ -154,7 +172,9 @@ class ComparisonResult:
             "",
             "*ours*: out-of-fold predictions of every scenario pooled, then weighted F1 (the "
             "paper's protocol); *paper*: the paper's Table of weighted F1 scores (its own 24 "
-            "JSAF missions), for reference.",
+            "JSAF missions), for reference. Beside the paper's rows: BSI with the CI "
+            "likelihood, a logistic regression on temporal features of the propositions and "
+            "MiniRocket (`baselines.practitioner`), on the same folds.",
             "",
             markdown_table(main),
             "",
@@ -183,7 +203,8 @@ class ComparisonResult:
         text : str
         """
         objectives = list(self.f1.columns)
-        best = {mo: self.table.loc[list(CLASSIFIERS), mo].max() for mo in objectives}
+        fitted = [name for name in self.table.index if name != MAJORITY]
+        best = {mo: self.table.loc[fitted, mo].max() for mo in objectives}
         lines = [
             "% Weighted F1 per mission objective; 'paper': Shah et al. (2019), for reference.",
             r"\begin{tabular}{l" + "rr" * len(objectives) + "}",
@@ -197,7 +218,7 @@ class ComparisonResult:
             cells = [_latex_escape(name)]
             for mo in objectives:
                 ours = f"{row[mo]:.3f}"
-                if name in CLASSIFIERS and np.isclose(row[mo], best[mo]):
+                if name != MAJORITY and np.isclose(row[mo], best[mo]):
                     ours = rf"\textbf{{{ours}}}"
                 cells += [ours, _fmt(row[f"{mo} paper"])]
             lines.append(" & ".join(cells) + r" \\")
@@ -223,7 +244,7 @@ class ComparisonResult:
         else:
             fig = ax.figure
         objectives = list(self.f1.columns)
-        names = list(CLASSIFIERS)
+        names = [name for name in self.f1.index if name != MAJORITY]
         width = 0.8 / len(names)
         colors = plt.get_cmap("tab10").colors
         x = np.arange(len(objectives))
@@ -362,19 +383,19 @@ def _weighted_f1(y_true, y_pred):
     return float(total / len(y_true)) if len(y_true) else 0.0
 
 
-def _fit_bsi(prior, X, y, roles, params, seed):
+def _fit_bsi(row, X, y, roles, params, seed):
     """One BSI classifier fitted on one objective; ``None`` without an acceptable scenario."""
     if not np.any(y == 1):
         return None  # BSI needs an acceptable demonstration; predict "failed" throughout
-    clf = BSIClassifier(prior=prior, random_state=seed, **roles, **params)
+    clf = BSIClassifier(random_state=seed, **roles, **params, **row)
     return clf.fit(X, y)  # a ConvergenceWarning, if MCMC ran and did not converge, is shown
 
 
 def _run_task(kind, name, fold, data, train, test, params, seed):
     """Fit one classifier on ``train`` and predict ``test``; return predictions and times.
 
-    ``kind`` is ``"baseline"``, ``"bsi"``, ``"majority"`` or ``"map"`` (a BSI fit on every
-    scenario, scored with its MAP specification).
+    ``kind`` is ``"baseline"`` (a network), ``"practitioner"``, ``"bsi"``, ``"majority"`` or
+    ``"map"`` (a BSI fit on every scenario, scored with its MAP specification).
     """
     y = data["labels"]
 
@@ -390,6 +411,14 @@ def _run_task(kind, name, fold, data, train, test, params, seed):
         start = time.perf_counter()
         pred = clf.predict(sub(X, test))
         return {"pred": pred, "fit_s": fit_s, "predict_s": time.perf_counter() - start}
+    if kind == "practitioner":
+        clf = make_practitioner_baseline(name, random_state=seed)
+        start = time.perf_counter()
+        clf.fit(sub(data["props"], train), y[train])
+        fit_s = time.perf_counter() - start
+        start = time.perf_counter()
+        pred = clf.predict(sub(data["props"], test))
+        return {"pred": pred, "fit_s": fit_s, "predict_s": time.perf_counter() - start}
     if kind == "majority":
         start = time.perf_counter()
         clf = DummyClassifier(strategy="most_frequent").fit(np.zeros((len(train), 1)), y[train])
@@ -397,12 +426,12 @@ def _run_task(kind, name, fold, data, train, test, params, seed):
         start = time.perf_counter()
         pred = clf.predict(np.zeros((len(test), 1)))
         return {"pred": pred, "fit_s": fit_s, "predict_s": time.perf_counter() - start}
-    prior = BSI_PRIORS[name]
+    row = BSI_ROWS[name]
     X_train, X_test = sub(data["props"], train), sub(data["props"], test)
     preds, fit_s, predict_s, extra = [], 0.0, 0.0, []
     for k in range(y.shape[1]):
         start = time.perf_counter()
-        clf = _fit_bsi(prior, X_train, y[train, k], data["roles"], params, seed)
+        clf = _fit_bsi(row, X_train, y[train, k], data["roles"], params, seed)
         fit_s += time.perf_counter() - start
         start = time.perf_counter()
         if clf is None:
@@ -448,7 +477,11 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     :class:`~bsi_sklearn.BSIClassifier` per objective (CB likelihood, the paper's proposition
     roles, the exact posterior) and predicts by posterior voting. A majority-class reference
     row is added. The MAP-formula F1 comes from BSI fitted on every scenario, its MAP
-    specification's verdicts scored against the labels.
+    specification's verdicts scored against the labels. On the same folds: BSI with Prior 2
+    and the CI likelihood, and the practitioner's rows (:mod:`baselines.practitioner`): a
+    logistic regression on five temporal features per proposition, its regularisation chosen
+    by an inner cross-validation on the training folds only, and MiniRocket with a ridge
+    classifier.
 
     Parameters
     ----------
@@ -492,10 +525,13 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     >>> from lfe.compare import compare
     >>> ds = make_lfe_dataset(n_scenarios=4, random_state=0)
     >>> res = compare(ds, quick=True, verbose=0)
-    >>> res.f1.shape, list(res.f1.columns)
-    ((7, 3), ['MO1', 'MO2', 'MO3'])
+    >>> list(res.f1.columns), list(res.f1.index[:7])
+    (['MO1', 'MO2', 'MO3'], ['LSTM', 'Bi-LSTM', 'LSTM Coupled', 'Bi-LSTM Coupled', \
+'BSI (Prior 2)', 'BSI (Prior 3)', 'BSI (Prior 2, CI)'])
+    >>> "Logistic regression" in res.f1.index
+    True
     >>> sorted(set(res.map_f1["classifier"]))
-    ['BSI (Prior 2)', 'BSI (Prior 3)']
+    ['BSI (Prior 2)', 'BSI (Prior 2, CI)', 'BSI (Prior 3)']
     >>> full = compare()   # the paper's setting: 1.5 to 4 minutes on 2 cores  # doctest: +SKIP
     """
     start_run = time.perf_counter()
@@ -534,11 +570,13 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     everything = np.arange(len(dataset))
 
     # Longest fits first, so parallel workers finish together.
-    tasks = [("map", name, -1, everything, everything, bsi_params, seed) for name in BSI_PRIORS]
+    tasks = [("map", name, -1, everything, everything, bsi_params, seed) for name in BSI_ROWS]
     tasks += [("bsi", name, f, tr, te, bsi_params, int(fold_seeds[f]))
-              for name in BSI_PRIORS for f, (tr, te) in enumerate(folds)]
+              for name in BSI_ROWS for f, (tr, te) in enumerate(folds)]
     tasks += [("baseline", name, f, tr, te, baseline_params, int(fold_seeds[f]))
               for name in PAPER_BASELINES for f, (tr, te) in enumerate(folds)]
+    tasks += [("practitioner", name, f, tr, te, {}, int(fold_seeds[f]))
+              for name in PRACTITIONER_BASELINES for f, (tr, te) in enumerate(folds)]
     tasks += [("majority", MAJORITY, f, tr, te, {}, 0) for f, (tr, te) in enumerate(folds)]
 
     jobs = (delayed(_run_task)(kind, name, f, data, tr, te, params, s)
@@ -552,7 +590,7 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     # nothing is lost (the tables do not depend on n_jobs), and the user sees it.
     outputs = list(outputs)
 
-    names = [*CLASSIFIERS, MAJORITY]
+    names = list(ROWS)
     pred = {name: np.full(labels.shape, -1, dtype=np.int64) for name in names}
     time_rows, fold_rows, map_rows = [], [], []
     for (kind, name, f, _, test, _, _), out in zip(tasks, outputs):
@@ -644,13 +682,13 @@ def _console_table(result):
     print("ours = out-of-fold predictions pooled (fold mean ± std); "
           "paper = Shah et al. 2019, Table 'Weighted F1 scores', for reference", file=buf)
     objectives = list(result.f1.columns)
-    header = f"{'classifier':<18}" + "".join(f"{mo + ' ours':>22}{mo + ' paper':>10}"
+    header = f"{'classifier':<19}" + "".join(f"{mo + ' ours':>22}{mo + ' paper':>10}"
                                               for mo in objectives)
     print(header, file=buf)
     print("-" * len(header), file=buf)
     t = result.table
     for name in t.index:
-        line = f"{name:<18}"
+        line = f"{name:<19}"
         for mo in objectives:
             ours = (f"{t.loc[name, mo]:.3f} ({t.loc[name, mo + ' fold mean']:.2f}"
                     f"±{t.loc[name, mo + ' fold std']:.2f})")
@@ -660,10 +698,10 @@ def _console_table(result):
           file=buf)
     for _, row in result.map_f1.iterrows():
         paper = _fmt(row["paper"])
-        print(f"  {row['classifier']:<14} {row['objective']}  {row['f1']:.3f}"
+        print(f"  {row['classifier']:<17} {row['objective']}  {row['f1']:.3f}"
               f"{'  paper ' + paper if paper else ''}   {row['map_specification']}", file=buf)
     print("\nSeconds per fold (fit / predict):", file=buf)
     for name, row in result.times.iterrows():
-        print(f"  {name:<18} {row['fit_s_mean']:8.2f} / {row['predict_s_mean']:.3f}", file=buf)
+        print(f"  {name:<19} {row['fit_s_mean']:8.2f} / {row['predict_s_mean']:.3f}", file=buf)
     print(f"\nWhole run: {result.elapsed:.1f} s wall clock", file=buf)
     return buf.getvalue().rstrip("\n")

@@ -121,12 +121,12 @@ def _run_cell(data, repeat, noise, propositions, n_train, config, seeds):
     train = draw_training_set(data["clean"], data["n_pool"], n_train, split_seed)
     settings = {"networks": config["networks"], "bsi": config["bsi"], "grid": config["grid"]}
     start = time.perf_counter()
-    rows = run_cell(data, noise=noise, propositions=propositions, n_train=n_train, train=train,
-                    model_seed=model_seed, settings=settings)
+    rows, warned = run_cell(data, noise=noise, propositions=propositions, n_train=n_train,
+                            train=train, model_seed=model_seed, settings=settings)
     cell = dict(repeat=repeat, noise=noise, propositions=propositions, n_train=n_train,
                 **seeds, split_seed=split_seed, model_seed=model_seed,
                 cell_s=time.perf_counter() - start)
-    return cell, rows
+    return cell, rows, warned
 
 
 def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=None, seed=0,
@@ -139,10 +139,15 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
     pool (stratified on the noise-free outcomes where possible) trains every row of the study
     -- LSTM, Bi-LSTM, LSTM Coupled, Bi-LSTM Coupled (the fair protocol
     :data:`baselines.FAIR_TRAINING`: early stopping picks the number of epochs on a validation
-    split, then a refit on every training mission), BSI with Prior 2 and Prior 3, BSI with
+    split, then a refit on every training mission), what a practitioner would try first
+    (:mod:`baselines.practitioner`: a logistic regression on plain temporal features of the
+    propositions, and MiniRocket with a ridge classifier), BSI with
+    Prior 2 and Prior 3, BSI with Prior 2 and the CI likelihood, BSI with
     ``GridSearchCV``-chosen hyperparameters (inner cross-validation on the training set only),
     the majority class, and the noise-free commander rule as a ceiling -- and the test set
-    scores them (weighted F1 and accuracy per objective).
+    scores them (weighted F1 and accuracy per objective). Every warning raised while a row is
+    fitted and scored is counted per cell and row (``study_warnings.csv``, the ``warnings``
+    column of ``study_runs.csv``, ``study.md``), never silenced.
 
     The repeats are simulated first, then the cells run; each cell's results are written as
     soon as it finishes (``out/cells/*.json``), so an interrupted run keeps them, and a rerun
@@ -180,9 +185,9 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
     Returns
     -------
     paths : dict of str to Path
-        ``study.csv``, ``study_paired.csv``, ``study_runs.csv``, ``study.md``,
-        ``config.json``, ``study_times.csv`` and one ``learning_curve_<MO>.png`` per
-        objective.
+        ``study.csv``, ``study_paired.csv``, ``study_runs.csv``, ``study_warnings.csv``,
+        ``study.md``, ``config.json``, ``study_times.csv`` and one ``learning_curve_<MO>.png``
+        per objective.
     """
     base = QUICK if quick else DEFAULTS
     args = _check(base["sizes"] if sizes is None else sizes,
@@ -202,7 +207,7 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
     config = {"sizes": sizes, "repeats": repeats, "test_size": test_size, "noise": noise,
               "propositions": propositions, "seed": seed, "quick": bool(quick),
               "networks": network_settings(quick), "bsi": bsi_settings(quick),
-              "grid": search_grid(quick)}
+              "grid": search_grid(quick), "rows": list(ROWS)}
     cells_dir = out / "cells"
     config_path = out / "config.json"
     stored = json.dumps(config, sort_keys=True)
@@ -233,11 +238,12 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
         outputs = Parallel(n_jobs=n_jobs, return_as="generator_unordered")(
             delayed(_run_cell)(_slice(data[r], nz, ps), r, nz, ps, n, config, seeds[r])
             for r, nz, ps, n in todo)
-        for cell, rows in outputs:
+        for cell, rows, warned in outputs:
             path = cells_dir / _cell_name(cell["noise"], cell["propositions"],
                                           cell["n_train"], cell["repeat"])
             # a cell file is complete or absent, and a failed write leaves no temporary file
-            write_atomic(path, json.dumps({"cell": cell, "rows": rows}) + "\n")
+            write_atomic(path, json.dumps({"cell": cell, "rows": rows, "warnings": warned})
+                         + "\n")
             bar.update()
         del data
     return _write(out, config, command, time.perf_counter() - start)
@@ -245,12 +251,13 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
 
 def _write(out, config, command, elapsed):
     """Gather every cell file into the tables, figures and summary."""
-    records, times = [], []
+    records, times, warned = [], [], []
     for path in sorted((out / "cells").glob("*.json")):
         stored = json.loads(path.read_text())
         cell = stored["cell"]
-        times.append({k: cell[k] for k in ("repeat", "noise", "propositions", "n_train",
-                                            "cell_s")})
+        key = {k: cell[k] for k in ("repeat", "noise", "propositions", "n_train")}
+        times.append({**key, "cell_s": cell["cell_s"]})
+        warned += [{**key, **w} for w in stored.get("warnings", [])]
         for row in stored["rows"]:
             records.append({**{k: v for k, v in cell.items() if k != "cell_s"},
                             **{k: v for k, v in row.items() if k != "fit_s"}})
@@ -266,10 +273,16 @@ def _write(out, config, command, elapsed):
     ).reset_index(drop=True)
     table = summarise(runs)
     paired = paired_differences(runs)
+    warned = pd.DataFrame(warned, columns=["repeat", "noise", "propositions", "n_train",
+                                           "classifier", "category", "message", "count"])
+    warned = warned.sort_values(
+        ["propositions", "noise", "n_train", "repeat", "classifier", "category", "message"],
+        key=lambda s: s.map(ps_order) if s.name == "propositions" else s.map(order)
+        if s.name == "classifier" else s, kind="stable").reset_index(drop=True)
     paths = {"config.json": out / "config.json"}
     files = {}
     for name, frame in (("study.csv", table), ("study_paired.csv", paired),
-                        ("study_runs.csv", runs)):
+                        ("study_runs.csv", runs), ("study_warnings.csv", warned)):
         paths[name] = out / name
         files[paths[name]] = frame.to_csv(index=False, float_format="%.6g")
     paths["study_times.csv"] = out / "study_times.csv"
@@ -277,7 +290,7 @@ def _write(out, config, command, elapsed):
                                                                  float_format="%.3f")
     paths["study.md"] = out / "study.md"
     config = {**config, "command": command}
-    files[paths["study.md"]] = study_markdown(table, paired, config)
+    files[paths["study.md"]] = study_markdown(table, paired, config, warned)
     import matplotlib.pyplot as plt
 
     for objective in MISSION_OBJECTIVES:
@@ -307,6 +320,12 @@ def _list(kind):
     return parse
 
 
+def _diff(row, prefix):
+    flag = " *" if row[f"{prefix}significant"] else "  "
+    return (f"{row[f'{prefix}mean']:+.3f} [{row[f'{prefix}ci_low']:+.3f}, "
+            f"{row[f'{prefix}ci_high']:+.3f}]{flag}")
+
+
 def run(args):
     """Run the study, write its files to ``--out`` and print the paired differences."""
     parsed = {
@@ -318,12 +337,20 @@ def run(args):
     paths = study(**parsed, repeats=args.repeats, test_size=args.test_size, seed=args.seed,
                   n_jobs=args.n_jobs, out=args.out, quick=args.quick, verbose=args.verbose)
     paired = pd.read_csv(paths["study_paired.csv"])
-    print("BSI minus the best network, weighted F1, mean [95 % paired t-interval] over repeats")
+    print("BSI minus the best network and minus the best baseline (networks and practitioner's "
+          "rows), weighted F1, mean [95 % paired t-interval] over repeats")
     for _, r in paired.iterrows():
-        flag = " *" if r["significant"] else ""
         print(f"  {r['bsi']:<19} {r['objective']} n={r['n_train']:<3} noise={r['noise']:<5g} "
-              f"{r['propositions']:<9} vs {r['best_network']:<16} {r['mean']:+.3f} "
-              f"[{r['ci_low']:+.3f}, {r['ci_high']:+.3f}]{flag}")
+              f"{r['propositions']:<9} vs {r['best_network']:<16} {_diff(r, '')}  vs "
+              f"{r['best_baseline']:<19} {_diff(r, 'baseline_')}")
     print("(* interval excludes 0)")
+    warned = pd.read_csv(paths["study_warnings.csv"])
+    if warned.empty:
+        print("no warning raised while fitting and scoring")
+    else:
+        counts = warned.groupby(["classifier", "category"], sort=False)["count"].sum()
+        print(f"{int(counts.sum())} warnings raised while fitting and scoring (per row and "
+              "cell in study_warnings.csv): " + "; ".join(
+                  f"{name} {category} x{n}" for (name, category), n in counts.items()))
     print(f"files written to {Path(args.out)} in {paths['elapsed']:.1f} s")
     return 0

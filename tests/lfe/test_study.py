@@ -9,12 +9,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from lfe._study_cells import ROWS, derive_seed, draw_training_set
+from lfe._study_cells import BSI_ROWS, PRACTITIONER, ROWS, derive_seed, draw_training_set
 from lfe._study_stats import t_interval
 from lfe.cli import main
 
 TINY = ["--quick", "--sizes", "4", "--test-size", "6", "--repeats", "2", "--verbose", "0"]
-TABLES = ("study.csv", "study_paired.csv", "study_runs.csv")
+TABLES = ("study.csv", "study_paired.csv", "study_runs.csv", "study_warnings.csv")
+RAN = list(ROWS)
 
 
 def _run(argv):
@@ -45,13 +46,15 @@ def test_files_and_columns(tiny_run):
     table = pd.read_csv(out / "study.csv")
     assert {"classifier", "objective", "n_train", "noise", "propositions", "mean", "ci_low",
             "ci_high", "n_runs"} <= set(table.columns)
-    assert set(table["classifier"]) == set(ROWS)
+    assert set(table["classifier"]) == set(RAN)
+    assert {"Logistic regression", "MiniRocket", "BSI (Prior 2, CI)"} <= set(RAN)
     assert set(table["n_train"]) == {4} and set(table["metric"]) == {"f1", "accuracy"}
     assert (table["n_runs"] == 2).all()
     paired = pd.read_csv(out / "study_paired.csv")
     assert {"bsi", "best_network", "objective", "n_train", "mean", "ci_low", "ci_high",
-            "n_runs", "significant"} <= set(paired.columns)
-    assert len(paired) == 3 * 1 * 3  # BSI rows x sizes x objectives
+            "n_runs", "significant", "best_baseline", "baseline_mean", "baseline_ci_low",
+            "baseline_ci_high", "baseline_significant"} <= set(paired.columns)
+    assert len(paired) == (len(BSI_ROWS) + 1) * 1 * 3  # BSI rows x sizes x objectives
     runs = pd.read_csv(out / "study_runs.csv")
     for seed in ("dataset_seed", "label_seed", "split_seed", "model_seed"):
         assert runs[seed].notna().all()
@@ -60,7 +63,8 @@ def test_files_and_columns(tiny_run):
     text = (out / "study.md").read_text()
     assert "t-interval" in text or "Student-t" in text
     assert "0.04" in text and "ceiling" in text
-    assert "BSI minus the best network" in printed
+    assert "BSI minus the best network and minus the best baseline" in printed
+    assert "Against the best baseline" in text and "BSI - best baseline" in text
 
 
 def test_every_mean_inside_its_interval(tiny_run):
@@ -204,3 +208,64 @@ def test_a_failed_write_leaves_the_previous_study(tiny_run, tmp_path, kind):
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
     assert str(copy) in err and ".tmp" not in err
     assert snapshot(copy) == before and temporaries(copy) == []
+
+
+def test_best_baseline_is_the_best_of_networks_and_practitioner_rows(tiny_run):
+    out, _ = tiny_run
+    runs = pd.read_csv(out / "study_runs.csv")
+    paired = pd.read_csv(out / "study_paired.csv")
+    baselines = [r for r in RAN if r in (*PRACTITIONER, "LSTM", "Bi-LSTM", "LSTM Coupled",
+                                         "Bi-LSTM Coupled")]
+    for _, r in paired.iterrows():
+        cell = runs[(runs["objective"] == r["objective"]) & (runs["n_train"] == r["n_train"])]
+        means = cell.groupby("classifier")["f1"].mean()
+        assert means[r["best_baseline"]] == pytest.approx(means[baselines].max(), abs=1e-5)
+        assert means[r["best_baseline"]] >= means[r["best_network"]] - 1e-12
+        diff = (cell[cell["classifier"] == r["bsi"]]["f1"].to_numpy()
+                - cell[cell["classifier"] == r["best_baseline"]]["f1"].to_numpy())
+        assert r["baseline_mean"] == pytest.approx(diff.mean(), abs=1e-5)  # %.6g in the CSV
+
+
+def test_warnings_are_counted_per_cell_and_row(tiny_run):
+    out, _ = tiny_run
+    for path in (out / "cells").glob("*.json"):
+        stored = json.loads(path.read_text())
+        assert isinstance(stored["warnings"], list)
+        for row in stored["rows"]:
+            assert row["warnings"] == sum(w["count"] for w in stored["warnings"]
+                                          if w["classifier"] == row["classifier"])
+    runs = pd.read_csv(out / "study_runs.csv")
+    assert (runs["warnings"] >= 0).all()
+    warned = pd.read_csv(out / "study_warnings.csv")
+    assert list(warned.columns) == ["repeat", "noise", "propositions", "n_train",
+                                    "classifier", "category", "message", "count"]
+    assert "## Warnings raised while fitting and scoring" in (out / "study.md").read_text()
+
+
+def test_a_warning_raised_in_a_cell_goes_into_its_files(tmp_path, monkeypatch):
+    # Before: the study silenced ConvergenceWarning; now every warning is counted, none hidden.
+    import warnings
+
+    import baselines.practitioner as practitioner
+
+    real = practitioner.TemporalLogisticRegression.fit
+
+    def warning_fit(self, X, y):
+        warnings.warn("a warning from the logistic row", RuntimeWarning, stacklevel=2)
+        warnings.warn("a warning from the logistic row", RuntimeWarning, stacklevel=2)
+        return real(self, X, y)
+
+    monkeypatch.setattr(practitioner.TemporalLogisticRegression, "fit", warning_fit)
+    status, printed, _ = _run([*TINY, "--repeats", "1", "--out", str(tmp_path)])
+    assert status == 0
+    (cell,) = (tmp_path / "cells").glob("*.json")
+    stored = json.loads(cell.read_text())
+    assert {"classifier": "Logistic regression", "category": "RuntimeWarning",
+            "message": "a warning from the logistic row", "count": 2} in stored["warnings"]
+    runs = pd.read_csv(tmp_path / "study_runs.csv")
+    assert (runs[runs["classifier"] == "Logistic regression"]["warnings"] == 2).all()
+    warned = pd.read_csv(tmp_path / "study_warnings.csv")
+    row = warned[warned["classifier"] == "Logistic regression"].iloc[0]
+    assert row["count"] == 2 and row["category"] == "RuntimeWarning"
+    assert "Logistic regression RuntimeWarning x2" in printed
+    assert "a warning from the logistic row" in (tmp_path / "study.md").read_text()
