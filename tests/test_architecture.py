@@ -312,3 +312,15 @@ def test_no_import_circles():
     # specification <-> automaton (the automaton took the private _trace_columns).
     cycles = [sorted(c) for c in _cycles(_import_graph()) if c not in _ALLOWED_CYCLES]
     assert cycles == []
+
+
+def test_the_clause_layout_is_written_in_one_place():
+    # The index of an order clause, n_g + n + a*n + b, lives in bsi_sklearn.clauses; everywhere
+    # else calls clause_index_order / clause_index_eventual / n_clauses.
+    import re
+
+    pattern = re.compile(r"n_g \+ n \+ \w+ \* n|base \+ \w+ \* n \+|n_g \+ n \+ n \* n")
+    bad = [f"{_rel(p)}:{i}" for p in _modules("bsi_sklearn") if p.name != "clauses.py"
+           for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
+           if pattern.search(line.split("#")[0])]
+    assert bad == []

@@ -23,6 +23,7 @@ from numba import carray, njit
 from numba.core import types
 from numba.extending import intrinsic
 
+from bsi_sklearn.clauses import clause_index_order
 from bsi_sklearn.inference._gibbs_moves import (
     add_pair,
     chain_move,
@@ -155,7 +156,7 @@ def _fill_viol(viol, tau, w1, parent, truth_t, model):
     for v in range(n):
         a = parent[v]
         while a >= 0:
-            add_pair(viol, truth_t, n_g + n + a * n + v, 1)
+            add_pair(viol, truth_t, clause_index_order(a, v, n_g, n), 1)
             n_conj += 1
             a = parent[a]
     return n_conj

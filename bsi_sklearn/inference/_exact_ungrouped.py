@@ -12,7 +12,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from bsi_sklearn.clauses import popcount
+from bsi_sklearn.clauses import clause_index_order, popcount
 from bsi_sklearn.inference._exact_parts import PartTable
 from bsi_sklearn.likelihood import log_likelihood
 from bsi_sklearn.priors import log_prior_structure
@@ -38,14 +38,13 @@ def structure_tables(structures, clause_bits, full, model):
     size = np.zeros(n_s, dtype=np.int64)
     lp = np.empty(n_s)
     n = model.n
-    base = model.n_g + n
     for s in range(n_s):
         parent = structures[s]
         bits[s, :] = full
         for v in range(n):
             a = parent[v]
             while a >= 0:
-                c = base + a * n + v
+                c = clause_index_order(a, v, model.n_g, n)
                 for w in range(n_words):
                     bits[s, w] &= clause_bits[c, w]
                 size[s] += 1

@@ -27,6 +27,7 @@ import math
 import numpy as np
 from numba import njit
 
+from bsi_sklearn.clauses import clause_index_eventual, clause_index_order
 from bsi_sklearn.likelihood import log_likelihood
 from bsi_sklearn.priors import log_inclusion
 
@@ -161,8 +162,7 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     # each with F(v) left out or put in.
     truth_t, w_pos, w_neg = demos.truth_t, demos.w_pos, demos.w_neg
     n = model.n
-    base = model.n_g + n
-    cv = model.n_g + v
+    cv = clause_index_eventual(v, model.n_g)
     lp_chains = model.lp_chains
     cur, lw, cand_lp, cand_ew = bufs.cur, bufs.lw, bufs.cand_lp, bufs.cand_ew
     cand_head, cand_pos, child = bufs.cand_head, bufs.cand_pos, bufs.child
@@ -177,12 +177,12 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     # Remove v's pairs: (ancestor, v) and (v, descendant).
     a = parent[v]
     while a >= 0:
-        add_pair(viol, truth_t, base + a * n + v, -1)
+        add_pair(viol, truth_t, clause_index_order(a, v, model.n_g, n), -1)
         n_conj -= 1
         a = parent[a]
     d_ = child[v]
     while d_ >= 0:
-        add_pair(viol, truth_t, base + v * n + d_, -1)
+        add_pair(viol, truth_t, clause_index_order(v, d_, model.n_g, n), -1)
         n_conj -= 1
         d_ = child[d_]
     if child[v] >= 0:
@@ -206,7 +206,7 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
         for d in range(D):
             cur[d] = viol[d]
         while u >= 0:
-            c = base + v * n + u
+            c = clause_index_order(v, u, model.n_g, n)
             for d in range(D):
                 cur[d] += 1 if truth_t[c, d] == 0 else 0
             L += 1
@@ -221,8 +221,8 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
                 cand_pos[k + i] = p
             k += 2
             if u >= 0:
-                ca = base + u * n + v
-                cb = base + v * n + u
+                ca = clause_index_order(u, v, model.n_g, n)
+                cb = clause_index_order(v, u, model.n_g, n)
                 for d in range(D):
                     cur[d] += (truth_t[cb, d] != 0) - (truth_t[ca, d] != 0)
                 u = child[u]
@@ -248,9 +248,9 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     i = 0
     while u >= 0:
         if i < p:
-            add_pair(viol, truth_t, base + u * n + v, 1)
+            add_pair(viol, truth_t, clause_index_order(u, v, model.n_g, n), 1)
         else:
-            add_pair(viol, truth_t, base + v * n + u, 1)
+            add_pair(viol, truth_t, clause_index_order(v, u, model.n_g, n), 1)
         n_conj += 1
         if i == p - 1:
             prev = u
@@ -274,8 +274,7 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     # left out or put in.
     truth_t, w_pos, w_neg = demos.truth_t, demos.w_pos, demos.w_neg
     n = model.n
-    base = model.n_g + n
-    cv = model.n_g + v
+    cv = clause_index_eventual(v, model.n_g)
     g, g_const = model.forest_g, model.forest_const
     cur, lw, cand_ew = bufs.cur, bufs.lw, bufs.cand_ew
     cand_head, in_s, cost, size = bufs.cand_head, bufs.in_s, bufs.cost, bufs.size
@@ -295,7 +294,7 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     while a >= 0:
         for s in range(n):
             if in_s[s]:
-                add_pair(viol, truth_t, base + a * n + s, -1)
+                add_pair(viol, truth_t, clause_index_order(a, s, model.n_g, n), -1)
                 n_conj -= 1
         a = parent[a]
     parent[v] = -1
@@ -307,7 +306,7 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
             cost[a, d] = 0
         for s in range(n):
             if in_s[s]:
-                c = base + a * n + s
+                c = clause_index_order(a, s, model.n_g, n)
                 for d in range(D):
                     cost[a, d] += 1 if truth_t[c, d] == 0 else 0
     # Subtree sizes with S cut off (S's own sizes do not change when it is regrafted), and

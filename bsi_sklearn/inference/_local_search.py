@@ -20,6 +20,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from bsi_sklearn.clauses import clause_index_order
 from bsi_sklearn.inference._gibbs_moves import sat_counts
 from bsi_sklearn.likelihood import log_likelihood
 from bsi_sklearn.priors import log_prior
@@ -66,7 +67,7 @@ def _score(row, demos, model, scratch):
         a = parent[v]
         while a >= 0:
             n_conj += 1
-            c = n_g + n + a * n + v
+            c = clause_index_order(a, v, n_g, n)
             for d in range(viol.shape[0]):
                 viol[d] += 1 if truth_t[c, d] == 0 else 0
             a = parent[a]

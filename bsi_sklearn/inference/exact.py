@@ -25,7 +25,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from bsi_sklearn.clauses import pack_rows, popcounts
+from bsi_sklearn.clauses import clause_index_order, n_clauses, pack_rows, popcounts
 from bsi_sklearn.inference._exact_kernels import (
     Listing,
     StructureSide,
@@ -311,7 +311,7 @@ def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, max_work, t
         parts_s, parts_t, parts_e, labels, model, log_keep)
     order = np.argsort(-keep_lp, kind="stable")
     keep_idx, keep_lp = keep_idx[order], keep_lp[order]
-    marg = np.zeros(n_g + n + n * n)
+    marg = np.zeros(n_clauses(n_g, n))
     t_ids = np.arange(len(mass_t))
     for j in range(n_g):
         marg[j] = mass_t[((t_ids >> j) & 1).astype(bool)].sum()
@@ -323,7 +323,7 @@ def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, max_work, t
         for v in range(n):
             a = parent[v]
             while a >= 0:
-                marg[n_g + n + a * n + v] += mass_s[s]
+                marg[clause_index_order(a, v, n_g, n)] += mass_s[s]
                 a = parent[a]
     return (log_z, structures[keep_idx[:, 0]], keep_idx[:, 1], keep_idx[:, 2], keep_lp, marg)
 

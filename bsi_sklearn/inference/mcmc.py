@@ -19,6 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from bsi_sklearn.clauses import n_clauses
 from bsi_sklearn.inference._chain_kernel import (
     ChainState,
     Demos,
@@ -178,7 +179,7 @@ def deterministic_optimum(demos, model, width=BEAM_WIDTH):
     """
     n_g, n = model.n_g, model.n
     start = np.concatenate([np.zeros(n_g + n, dtype=np.int64), _first_structure(model)])
-    max_steps = 4 * (n_g + n + n * n) + 10
+    max_steps = 4 * n_clauses(n_g, n) + 10
     row, lp = beam_search(start[None, :], demos, model, int(width), max_steps)
     return row.astype(np.int16), float(lp)
 
