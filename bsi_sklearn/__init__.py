@@ -5,8 +5,7 @@ lines' ``--help`` start in a fraction of a second (scikit-learn and numba load w
 classifier).
 """
 
-import importlib
-
+from bsi_sklearn._lazy import lazy_names
 from bsi_sklearn._numba_cache import configure_numba_cache
 
 configure_numba_cache()  # before any compiled function: a read-only installation imports too
@@ -18,13 +17,4 @@ _MODULES = {"BSIClassifier": "bsi_sklearn.classifier", "Posterior": "bsi_sklearn
             "Specification": "bsi_sklearn.specification"}
 
 
-def __getattr__(name):
-    if name in _MODULES:
-        value = getattr(importlib.import_module(_MODULES[name]), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'bsi_sklearn' has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_MODULES))
+__getattr__, __dir__ = lazy_names("bsi_sklearn", _MODULES, globals())

@@ -10,7 +10,7 @@ is ``bsi reproduce synthetic|dinner``; ``bsi reproduce active``
 Names are imported on first use (the command line's ``--help`` stays fast).
 """
 
-import importlib
+from bsi_sklearn._lazy import lazy_names
 
 __all__ = ["run_dinner", "run_synthetic"]
 
@@ -20,13 +20,4 @@ _MODULES = {
 }
 
 
-def __getattr__(name):
-    if name in _MODULES:
-        value = getattr(importlib.import_module(_MODULES[name]), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'bsi_sklearn.experiments' has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_MODULES))
+__getattr__, __dir__ = lazy_names("bsi_sklearn.experiments", _MODULES, globals())

@@ -7,7 +7,7 @@ first use, so that the light parts (``bsi_sklearn.io._atomic``, the posterior fi
 constants) load without pandas.
 """
 
-import importlib
+from bsi_sklearn._lazy import lazy_names
 
 __all__ = [
     "TraceFile",
@@ -36,13 +36,4 @@ _MODULES = {
 }
 
 
-def __getattr__(name):
-    if name in _MODULES:
-        value = getattr(importlib.import_module(_MODULES[name]), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'bsi_sklearn.io' has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_MODULES))
+__getattr__, __dir__ = lazy_names("bsi_sklearn.io", _MODULES, globals())
