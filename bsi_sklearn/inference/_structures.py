@@ -273,12 +273,30 @@ def _new_entry(st, e, bits, size, aux):
     st.count[e] = 0.0
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _entry_of(st, ht, cur, bits, size, aux, start, n_e):
+    # The store entry of the key (bits, size, aux), added at n_e when new: (entry, new end),
+    # or (-1, n_e) when the hash table is over a quarter full with this step's entries, (-2,
+    # n_e) when the store is full.
+    loc, stamp = ht
+    i, e = find(loc, stamp, cur, st.bits, st.size, st.aux, bits, size, aux)
+    if e >= 0:
+        return e, n_e
+    if 4 * (n_e - start + 1) > loc.shape[0]:
+        return -1, n_e
+    if n_e == st.weight.shape[0]:
+        return -2, n_e
+    _new_entry(st, n_e, bits, size, aux)
+    loc[i] = n_e
+    stamp[i] = cur
+    return n_e, n_e + 1
+
+
 @njit(cache=True, nogil=True)
 def _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits):
     # The blocks on s (f first or root, above a table entry on s - f) into the store from
     # n_e; returns the new end, or -1 (-2) when the hash table (the store) needs more room.
     lo, hi, ref = idx
-    loc, stamp = ht
     k_s = n_bits(s)
     start = n_e
     for j in range(n_f):
@@ -287,18 +305,9 @@ def _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits):
         for z in range(lo[pb.child_kind, c], hi[pb.child_kind, c]):
             if and_pop(st.bits[z], rs[j], bits, pb.pos) < pb.thr:
                 continue
-            sz = st.size[z] + k_s - 1
-            i, e = find(loc, stamp, cur, st.bits, st.size, st.aux, bits, sz, 0)
+            e, n_e = _entry_of(st, ht, cur, bits, st.size[z] + k_s - 1, 0, start, n_e)
             if e < 0:
-                if 4 * (n_e - start + 1) > loc.shape[0]:
-                    return -1
-                if n_e == st.weight.shape[0]:
-                    return -2
-                e = n_e
-                n_e += 1
-                _new_entry(st, e, bits, sz, 0)
-                loc[i] = e
-                stamp[i] = cur
+                return e
             st.weight[e] += st.weight[z] * scale
             st.count[e] += st.count[z]
             st.best[e] = max(st.best[e], st.best[z] + pb.factor[k_s])
@@ -311,7 +320,6 @@ def _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits):
     # into the store from n_e; returns the new end, or -1 (-2) when the hash table (the
     # store) needs more room.
     lo, hi, ref = idx
-    loc, stamp = ht
     start = n_e
     for j in range(n_c):
         b = cand[j]
@@ -321,19 +329,10 @@ def _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits):
             for y in range(lo[PART, rest], hi[PART, rest]):
                 if and_pop(st.bits[x], st.bits[y], bits, pb.pos) < pb.thr:
                     continue
-                sz = st.size[x] + st.size[y]
-                a = st.aux[x] + st.aux[y] + pb.aux_inc
-                i, e = find(loc, stamp, cur, st.bits, st.size, st.aux, bits, sz, a)
+                e, n_e = _entry_of(st, ht, cur, bits, st.size[x] + st.size[y],
+                                   st.aux[x] + st.aux[y] + pb.aux_inc, start, n_e)
                 if e < 0:
-                    if 4 * (n_e - start + 1) > loc.shape[0]:
-                        return -1
-                    if n_e == st.weight.shape[0]:
-                        return -2
-                    e = n_e
-                    n_e += 1
-                    _new_entry(st, e, bits, sz, a)
-                    loc[i] = e
-                    stamp[i] = cur
+                    return e
                 st.weight[e] += st.weight[x] * st.weight[y] * scale
                 st.count[e] += st.count[x] * st.count[y]
                 st.best[e] = max(st.best[e], st.best[x] + st.best[y])
