@@ -27,6 +27,7 @@ from baselines.practitioner import (
 from bsi_sklearn.classifier import BSIClassifier
 from lfe.annotate import MISSION_OBJECTIVES, annotate_scenarios
 from lfe.compare import BSI_ROWS as COMPARE_BSI_ROWS
+from lfe.compare import WITHOUT_ROLES  # rows fitted without the extractor's roles
 from lfe.compare import _weighted_f1  # the comparison's scorer, shared within lfe
 from lfe.dataset import make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
@@ -58,7 +59,8 @@ NETWORKS = tuple(PAPER_BASELINES)
 #: on plain temporal features of the propositions, and MiniRocket with a ridge classifier.
 PRACTITIONER = tuple(PRACTITIONER_BASELINES)
 #: BSI rows with fixed hyperparameters: name -> ``BSIClassifier`` parameters (the
-#: comparison's: Prior 2 and Prior 3 with the CB likelihood, Prior 2 with the CI likelihood).
+#: comparison's: Prior 2 and Prior 3 with the CB likelihood, Prior 2 with the CI likelihood,
+#: and every default without the extractor's roles).
 BSI_ROWS = dict(COMPARE_BSI_ROWS)
 #: BSI whose hyperparameters an inner cross-validation on the training set chooses.
 BSI_CV = "BSI (GridSearchCV)"
@@ -212,10 +214,11 @@ def draw_training_set(clean, n_pool, n_train, seed):
     raise AssertionError("an unstratified split cannot fail")  # pragma: no cover
 
 
-def _fit_bsi(X, y, roles, params, seed, row):
+def _fit_bsi(X, y, roles, params, seed, name):
     if not np.any(y == 1):
         return None  # BSI needs an acceptable mission; predict "failed" throughout
-    return BSIClassifier(random_state=seed, **roles, **params, **row).fit(X, y)
+    roles = {} if name in WITHOUT_ROLES else roles
+    return BSIClassifier(random_state=seed, **roles, **params, **BSI_ROWS[name]).fit(X, y)
 
 
 def _fit_bsi_cv(X, y, roles, params, grid, seed):
@@ -226,7 +229,7 @@ def _fit_bsi_cv(X, y, roles, params, grid, seed):
     if n_min == 1:
         # One mission of a class: some inner training fold would lack it (an inner fit
         # without an acceptable mission fails), so there is nothing to cross-validate.
-        return _fit_bsi(X, y, roles, params, seed, {"prior": "sets_of_chains"}), {}
+        return _fit_bsi(X, y, roles, params, seed, "BSI (Prior 2)"), {}
     n_splits = min(3, len(y))
     cv = (StratifiedKFold(min(n_splits, n_min), shuffle=True, random_state=seed)
           if n_min >= 2 else KFold(n_splits, shuffle=True, random_state=seed))
@@ -365,7 +368,7 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
                     chosen.append(";".join(f"{p}={v}" for p, v in sorted(params.items())))
                 else:
                     clf = _fit_bsi(X_train, y[train, k], roles, settings["bsi"], model_seed,
-                                   BSI_ROWS[name])
+                                   name)
                 columns.append(np.zeros(len(test), dtype=y.dtype) if clf is None
                                else clf.predict(X_test))
         preds[name] = np.column_stack(columns)

@@ -62,7 +62,12 @@ BSI_PRIORS = {"BSI (Prior 2)": "sets_of_chains", "BSI (Prior 3)": "forest"}
 #: BSI rows of the comparison and of ``bsi-lfe study``: name -> ``BSIClassifier`` parameters
 #: (the paper's two priors with the CB likelihood, and Prior 2 with the CI likelihood).
 BSI_ROWS = {**{name: {"prior": prior} for name, prior in BSI_PRIORS.items()},
-            "BSI (Prior 2, CI)": {"prior": "sets_of_chains", "likelihood": "ci"}}
+            "BSI (Prior 2, CI)": {"prior": "sets_of_chains", "likelihood": "ci"},
+            "BSI (no roles)": {}}
+
+#: BSI rows fitted as a user without an expert would: every default, and not the extractor's
+#: roles (the classifier then decides which propositions play which role).
+WITHOUT_ROLES = frozenset({"BSI (no roles)"})
 
 #: The six classifiers of the paper's table, in its order.
 CLASSIFIERS = (*PAPER_BASELINES, *BSI_PRIORS)
@@ -73,8 +78,8 @@ CLASSIFIERS = (*PAPER_BASELINES, *BSI_PRIORS)
 MAJORITY = "Majority class"
 
 #: Every row of the comparison, in display order: the paper's six, BSI with the CI likelihood,
-#: the practitioner's rows and the majority class.
-ROWS = (*CLASSIFIERS, "BSI (Prior 2, CI)", *PRACTITIONER_BASELINES, MAJORITY)
+#: BSI without roles, the practitioner's rows and the majority class.
+ROWS = (*CLASSIFIERS, "BSI (Prior 2, CI)", "BSI (no roles)", *PRACTITIONER_BASELINES, MAJORITY)
 
 #: The paper's Table "Weighted F1 scores for both scenario outcomes for each of the
 #: classifiers" (four-fold cross-validation on its 24 JSAF missions), for reference only.
@@ -383,11 +388,12 @@ def _weighted_f1(y_true, y_pred):
     return float(total / len(y_true)) if len(y_true) else 0.0
 
 
-def _fit_bsi(row, X, y, roles, params, seed):
+def _fit_bsi(name, X, y, roles, params, seed):
     """One BSI classifier fitted on one objective; ``None`` without an acceptable scenario."""
     if not np.any(y == 1):
         return None  # BSI needs an acceptable demonstration; predict "failed" throughout
-    clf = BSIClassifier(random_state=seed, **roles, **params, **row)
+    roles = {} if name in WITHOUT_ROLES else roles
+    clf = BSIClassifier(random_state=seed, **roles, **params, **BSI_ROWS[name])
     return clf.fit(X, y)  # a ConvergenceWarning, if MCMC ran and did not converge, is shown
 
 
@@ -426,12 +432,11 @@ def _run_task(kind, name, fold, data, train, test, params, seed):
         start = time.perf_counter()
         pred = clf.predict(np.zeros((len(test), 1)))
         return {"pred": pred, "fit_s": fit_s, "predict_s": time.perf_counter() - start}
-    row = BSI_ROWS[name]
     X_train, X_test = sub(data["props"], train), sub(data["props"], test)
     preds, fit_s, predict_s, extra = [], 0.0, 0.0, []
     for k in range(y.shape[1]):
         start = time.perf_counter()
-        clf = _fit_bsi(row, X_train, y[train, k], data["roles"], params, seed)
+        clf = _fit_bsi(name, X_train, y[train, k], data["roles"], params, seed)
         fit_s += time.perf_counter() - start
         start = time.perf_counter()
         if clf is None:
@@ -531,7 +536,7 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     >>> "Logistic regression" in res.f1.index
     True
     >>> sorted(set(res.map_f1["classifier"]))
-    ['BSI (Prior 2)', 'BSI (Prior 2, CI)', 'BSI (Prior 3)']
+    ['BSI (Prior 2)', 'BSI (Prior 2, CI)', 'BSI (Prior 3)', 'BSI (no roles)']
     >>> full = compare()   # the paper's setting: 1.5 to 4 minutes on 2 cores  # doctest: +SKIP
     """
     start_run = time.perf_counter()
