@@ -1,0 +1,217 @@
+"""BSI's defaults without roles against its rows with the extractor's roles, on the study's cells.
+
+Issue 20's large-force-exercise target: the classifier fitted as a user without an expert fits
+it (no roles, every default) must be no worse than the best BSI row with the extractor's roles,
+at every training size, paired on the same missions. This script recomputes only the BSI rows
+of ``bsi-lfe study`` (no networks): the same repeats (missions and labels from
+:func:`lfe._study_cells.repeat_seeds`), the same training draws and model seeds per cell as
+``lfe/study.py``, the same scorer (weighted F1 on the 200 fresh test missions), and the same
+intervals (:mod:`lfe._study_stats`: Student-t over repeats, paired differences repeat by
+repeat). A variant whose option this version of the classifier lacks is listed as not
+available. Every warning is counted per variant, none is silenced.
+
+Run from the repository root::
+
+    python benchmarks/bench_lfe_defaults.py                 # the study's default cells
+    python benchmarks/bench_lfe_defaults.py --quick         # 2 repeats, sizes 6 and 18
+
+Writes ``benchmarks/RESULTS_lfe_defaults.md`` and ``benchmarks/lfe_defaults/`` (``runs.csv``:
+every fit; ``paired.csv``: each variant minus the best row with roles).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from joblib import Parallel, delayed
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from benchmarks._common import machine_info, md_table  # noqa: E402
+from bsi_sklearn import BSIClassifier  # noqa: E402
+from bsi_sklearn.likelihood import LIKELIHOODS  # noqa: E402
+from lfe._study_cells import derive_seed, draw_training_set, repeat_seeds, simulate_repeat  # noqa: E402
+from lfe._study_stats import t_interval  # noqa: E402
+from lfe.annotate import MISSION_OBJECTIVES  # noqa: E402
+from lfe.compare import _weighted_f1  # noqa: E402
+
+#: BSI rows with the extractor's roles (the study's fixed rows): name -> parameters.
+WITH_ROLES = {"BSI (Prior 2)": {"prior": "sets_of_chains"},
+              "BSI (Prior 3)": {"prior": "forest"},
+              "BSI (Prior 2, CI)": {"prior": "sets_of_chains", "likelihood": "ci"}}
+#: Fits without the extractor's roles: name -> (parameters, what they need to exist).
+WITHOUT_ROLES = {
+    "no roles, defaults": ({}, ()),
+    "no roles, roles='all'": ({"roles": "all"}, ("roles",)),
+    "no roles, roles='infer'": ({"roles": "infer"}, ("roles",)),
+    "no roles, roles='infer', calibrated": ({"roles": "infer", "likelihood": "calibrated"},
+                                            ("roles", "calibrated")),
+    "no roles, roles='infer', CI + flip prior": (
+        {"roles": "infer", "likelihood": "ci", "flip_prior": (1.0, 9.0)},
+        ("roles", "flip_prior")),
+}
+
+
+def available(needs):
+    """Whether this classifier has every option a variant needs."""
+    params = BSIClassifier().get_params()
+    return all(n in params or n in LIKELIHOODS for n in needs)
+
+
+def variants():
+    """``{name: (parameters, with_roles)}`` of the variants this version can fit."""
+    out = {name: (p, True) for name, p in WITH_ROLES.items()}
+    out.update({name: (p, False) for name, (p, needs) in WITHOUT_ROLES.items()
+                if available(needs)})
+    return out
+
+
+def _fit_score(X_train, y_train, X_test, y_test, params, seed):
+    """Weighted F1 on the test missions; how the fit inferred; the warnings it raised."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")  # count every warning (recorded, not silenced)
+        if not np.any(y_train == 1):
+            pred, how = np.zeros(len(y_test), dtype=y_test.dtype), "none"
+        else:
+            clf = BSIClassifier(random_state=seed, **params).fit(X_train, y_train)
+            pred, how = clf.predict(X_test), clf.inference_
+    return _weighted_f1(y_test, pred), how, len(caught)
+
+
+def run_repeat(repeat, config):
+    """Every cell of one repeat: one row per variant, cell and objective."""
+    seeds = repeat_seeds(config["seed"], repeat)
+    data = simulate_repeat(n_pool=max(config["sizes"]), test_size=config["test_size"],
+                           noises=config["noise"], propositions=config["propositions"], **seeds)
+    n_pool = data["n_pool"]
+    test = np.arange(n_pool, len(data["clean"]))
+    rows = []
+    for props in config["propositions"]:
+        for noise in config["noise"]:
+            y = data["labels"][noise]
+            for n_train in config["sizes"]:
+                split_seed = derive_seed(config["seed"], repeat, 2, n_train)
+                model_seed = derive_seed(config["seed"], repeat, 3, n_train)
+                train = draw_training_set(data["clean"], n_pool, n_train, split_seed)
+                X_train = [data["props"][props][i] for i in train]
+                X_test = [data["props"][props][i] for i in test]
+                for name, (params, with_roles) in config["variants"].items():
+                    roles = data["roles"][props] if with_roles else {}
+                    for k, mo in enumerate(MISSION_OBJECTIVES):
+                        start = time.perf_counter()
+                        f1, how, n_warn = _fit_score(X_train, y[train, k], X_test, y[test, k],
+                                                     {**roles, **params}, model_seed)
+                        rows.append(dict(variant=name, repeat=repeat, propositions=props,
+                                         noise=noise, n_train=n_train, objective=mo, f1=f1,
+                                         inference=how, warnings=n_warn,
+                                         fit_s=time.perf_counter() - start))
+    return rows
+
+
+def paired(runs):
+    """Each variant without roles minus the best row with roles (by mean F1), per cell."""
+    keys = ["propositions", "noise", "n_train", "objective"]
+    wide = runs.pivot_table(index=[*keys, "repeat"], columns="variant", values="f1")
+    out = []
+    for key, group in wide.groupby(level=keys, sort=False):
+        best = group[list(WITH_ROLES)].mean().idxmax()
+        for name in wide.columns:
+            if name in WITH_ROLES:
+                continue
+            mean, low, high = t_interval(group[name] - group[best])
+            f1, f1_low, f1_high = t_interval(group[name])
+            out.append(dict(zip(keys, key), variant=name, best_with_roles=best,
+                            best_f1=group[best].mean(), f1=f1, f1_low=f1_low, f1_high=f1_high,
+                            diff=mean, diff_low=low, diff_high=high, n_runs=len(group),
+                            worse=bool(high < 0), better=bool(low > 0)))
+    return pd.DataFrame(out)
+
+
+def report(runs, table, config, seconds, command):
+    """The Markdown of RESULTS_lfe_defaults.md."""
+    lines = ["# BSI without roles against BSI with the extractor's roles (the study's cells)", "",
+             "Generated by `benchmarks/bench_lfe_defaults.py` (issue 20's large-force-exercise "
+             "target). Only BSI rows: the study's missions, training draws, model seeds, "
+             "scorer and intervals (Student-t over repeats; differences paired repeat by "
+             "repeat against the best of Prior 2, Prior 3 and Prior 2 CI with the extractor's "
+             "roles, chosen per cell by mean F1). `*`: the interval excludes 0.", "",
+             f"- Command: `{command}`",
+             "- Machine: " + ", ".join(f"{k} {v}" for k, v in machine_info().items()
+                                       if k in ("date", "cpu", "usable_cores", "memory_gib",
+                                                "load_average", "commit")),
+             f"- Run time: {seconds:.0f} s wall; {config['repeats']} repeats, sizes "
+             f"{', '.join(map(str, config['sizes']))}, noise {config['noise']}, propositions "
+             f"{', '.join(config['propositions'])}, {config['test_size']} test missions.", ""]
+    missing = [n for n, (_, needs) in WITHOUT_ROLES.items() if not available(needs)]
+    if missing:
+        lines += ["Not available in this version (option missing): "
+                  + ", ".join(f"`{n}`" for n in missing) + ".", ""]
+    how = runs.groupby("variant").agg(fits=("f1", "size"), warnings=("warnings", "sum"),
+                                      sampled=("inference", lambda s: int((s == "mcmc").sum())),
+                                      fit_s=("fit_s", "median"))
+    lines += ["## How each variant was fitted", "",
+              md_table(["variant", "fits", "sampled by MCMC", "warnings", "median fit, s"],
+                       [[v, int(r.fits), int(r.sampled), int(r.warnings), f"{r.fit_s:.3f}"]
+                        for v, r in how.iterrows()]), ""]
+    for name in table["variant"].unique():
+        part = table[table["variant"] == name]
+        lines += [f"## {name} minus the best row with roles", "",
+                  f"Worse in {int(part['worse'].sum())} of {len(part)} cells, better in "
+                  f"{int(part['better'].sum())}.", ""]
+        rows = []
+        for _, r in part.iterrows():
+            star = " *" if r.worse or r.better else ""
+            rows.append([r.propositions, f"{r.noise:g}", int(r.n_train), r.objective,
+                         f"{r.best_with_roles}: {r.best_f1:.3f}",
+                         f"{r.f1:.3f} [{r.f1_low:.3f}, {r.f1_high:.3f}]",
+                         f"{r['diff']:+.3f} [{r.diff_low:+.3f}, {r.diff_high:+.3f}]{star}"])
+        lines += [md_table(["propositions", "noise", "missions", "objective",
+                            "best with roles, F1", f"{name}, F1", "difference"], rows), ""]
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=10)
+    parser.add_argument("--sizes", default="6,12,18,36,72")
+    parser.add_argument("--noise", default="0,0.04")
+    parser.add_argument("--propositions", default="paper,extended")
+    parser.add_argument("--test-size", type=int, default=200)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--n-jobs", type=int, default=1)
+    parser.add_argument("--quick", action="store_true",
+                        help="2 repeats, sizes 6 and 18, noise 0.04, paper propositions")
+    parser.add_argument("--out", default=None, help="folder (default: benchmarks/)")
+    args = parser.parse_args(argv)
+    if args.quick:
+        args.repeats, args.sizes, args.noise, args.propositions = 2, "6,18", "0.04", "paper"
+    config = dict(repeats=args.repeats, sizes=[int(s) for s in args.sizes.split(",")],
+                  noise=[float(s) for s in args.noise.split(",")],
+                  propositions=args.propositions.split(","), test_size=args.test_size,
+                  seed=args.seed, variants=variants())
+    out = Path(args.out) if args.out else Path(__file__).resolve().parent
+    folder = out / "lfe_defaults"
+    folder.mkdir(parents=True, exist_ok=True)
+    start = time.perf_counter()
+    chunks = Parallel(n_jobs=args.n_jobs)(delayed(run_repeat)(r, config)
+                                          for r in range(args.repeats))
+    runs = pd.DataFrame([row for chunk in chunks for row in chunk])
+    table = paired(runs)
+    seconds = time.perf_counter() - start
+    runs.to_csv(folder / "runs.csv", index=False)
+    table.to_csv(folder / "paired.csv", index=False)
+    command = "python benchmarks/bench_lfe_defaults.py " + " ".join(argv or sys.argv[1:])
+    text = report(runs, table, config, seconds, command.strip())
+    (out / "RESULTS_lfe_defaults.md").write_text(text + "\n")
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
