@@ -15,6 +15,7 @@ from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.inference.diagnostics import MISSED_WARN, MODE_WARN, RHAT_WARN
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.inference.mcmc import sample_posterior
+from bsi_sklearn.inferred_roles import infer_roles, warn_all_roles
 from bsi_sklearn.likelihood import LIKELIHOODS
 from bsi_sklearn.model import make_model
 from bsi_sklearn.param_validation import (
@@ -25,7 +26,6 @@ from bsi_sklearn.param_validation import (
 )
 from bsi_sklearn.posterior import Posterior
 from bsi_sklearn.priors import PRIORS, count_hypotheses
-from bsi_sklearn.inferred_roles import infer_roles, warn_all_roles
 from bsi_sklearn.roles import resolve_roles
 from bsi_sklearn.traces import check_consistent_traces, check_labels, check_traces
 
@@ -216,9 +216,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
 
     def __init__(self, *, prior="sets_of_chains", likelihood="cb", global_candidates=None,
                  subtasks=None, conditions=None, roles="all", p_global=0.8, p_eventual=0.8,
-                 p_part=0.3, n_new=5.0, epsilon=None, inference="auto", n_samples=10_000, burn_in=100,
-                 n_chains=4, n_temperatures="auto", max_exact_hypotheses=None, tol=1e-9,
-                 binarize=None, pos_label=None, n_jobs=None, random_state=None, verbose=0):
+                 p_part=0.3, n_new=5.0, epsilon=None, inference="auto", n_samples=10_000,
+                 burn_in=100, n_chains=4, n_temperatures="auto", max_exact_hypotheses=None,
+                 tol=1e-9, binarize=None, pos_label=None, n_jobs=None, random_state=None,
+                 verbose=0):
         self.prior = prior
         self.likelihood = likelihood
         self.global_candidates = global_candidates

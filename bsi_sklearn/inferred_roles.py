@@ -106,8 +106,7 @@ def infer_condition(initial, done, subtask):
 
 
 def _inferred_globals(ever_acceptable_always, always, has_unacceptable):
-    """Columns whose ``G`` clause holds on some acceptable demonstration and, when there are
-    unacceptable demonstrations, fails on at least one demonstration."""
+    """Columns whose ``G`` clause can hold and is tested (see :func:`infer_roles`)."""
     keep = ever_acceptable_always.copy()
     if has_unacceptable:
         keep &= ~always.all(0)
