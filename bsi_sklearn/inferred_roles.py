@@ -105,14 +105,6 @@ def infer_condition(initial, done, subtask):
     return int(columns[order[0]])
 
 
-def _inferred_globals(ever_acceptable_always, always, has_unacceptable):
-    """Columns whose ``G`` clause can hold and is tested (see :func:`infer_roles`)."""
-    keep = ever_acceptable_always.copy()
-    if has_unacceptable:
-        keep &= ~always.all(0)
-    return np.flatnonzero(keep).tolist()
-
-
 def infer_roles(traces, y, global_candidates=None, subtasks=None, conditions=None):
     """Roles from the demonstrations, for every role the user did not give.
 
@@ -121,11 +113,9 @@ def infer_roles(traces, y, global_candidates=None, subtasks=None, conditions=Non
     does); each that is ``None`` is inferred:
 
     - a **global candidate** is a proposition true at every step of at least one acceptable
-      demonstration (``G p`` can hold on the acceptable ones) and, when the data hold
-      unacceptable demonstrations, false at some step of at least one demonstration (a
-      ``G p`` that every demonstration satisfies is untested). With acceptable
-      demonstrations only, no clause is tested by a label and the second test is skipped:
-      the size principle decides;
+      demonstration: ``G p`` can hold on the acceptable ones. One that every demonstration
+      keeps stays a candidate (its clause is untested, but it is independent of every other
+      part of the hypothesis, so the prior and the likelihood decide it);
     - a **subtask** is a proposition that is false at the first step and true at a later one
       in at least one demonstration: it can be completed. One true from the first step of
       every demonstration makes ``F p`` hold before anything is done, and one that never
@@ -171,8 +161,7 @@ def infer_roles(traces, y, global_candidates=None, subtasks=None, conditions=Non
     acceptable = y == 1
     initial, ever, always = proposition_statistics(traces)
     if global_candidates is None:
-        global_candidates = _inferred_globals(always[acceptable].any(0), always,
-                                              bool((~acceptable).any()))
+        global_candidates = np.flatnonzero(always[acceptable].any(0)).tolist()
     if subtasks is None:
         rises = (~initial & ever).any(0)
         if isinstance(conditions, Mapping):
