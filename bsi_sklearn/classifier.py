@@ -15,6 +15,7 @@ from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.inference.diagnostics import MISSED_WARN, MODE_WARN, RHAT_WARN
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.inference.mcmc import sample_posterior
+from bsi_sklearn.inferred_roles import infer_roles, warn_all_roles
 from bsi_sklearn.likelihood import LIKELIHOODS
 from bsi_sklearn.model import make_model
 from bsi_sklearn.param_validation import (
@@ -58,7 +59,15 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         Subtask-completion propositions (the set Omega). ``None``: all.
     conditions : dict, default=None
         Subtask -> condition proposition ``pi_w`` (read at t = 0). Subtasks without an entry
-        have ``pi_w = true``.
+        have ``pi_w = true``; ``{}``: no conditions.
+    roles : {"all", "infer"}, default="all"
+        What the roles left at ``None`` become. ``"all"``: every proposition is a global
+        candidate and a subtask, and no subtask has a condition (the paper's setting).
+        ``"infer"``: read from the training demonstrations (propositions whose clauses the
+        demonstrations can test, each subtask's condition from the initial values that
+        separate the acceptable demonstrations completing it from those skipping it; see
+        :func:`bsi_sklearn.inferred_roles.infer_roles` and ``docs/roles.md``). A role given
+        explicitly is used as given either way; ``roles_`` says what was used.
     p_global : float, default=0.8
         Prior inclusion probability of each ``G`` clause.
     p_eventual : float, default=0.8
@@ -123,6 +132,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         ``[unacceptable, acceptable]`` labels; ``[0, 1]`` for 0/1 labels and positive-only fits.
     n_features_in_ : int
         Number of propositions.
+    roles_ : dict
+        The roles used, as parameters (``BSIClassifier(**clf.roles_)`` fits with them):
+        ``global_candidates``, ``subtasks`` and ``conditions`` (subtask -> condition), by
+        proposition name for DataFrames and by column index otherwise.
     feature_names_in_ : ndarray of str
         Proposition names, when the demonstrations were DataFrames with string columns.
     posterior_ : Posterior
@@ -202,15 +215,17 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     """
 
     def __init__(self, *, prior="sets_of_chains", likelihood="cb", global_candidates=None,
-                 subtasks=None, conditions=None, p_global=0.8, p_eventual=0.8, p_part=0.3,
-                 n_new=5.0, epsilon=None, inference="auto", n_samples=10_000, burn_in=100,
-                 n_chains=4, n_temperatures="auto", max_exact_hypotheses=None, tol=1e-9,
-                 binarize=None, pos_label=None, n_jobs=None, random_state=None, verbose=0):
+                 subtasks=None, conditions=None, roles="all", p_global=0.8, p_eventual=0.8,
+                 p_part=0.3, n_new=5.0, epsilon=None, inference="auto", n_samples=10_000,
+                 burn_in=100, n_chains=4, n_temperatures="auto", max_exact_hypotheses=None,
+                 tol=1e-9, binarize=None, pos_label=None, n_jobs=None, random_state=None,
+                 verbose=0):
         self.prior = prior
         self.likelihood = likelihood
         self.global_candidates = global_candidates
         self.subtasks = subtasks
         self.conditions = conditions
+        self.roles = roles
         self.p_global = p_global
         self.p_eventual = p_eventual
         self.p_part = p_part
@@ -248,6 +263,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         "global_candidates": "no_validation",
         "subtasks": "no_validation",
         "conditions": "no_validation",
+        "roles": [StrOptions({"all", "infer"})],
         "p_global": [Interval(Real, 0.0, 1.0, closed="both")],
         "p_eventual": [Interval(Real, 0.0, 1.0, closed="both")],
         "p_part": [Interval(Real, 0.0, 1.0, closed="both")],
@@ -302,8 +318,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         name = type(self).__name__
         traces = check_traces(X, binarize=self.binarize, estimator_name=name)
         y01, classes = check_labels(y, traces.n_demos, self.pos_label)
-        roles = resolve_roles(self.global_candidates, self.subtasks, self.conditions,
-                              traces.n_props, traces.feature_names)
+        given = (self.global_candidates, self.subtasks, self.conditions)
+        roles = (infer_roles(traces, y01, *given) if self.roles == "infer" else
+                 resolve_roles(*given, traces.n_props, traces.feature_names))
         n_g, n = roles.n_globals, roles.n_subtasks
         truth = clause_truth(traces, roles)
         model = make_model(prior=self.prior, likelihood=self.likelihood, n_globals=n_g,
@@ -330,8 +347,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
             except ExactWorkExceeded:  # only "auto" sets a budget: sample instead
                 inference = "mcmc"
         if inference == "mcmc":
-            if self.inference == "auto":
-                self._warn_default_roles(traces.n_props, n_hyp)
+            if self.inference == "auto" and self.roles == "all" and given == (None,) * 3:
+                warn_all_roles(traces.n_props, n_hyp, over_cap)
             rng = check_random_state(self.random_state)
             seeds = rng.randint(np.iinfo(np.int32).max, size=self.n_chains)
             self.posterior_, self.mcmc_diagnostics_ = self._fit_mcmc(
@@ -340,6 +357,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
             self._warn_disagreement(n_hyp)
         self.classes_ = classes
         self.n_features_in_ = traces.n_props
+        self.roles_ = roles.to_params()
         if traces.feature_names is not None:
             self.feature_names_in_ = traces.feature_names
         elif hasattr(self, "feature_names_in_"):
@@ -350,26 +368,6 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         self.map_specification_ = self.posterior_.specification(0)
         self.n_unique_specifications_ = len(self.posterior_)
         return self
-
-    def _warn_default_roles(self, n_props, n_hyp):
-        """Say once that, with the default roles, exact enumeration was out of reach."""
-        if (self.global_candidates, self.subtasks, self.conditions) != (None, None, None):
-            return
-        # The message does not depend on the data beyond its size, so Python's default warning
-        # filter shows it once per process and problem size, not once per fold.
-        reason = ("is above max_exact_hypotheses"
-                  if self.max_exact_hypotheses is not None and n_hyp > self.max_exact_hypotheses
-                  else "needs more than inference='auto''s work budget to enumerate exactly "
-                       "(about a second)")
-        warnings.warn(
-            f"With the default roles all {n_props} propositions are global candidates and "
-            f"subtasks: the support ({n_hyp:.3g} hypotheses) {reason}, so MCMC samples it. "
-            "Say which propositions play which role with global_candidates=, subtasks= and "
-            "conditions= (a dataset's Bunch has them: BSIClassifier(**data.roles)) to make "
-            "the posterior smaller and exact.",
-            UserWarning,
-            stacklevel=4,
-        )
 
     def _warn_disagreement(self, n_hyp):
         """ConvergenceWarnings: a better optimum than the chains found, chains that disagree."""

@@ -58,6 +58,36 @@ class Roles:
             if c >= 0
         }
 
+    def to_params(self):
+        """The roles as the estimator's parameters: ``BSIClassifier(**roles.to_params())``.
+
+        Returns
+        -------
+        params : dict
+            ``global_candidates`` and ``subtasks`` (lists) and ``conditions`` (subtask ->
+            condition, only subtasks with one), by proposition name where the columns have
+            names and by column index otherwise, as plain ``str`` / ``int``.
+
+        Examples
+        --------
+        >>> resolve_roles(None, [1, 2], {2: 0}, 3).to_params()
+        {'global_candidates': [0, 1, 2], 'subtasks': [1, 2], 'conditions': {2: 0}}
+        """
+        plain = [_plain(n) for n in self.names]
+        return {
+            "global_candidates": [plain[i] for i in self.global_idx],
+            "subtasks": [plain[i] for i in self.subtask_idx],
+            "conditions": {plain[s]: plain[c]
+                           for s, c in zip(self.subtask_idx, self.condition_idx) if c >= 0},
+        }
+
+
+def _plain(name):
+    """A column identifier as a plain Python ``str`` or ``int`` (not a NumPy scalar)."""
+    if isinstance(name, (numbers.Integral, np.integer)):
+        return int(name)
+    return str(name)
+
 
 def _resolve_one(ident, names, param):
     n = len(names)

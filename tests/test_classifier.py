@@ -37,7 +37,9 @@ EXPECTED_FAILED_CHECKS = {
 
 def _checked():
     # binarize=0.0 lets the generic numeric data of the checks stand for boolean traces.
-    return [BSIClassifier(binarize=0.0, n_samples=200, n_chains=2, random_state=0)]
+    return [BSIClassifier(binarize=0.0, n_samples=200, n_chains=2, random_state=0),
+            BSIClassifier(roles="infer", binarize=0.0, n_samples=200, n_chains=2,
+                          random_state=0)]
 
 
 @parametrize_with_checks(_checked(), expected_failed_checks=lambda est: EXPECTED_FAILED_CHECKS)
