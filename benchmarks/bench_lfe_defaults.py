@@ -4,9 +4,9 @@ Issue 20's large-force-exercise target: the classifier fitted as a user without 
 it (no roles, every default) must be no worse than the best BSI row with the extractor's roles,
 at every training size, paired on the same missions. This script recomputes only the BSI rows
 of ``bsi-lfe study`` (no networks): the same repeats (missions and labels from
-:func:`lfe._study_cells.repeat_seeds`), the same training draws and model seeds per cell as
+:func:`lfe.study.repeat_seeds`), the same training draws and model seeds per cell as
 ``lfe/study.py``, the same scorer (weighted F1 on the 200 fresh test missions), and the same
-intervals (:mod:`lfe._study_stats`: Student-t over repeats, paired differences repeat by
+intervals (:func:`lfe.study.t_interval`: Student-t over repeats, paired differences repeat by
 repeat). A variant whose option this version of the classifier lacks is listed as not
 available. Every warning is counted per variant, none is silenced.
 
@@ -30,16 +30,21 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 from joblib import Parallel, delayed
+from sklearn.metrics import f1_score
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from benchmarks._common import machine_info, md_table  # noqa: E402
 from bsi_sklearn import BSIClassifier  # noqa: E402
 from bsi_sklearn.likelihood import LIKELIHOODS  # noqa: E402
-from lfe._study_cells import derive_seed, draw_training_set, repeat_seeds, simulate_repeat  # noqa: E402
-from lfe._study_stats import t_interval  # noqa: E402
+from lfe.study import (  # noqa: E402
+    derive_seed,
+    draw_training_set,
+    repeat_seeds,
+    simulate_repeat,
+    t_interval,
+)
 from lfe.annotate import MISSION_OBJECTIVES  # noqa: E402
-from lfe.compare import _weighted_f1  # noqa: E402
 
 #: BSI rows with the extractor's roles (the study's fixed rows): name -> parameters.
 WITH_ROLES = {"BSI (Prior 2)": {"prior": "sets_of_chains"},
@@ -81,7 +86,8 @@ def _fit_score(X_train, y_train, X_test, y_test, params, seed):
         else:
             clf = BSIClassifier(random_state=seed, **params).fit(X_train, y_train)
             pred, how = clf.predict(X_test), clf.inference_
-    return _weighted_f1(y_test, pred), how, len(caught)
+    # the study's scorer (lfe.compare's weighted F1 equals this)
+    return f1_score(y_test, pred, average="weighted", zero_division=0), how, len(caught)
 
 
 def run_repeat(repeat, config):

@@ -34,11 +34,14 @@ from lfe._study_cells import (
     simulate_repeat,
 )
 from lfe._study_report import plot_learning_curves, study_markdown
-from lfe._study_stats import paired_differences, summarise
+from lfe._study_stats import paired_differences, summarise, t_interval
 from lfe.annotate import MISSION_OBJECTIVES
 from lfe.extractor import PROPOSITION_SETS
 
-__all__ = ["DEFAULTS", "MAX_POOL", "QUICK", "add_arguments", "run", "study"]
+# The repeat's missions, the cells' training draws and seeds, and the intervals are public:
+# a script that recomputes some rows of the study on its own cells (benchmarks/) needs them.
+__all__ = ["DEFAULTS", "MAX_POOL", "QUICK", "add_arguments", "derive_seed", "draw_training_set",
+           "repeat_seeds", "run", "simulate_repeat", "study", "t_interval"]
 
 #: Largest training pool a repeat simulates (the largest allowed training size).
 MAX_POOL = 500
