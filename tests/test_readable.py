@@ -140,3 +140,75 @@ def test_readable_marks_only_the_clauses_it_has():
 def test_readable_rejects_what_is_not_a_clause_key(bad):
     with pytest.raises(ValueError, match="vacuous"):
         Specification(globals=["a"]).readable(bad)
+
+
+# ------------------------------------------------------------------ untested clauses of a fit
+FIT_NAMES = ["safe", "a", "b", "c"]
+
+
+def _demo(events, T=4):
+    """safe always holds and c from the first step, in every demonstration."""
+    tr = np.zeros((T, 4), dtype=np.uint8)
+    tr[:, 0] = tr[:, 3] = 1
+    for p, t in events:
+        tr[t:, FIT_NAMES.index(p)] = 1
+    return tr
+
+
+FIT_X = [_demo([("a", 1), ("b", 2)]), _demo([("a", 1), ("b", 3)]),  # acceptable
+         _demo([("b", 1), ("a", 2)]), _demo([("a", 1)])]           # b before a; b never
+FIT_Y = [1, 1, 0, 0]
+FIT_ROLES = dict(global_candidates=[0], subtasks=[1, 2, 3])
+
+
+def _satisfied_by_all(key, X):
+    kind, *ids = key
+    spec = (Specification(globals=ids) if kind == "G" else Specification(eventuals=ids)
+            if kind == "F" else Specification(orders=[tuple(ids)]))
+    return all(spec.satisfied_by(x) for x in X)
+
+
+@pytest.fixture(scope="module")
+def fitted():
+    from bsi_sklearn import BSIClassifier
+
+    return BSIClassifier(**FIT_ROLES, random_state=0).fit(FIT_X, FIT_Y)
+
+
+def test_vacuous_clauses_are_those_every_demonstration_satisfies(fitted):
+    keys = fitted.posterior_.clause_keys()
+    expected = {k for k in keys if _satisfied_by_all(k, FIT_X)}
+    # by hand: safe always, a always done, c from the start (so c precedes a and b)
+    assert expected == {("G", 0), ("F", 1), ("F", 3), ("U", 3, 1), ("U", 3, 2)}
+    assert fitted.vacuous_clauses_ == expected == fitted.posterior_.vacuous_clauses
+
+
+def test_the_fitted_displays_set_untested_clauses_apart(fitted):
+    spec = fitted.map_specification_
+    assert spec == Specification(globals=[0], eventuals=[1, 2, 3],
+                                 orders=[(3, 1), (1, 2)])  # (3, 2) by closure
+    text = spec.readable(fitted.vacuous_clauses_)
+    assert text == "F(2) & (!2 U 1)  [untested: G(0) & F(1) & F(3) & (!1 U 3)]"
+    frame = fitted.posterior_.to_frame(k=3)
+    assert frame["readable"].iloc[0] == text
+    assert list(frame["ltl"]) == [s.to_ltl() for s, _ in fitted.posterior_.top(3)]
+    assert frame["ltl"].iloc[0] == (
+        "G(0) & F(1) & F(2) & F(3) & (!2 U 1) & (!1 U 3) & (!2 U 3)")
+
+
+def test_positive_only_fits_and_files_mark_nothing(fitted):
+    from bsi_sklearn import BSIClassifier, Posterior
+
+    clf = BSIClassifier(**FIT_ROLES, random_state=0).fit(FIT_X[:2])
+    assert clf.vacuous_clauses_ == frozenset()
+    assert clf.posterior_.to_frame()["readable"].iloc[0] == str(clf.map_specification_)
+    again = Posterior.from_json(fitted.posterior_.to_json())
+    assert again.vacuous_clauses == frozenset()
+    assert again.to_frame()["ltl"].iloc[0] == fitted.map_specification_.to_ltl()
+    assert again.mark_vacuous(FIT_X, FIT_Y) == fitted.vacuous_clauses_
+
+
+@pytest.mark.parametrize("y", [[1, 0], [1, 2, 0, 0], [[1, 1, 0, 0]]])
+def test_mark_vacuous_checks_the_labels(fitted, y):
+    with pytest.raises(ValueError, match="mark_vacuous: y must be one 0/1 label"):
+        fitted.posterior_.mark_vacuous(FIT_X, y)
