@@ -301,7 +301,9 @@ def run(args):
             print(f"full MAP   : {spec.to_ltl()}")
         print(f"accuracy   : {clf.score(X, y):.3f} (training set)")
         frame = clf.posterior_.to_frame(k=args.top)[["probability", "readable"]]
-        print(frame.to_string(formatters={"probability": "{:.4f}".format}))
+        width = int(frame["readable"].str.len().max())
+        print(frame.to_string(justify="left", formatters={
+            "probability": "{:.4f}".format, "readable": f"{{:<{width}}}".format}))
         if out is not None:
             print(_save(clf.posterior_, out))
     return 0
