@@ -228,11 +228,13 @@ def clause_sentence(clause, conditions=None, descriptions=None):
     return f"{_capitalised(a, d)} before {_phrase(b, d)}."
 
 
-def describe_specification(specification, descriptions=None):
+def describe_specification(specification, descriptions=None, *, chains=False):
     """One sentence per clause of a specification, in :func:`ordered_clauses` order.
 
     See :func:`clause_sentence` for the phrasing. The empty specification (``true``) has no
-    clauses and gives an empty list.
+    clauses and gives an empty list. ``chains=True`` leaves out the orders the others imply
+    (:meth:`Specification.implied_orders`): "a before c" when "a before b" and "b before c"
+    are said.
 
     Examples
     --------
@@ -243,9 +245,14 @@ def describe_specification(specification, descriptions=None):
     Always, the robot is safe.
     Eventually, a holds.
     a holds before b holds.
+    >>> chain = Specification(orders=[("a", "b"), ("b", "c")])
+    >>> describe_specification(chain, chains=True)
+    ['a holds before b holds.', 'b holds before c holds.']
     """
     spec = _check_spec(specification)
-    return [clause_sentence(c, spec.conditions, descriptions) for c in ordered_clauses(spec)]
+    implied = {("U", a, b) for a, b in spec.implied_orders()} if chains else set()
+    return [clause_sentence(c, spec.conditions, descriptions) for c in ordered_clauses(spec)
+            if c not in implied]
 
 
 def violated_clauses(specification, trace, feature_names=None):
