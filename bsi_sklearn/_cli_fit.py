@@ -293,10 +293,17 @@ def run(args):
               f"{clf.n_features_in_} propositions, {clf.inference_} inference")
         if target is not None:
             print(f"target     : {target}")
-        print(f"MAP        : {clf.map_specification_.to_ltl()}")
+        # Readable: orders as chains, clauses every demonstration satisfies set apart as
+        # untested; the full formula beneath when it differs (and in the --save file).
+        spec = clf.map_specification_
+        print(f"MAP        : {spec.readable(clf.vacuous_clauses_)}")
+        if spec.readable(clf.vacuous_clauses_) != spec.to_ltl():
+            print(f"full MAP   : {spec.to_ltl()}")
         print(f"accuracy   : {clf.score(X, y):.3f} (training set)")
-        frame = clf.posterior_.to_frame(k=args.top)[["probability", "ltl"]]
-        print(frame.to_string(formatters={"probability": "{:.4f}".format}))
+        frame = clf.posterior_.to_frame(k=args.top)[["probability", "readable"]]
+        width = int(frame["readable"].str.len().max())
+        print(frame.to_string(justify="left", formatters={
+            "probability": "{:.4f}".format, "readable": f"{{:<{width}}}".format}))
         if out is not None:
             print(_save(clf.posterior_, out))
     return 0

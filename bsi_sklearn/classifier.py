@@ -141,7 +141,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     posterior_ : Posterior
         The inferred posterior over unique specifications.
     map_specification_ : Specification
-        The most probable specification.
+        The most probable specification; ``.readable(vacuous_clauses_)`` shows it to a person.
+    vacuous_clauses_ : frozenset of clause keys
+        Candidate clauses every training demonstration satisfies, acceptable or not: untested
+        (see :meth:`Posterior.mark_vacuous <bsi_sklearn.Posterior.mark_vacuous>`).
     n_unique_specifications_ : int
         Number of specifications in ``posterior_``.
     inference_ : str
@@ -366,6 +369,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         self.n_hypotheses_ = n_hyp
         self.log_epsilon_ = model.log_eps
         self.map_specification_ = self.posterior_.specification(0)
+        self.vacuous_clauses_ = self.posterior_.mark_vacuous(traces, y01)
         self.n_unique_specifications_ = len(self.posterior_)
         return self
 

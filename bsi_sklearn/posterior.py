@@ -101,6 +101,9 @@ class Posterior:
     specifications : list of Specification
     probabilities : ndarray
     dropped_mass : float
+    vacuous_clauses : frozenset of clause keys
+        Candidate clauses no training demonstration violates, set apart by :meth:`to_frame`
+        (:meth:`mark_vacuous`, called by ``BSIClassifier.fit``; empty for a file's posterior).
 
     Examples
     --------
@@ -114,6 +117,8 @@ class Posterior:
     >>> float(post.probabilities.sum())
     1.0
     """
+
+    vacuous_clauses = frozenset()
 
     def __init__(self, structures, tau_masks, w1_masks, probabilities, roles,
                  clause_marginals=None, dropped_mass=0.0):
@@ -162,6 +167,10 @@ class Posterior:
     def to_frame(self, k=None):
         """The posterior as a DataFrame: rank, LTL formula, probability, conjunct counts.
 
+        Columns: ``specification``, ``ltl`` (the full formula), ``readable`` (orders as chains,
+        :attr:`vacuous_clauses` set apart: :meth:`Specification.readable`), ``probability``,
+        ``n_globals``, ``n_eventuals``, ``n_orders``.
+
         Parameters
         ----------
         k : int, default=None
@@ -173,6 +182,7 @@ class Posterior:
             {
                 "specification": specs,
                 "ltl": [s.to_ltl() for s in specs],
+                "readable": [s.readable(self.vacuous_clauses) for s in specs],
                 "probability": self.probabilities[:n],
                 "n_globals": [len(s.globals) for s in specs],
                 "n_eventuals": [len(s.eventuals) for s in specs],
@@ -251,6 +261,21 @@ class Posterior:
         )[:, :n_cl].astype(float)
         return self.probabilities @ bits
 
+    def mark_vacuous(self, X, y=None):
+        """Set :attr:`vacuous_clauses` to the candidate clauses every demonstration satisfies.
+
+        ``X``: demonstrations (as ``BSIClassifier.fit`` takes them) or ``Traces``; ``y``: their
+        0/1 labels. Clauses no demonstration violates, acceptable or not, are untested; with no
+        unacceptable demonstration none is marked (positives alone separate nothing).
+        """
+        truth = self._truth(X)
+        if y is not None and (np.shape(y) != (len(truth),) or not np.isin(y, (0, 1)).all()):
+            raise ValueError(f"mark_vacuous: y must be one 0/1 label per demonstration "
+                             f"({len(truth)}), got {y!r}")
+        marked = truth.all(axis=0)[self._clause_slots()] & (y is None or not np.all(y))
+        self.vacuous_clauses = frozenset(k for k, v in zip(self.clause_keys(), marked) if v)
+        return self.vacuous_clauses
+
     # ------------------------------------------------------------------ prediction
     def satisfaction(self, X):
         """Boolean matrix ``(n_specs, n_demos)``: which specification each demonstration meets.
@@ -289,6 +314,9 @@ class Posterior:
         return None
 
     def _truth_words(self, X):
+        return pack_rows(self._truth(X))
+
+    def _truth(self, X):
         if isinstance(X, Traces):  # already checked by the caller (the classifier)
             traces = X
             if traces.n_props != len(self.roles.names):
@@ -300,7 +328,7 @@ class Posterior:
             traces = check_traces(X, estimator_name="Posterior")
             check_consistent_traces(traces, len(self.roles.names), self.feature_names_in_,
                                     "Posterior")
-        return pack_rows(clause_truth(traces, self.roles))
+        return clause_truth(traces, self.roles)
 
     # ------------------------------------------------------------------ JSON
     def to_json(self, path=None, *, max_specifications=MAX_LISTED):

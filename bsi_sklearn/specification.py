@@ -178,35 +178,126 @@ class Specification:
             parts.append(f"conditions={self.conditions!r}")
         return f"Specification({', '.join(parts)})"
 
-    def clause_strings(self, latex=False):
-        """Render every clause as a string, in a stable order (G, then F, then U)."""
+    def implied_orders(self):
+        """The order clauses the rest of the formula implies: what the chain form leaves out.
+
+        An order ``(a, c)`` is implied when the other orders kept lead from ``a`` to ``c``
+        through subtasks ``b`` whose conditions hold whenever ``pi_a`` does: ``b`` has no
+        condition, its condition is a global ``G(pi_b)`` of the formula, or it is ``pi_a``
+        itself. Then ``pi_a`` makes every clause of the path active, each of them puts the
+        first step of its subtask no later than the next one's, and ``a`` does happen, so
+        ``pi_a -> (!c U a)`` holds. Without conditions this is the transitive reduction of
+        the order relation. Orders are examined in a fixed sequence and each one dropped only
+        if the orders still kept imply it, so the formula without the implied orders means
+        exactly what the full formula means.
+
+        Returns
+        -------
+        implied : frozenset of (a, b)
+
+        Examples
+        --------
+        >>> chain = Specification(orders=[("a", "b"), ("b", "c")])
+        >>> sorted(chain.implied_orders())
+        [('a', 'c')]
+        >>> # b's own condition may be false when a's holds: c may then come before a
+        >>> sorted(Specification(orders=chain.orders, conditions={"b": "b_ok"}).implied_orders())
+        []
+        """
+        cond = self.conditions
+
+        def holds_with(a):
+            # the subtasks whose condition holds whenever a's does
+            return lambda b: b not in cond or cond[b] in self.globals or cond[b] == cond.get(a)
+
+        kept = set(self.orders)
+        for a, c in sorted(self.orders, key=_pair_key):
+            kept.discard((a, c))
+            if not _reaches(kept, a, c, holds_with(a)):
+                kept.add((a, c))
+        return frozenset(self.orders - kept)
+
+    def clause_strings(self, latex=False, *, chains=False):
+        """Render every clause as a string, in a stable order (G, then F, then U).
+
+        With ``chains=True`` the orders of :meth:`implied_orders` are left out.
+        """
+        return [text for _, text in self._clause_texts(latex, chains)]
+
+    def _clause_texts(self, latex=False, chains=False):
+        """``(clause key, text)`` for every clause, in the order of :meth:`clause_strings`."""
         g_op, f_op, u_op, not_op, imp = (
             (r"\mathbf{G}", r"\mathbf{F}", r"\,\mathbf{U}\,", r"\neg ", r" \rightarrow ")
             if latex
             else ("G", "F", " U ", "!", " -> ")
         )
         cond = self.conditions
-        out = [f"{g_op}({_fmt(p, latex)})" for p in sorted(self.globals, key=_sort_key)]
+        out = [(("G", p), f"{g_op}({_fmt(p, latex)})")
+               for p in sorted(self.globals, key=_sort_key)]
         for w in sorted(self.eventuals, key=_sort_key):
             body = f"{f_op}({_fmt(w, latex)})"
-            out.append(f"({_fmt(cond[w], latex)}{imp}{body})" if w in cond else body)
-        for a, b in sorted(self.orders, key=_pair_key):
+            out.append((("F", w), f"({_fmt(cond[w], latex)}{imp}{body})" if w in cond else body))
+        implied = self.implied_orders() if chains else frozenset()
+        for a, b in sorted(self.orders - implied, key=_pair_key):
             body = f"({not_op}{_fmt(b, latex)}{u_op}{_fmt(a, latex)})"
-            out.append(f"({_fmt(cond[a], latex)}{imp}{body})" if a in cond else body)
+            out.append((("U", a, b),
+                        f"({_fmt(cond[a], latex)}{imp}{body})" if a in cond else body))
         return out
 
-    def to_ltl(self, latex=False):
+    def to_ltl(self, latex=False, *, chains=False):
         """Render the formula as LTL text (ASCII by default, LaTeX with ``latex=True``).
 
-        The empty specification renders as ``true``.
+        The empty specification renders as ``true``. The text lists every clause, the orders
+        implied by others included (the closed order relation the specification stores): the
+        form the posterior file records. ``chains=True`` leaves out the implied orders
+        (:meth:`implied_orders`): a shorter text of the same formula, ``(!c U b) & (!b U a)``
+        without ``(!c U a)``.
+
+        Examples
+        --------
+        >>> spec = Specification(orders=[("a", "b"), ("b", "c")])
+        >>> print(spec.to_ltl())
+        (!b U a) & (!c U a) & (!c U b)
+        >>> print(spec.to_ltl(chains=True))
+        (!b U a) & (!c U b)
         """
-        parts = self.clause_strings(latex=latex)
-        if not parts:
-            return r"\top" if latex else "true"
-        return (r" \wedge " if latex else " & ").join(parts)
+        return _join(self.clause_strings(latex=latex, chains=chains), latex)
+
+    def readable(self, vacuous=()):
+        """The formula as a person reads it: orders as chains, untested clauses set apart.
+
+        Parameters
+        ----------
+        vacuous : iterable of clause keys, default=()
+            Clauses the data could not test (``("G", p)``, ``("F", w)``, ``("U", a, b)``;
+            ``BSIClassifier.vacuous_clauses_``: satisfied by every training demonstration,
+            acceptable or not). Keys of clauses the formula does not have are ignored.
+
+        Returns
+        -------
+        text : str
+            ``to_ltl(chains=True)`` without the vacuous clauses, followed, when the formula has
+            some, by ``"  [untested: ...]"`` listing them joined by ``&``. The shown formula
+            and the untested one together are the full formula: ``to_ltl()`` gives it in one
+            piece.
+
+        Examples
+        --------
+        >>> spec = Specification(globals=["safe"], eventuals=["a", "b"],
+        ...                      orders=[("a", "b"), ("b", "c")])
+        >>> print(spec.readable())
+        G(safe) & F(a) & F(b) & (!b U a) & (!c U b)
+        >>> print(spec.readable(vacuous=[("G", "safe"), ("F", "b")]))
+        F(a) & (!b U a) & (!c U b)  [untested: G(safe) & F(b)]
+        """
+        untested = _clause_keys(vacuous)
+        texts = self._clause_texts(chains=True)
+        shown = _join([t for k, t in texts if k not in untested], False)
+        apart = [t for k, t in texts if k in untested]
+        return f"{shown}  [untested: {' & '.join(apart)}]" if apart else shown
 
     def __str__(self):
-        return self.to_ltl()
+        return self.to_ltl(chains=True)
 
     def to_ltlf(self, dialect="spot", atoms=None):
         """The formula as text for Spot (``"spot"``) or LTLf2DFA / flloat (``"ltlf2dfa"``).
@@ -296,6 +387,40 @@ def _as_iterable(value, name):
 def _pair_key(pair):
     # Orders (a, b) and condition items (subtask, proposition) alike.
     return (_sort_key(pair[0]), _sort_key(pair[1]))
+
+
+def _join(parts, latex):
+    if not parts:
+        return r"\top" if latex else "true"
+    return (r" \wedge " if latex else " & ").join(parts)
+
+
+def _reaches(orders, start, goal, may_pass):
+    """Whether ``orders`` lead from ``start`` to ``goal`` through subtasks ``may_pass`` allows."""
+    succ = {}
+    for a, b in orders:
+        succ.setdefault(a, []).append(b)
+    stack, seen = [start], {start}
+    while stack:
+        for b in succ.get(stack.pop(), ()):
+            if b == goal:
+                return True
+            if b not in seen and may_pass(b):
+                seen.add(b)
+                stack.append(b)
+    return False
+
+
+def _clause_keys(keys):
+    if isinstance(keys, (str, bytes)) or not isinstance(keys, Iterable):
+        raise ValueError(f"vacuous must be an iterable of clause keys, got {keys!r}")
+    keys = frozenset(keys)
+    for key in keys:
+        if not (isinstance(key, tuple) and len(key) == (3 if key[:1] == ("U",) else 2)
+                and key[0] in ("G", "F", "U")):
+            raise ValueError(f"vacuous: {key!r} is not a clause key ('G', p), ('F', w) or "
+                             "('U', a, b)")
+    return keys
 
 
 def _fmt(ident, latex):

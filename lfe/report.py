@@ -136,13 +136,16 @@ def write_reports(reports, out):
 
 def _index_row(objective, report):
     e = html.escape
-    sentences = "".join(f"<li>{e(s)}</li>" for s in report.sentences) or \
+    # the MAP as the report shows it: implied orders left out, untested clauses marked
+    shown = report.clauses[~report.clauses["implied"]]
+    sentences = "".join(f"<li>{e(s)}{' (untested)' if vacuous else ''}</li>"
+                        for s, vacuous in zip(shown["sentence"], shown["vacuous"])) or \
         "<li>No constraint: every mission is acceptable.</li>"
     f1 = "" if report.f1_weighted is None else f"{report.f1_weighted:.3f}"
     return (
         f'<tr><td><a href="{e(objective)}/report.html">{e(report.title)}</a><br/>'
         f'<small><a href="{e(objective)}/report.md">Markdown</a></small></td>'
-        f"<td><code>{e(report.ltl)}</code><ul>{sentences}</ul></td>"
+        f"<td><code>{e(report.readable)}</code><ul>{sentences}</ul></td>"
         f"<td>{report.map_probability:.3f}</td><td>{report.n_unique_specifications}</td>"
         f"<td>{f1}</td></tr>"
     )
@@ -194,6 +197,6 @@ def run(args):
     index = write_reports(reports, args.out)
     for objective, report in reports.items():
         print(f"{objective}: P(MAP)={report.map_probability:.3f}  "
-              f"weighted F1={report.f1_weighted:.3f}  {report.ltl}")
+              f"weighted F1={report.f1_weighted:.3f}  {report.readable}")
     print(f"reports written to {index.parent} (open {index})")
     return 0

@@ -137,7 +137,7 @@ def _f(x):
 def posterior_values(clf, exact=None):
     """What a fit computed, as plain JSON values."""
     post = clf.posterior_
-    names = [str(spec) for spec in post.specifications]
+    names = [spec.to_ltl() for spec in post.specifications]
     assert len(set(names)) == len(names), "two specifications print the same"
     marginals = post.clause_marginals()
     values = {

@@ -16,7 +16,7 @@ from bsi_sklearn.report.wording import (
     _check_descriptions,
     _clause_condition,
     _difference,
-    _transitive_reduction,
+    _sort_key,
     clause_sentence,
     clause_specification,
     ordered_clauses,
@@ -97,6 +97,9 @@ def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=Non
     spec = classifier.map_specification_
     conds = spec.conditions
     keys = ordered_clauses(spec)
+    # untested clauses (issue 20); a classifier pickled before they were recorded has none
+    vacuous = getattr(classifier, "vacuous_clauses_", frozenset())
+    implied = {("U", a, b) for a, b in spec.implied_orders()}
     marginals = posterior.clause_marginals()
     marginal = dict(zip(marginals.index, marginals.to_numpy()))
     clauses = pd.DataFrame(
@@ -106,12 +109,15 @@ def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=Non
             "latex": [clause_specification(k, conds).to_ltl(latex=True) for k in keys],
             "sentence": [clause_sentence(k, conds, descriptions) for k in keys],
             "inclusion_probability": [float(marginal.get(k, np.nan)) for k in keys],
+            "implied": [k in implied for k in keys],
+            "vacuous": [k in vacuous for k in keys],
         },
         index=pd.Index(keys, tupleize_cols=False, name="clause", dtype=object),
     )
     frame = posterior.to_frame(k=top_k)
     top = pd.DataFrame(
         {"probability": frame["probability"].to_numpy(), "ltl": frame["ltl"].to_numpy(),
+         "readable": [s.readable(vacuous) for s in frame["specification"]],
          "n_clauses": (frame["n_globals"] + frame["n_eventuals"] + frame["n_orders"]).to_numpy(),
          "difference": [_difference(s, spec) for s in frame["specification"]]},
         index=pd.RangeIndex(1, len(frame) + 1, name="rank"),
@@ -128,10 +134,13 @@ def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=Non
     }
     fields = dict(
         title=title, specification=spec, ltl=spec.to_ltl(), ltl_latex=spec.to_ltl(latex=True),
+        readable=spec.readable(vacuous), vacuous_clauses=frozenset(vacuous),
         clauses=clauses, descriptions=descriptions, top=top,
         map_probability=float(posterior.probabilities[0]), entropy=posterior.entropy(),
         n_unique_specifications=len(posterior), clause_marginals=marginals,
-        order_edges=_transitive_reduction(spec.orders), inference=inference,
+        order_edges=sorted(spec.orders - spec.implied_orders(),
+                           key=lambda o: (_sort_key(o[0]), _sort_key(o[1]))),
+        inference=inference,
         roles_table=_roles_table(roles),
         demo_names=None, clause_states=None, map_satisfied=None, proba=None,
         predicted_acceptable=None, violations=None, labels=None, confusion_matrix=None,

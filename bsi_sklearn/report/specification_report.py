@@ -37,16 +37,25 @@ class SpecificationReport:
     specification : Specification
         The MAP specification.
     ltl, ltl_latex : str
-        The MAP specification as LTL text and as LaTeX.
+        The MAP specification as LTL text and as LaTeX: the full formula, every clause.
+    readable : str
+        The MAP specification as the report shows it (:meth:`Specification.readable`): the
+        orders implied by others left out, the untested clauses set apart.
+    vacuous_clauses : frozenset of clause keys
+        The classifier's ``vacuous_clauses_``: candidate clauses every training
+        demonstration satisfies, acceptable or not.
     clauses : pandas.DataFrame
         One row per MAP clause (index: clause keys, reading order): ``kind`` (global,
-        eventual, order), ``ltl``, ``latex``, ``sentence``, ``inclusion_probability``.
+        eventual, order), ``ltl``, ``latex``, ``sentence``, ``inclusion_probability``,
+        ``implied`` (an order the other orders imply; not listed in the documents) and
+        ``vacuous`` (untested: every training demonstration satisfies it; marked).
     descriptions : dict
         Proposition -> phrase used in the sentences.
     top : pandas.DataFrame
         The ``top_k`` most probable specifications, indexed by rank (from 1):
-        ``probability``, ``ltl``, ``n_clauses`` and ``difference`` (the clauses added, ``+``,
-        and removed, ``-``, relative to the MAP specification; empty for the MAP).
+        ``probability``, ``ltl``, ``readable``, ``n_clauses`` and ``difference`` (the clauses
+        added, ``+``, and removed, ``-``, relative to the MAP specification; empty for the
+        MAP).
     map_probability, entropy : float
         Posterior probability of the MAP specification; entropy (nats) of the posterior.
     n_unique_specifications : int
@@ -95,6 +104,10 @@ class SpecificationReport:
     def sentences(self):
         """One plain-English sentence per MAP clause."""
         return list(self.clauses["sentence"])
+
+    def _shown_clauses(self):
+        """The MAP clauses the documents list: every one but the implied orders."""
+        return self.clauses[~self.clauses["implied"]]
 
     # ------------------------------------------------------------------ figures
     def figures(self):
@@ -175,23 +188,42 @@ class SpecificationReport:
                      f"{'' if len(self.clauses) == 1 else 's'}; a demonstration is acceptable "
                      f"when it satisfies all of them. Inferred with the {info['prior']} prior "
                      f"and the {info['likelihood']} likelihood ({info['method']} inference).")
-        doc.add("pre", self.ltl)
-        doc.add("formula", unicode_ltl(self.specification))
+        doc.add("pre", self.readable)
+        doc.add("formula", unicode_ltl(self.specification, chains=True,
+                                       vacuous=self.vacuous_clauses))
         if not len(self.clauses):
             doc.add("p", "The MAP specification is 'true': it accepts every demonstration.")
             return
+        n_implied, n_vacuous = int(self.clauses["implied"].sum()), int(
+            self.clauses["vacuous"][~self.clauses["implied"]].sum())
+        if n_implied or n_vacuous:
+            notes = []
+            if n_implied:
+                notes.append(f"{n_implied} order{'' if n_implied == 1 else 's'} implied by the "
+                             "others (A before C when A before B before C) left out")
+            if n_vacuous:
+                notes.append(f"{n_vacuous} untested clause{'' if n_vacuous == 1 else 's'} set "
+                             "apart (every training demonstration, acceptable or not, "
+                             "satisfies them: the data could not show they are needed)")
+            doc.add("p", f"Shown with {' and '.join(notes)}. The full formula:")
+            doc.add("pre", self.ltl)
         groups = (("global", "Always (global clauses)"), ("eventual", "Eventually"),
                   ("order", "Ordering"))
+        shown = self._shown_clauses()
         for kind, heading in groups:
-            rows = self.clauses[self.clauses["kind"] == kind]
+            rows = shown[shown["kind"] == kind]
             if len(rows):
                 doc.add("h", 3, heading)
-                doc.add("ul", [[f"{s} ", Code(ltl), f" (p = {p:.2f})"]
-                               for s, ltl, p in zip(rows["sentence"], rows["ltl"],
-                                                    rows["inclusion_probability"])])
+                doc.add("ul", [[f"{s} ", Code(ltl),
+                                f" (p = {p:.2f}{'; untested' if vacuous else ''})"]
+                               for s, ltl, p, vacuous in zip(
+                                   rows["sentence"], rows["ltl"],
+                                   rows["inclusion_probability"], rows["vacuous"])])
         doc.add("p", "\"A before B\" means that A does happen, and B does not happen at an "
                      "earlier step than A. Conditions are read at the first step. p is the "
-                     "posterior probability that the clause belongs to the specification.")
+                     "posterior probability that the clause belongs to the specification"
+                     + ("; untested: every training demonstration satisfies the clause."
+                        if n_vacuous else "."))
 
     def _section_posterior(self, doc, pngs):
         doc.add("h", 2, "Posterior")
@@ -209,7 +241,7 @@ class SpecificationReport:
         doc.add("table", ["rank", "probability", "difference from the MAP", "specification"],
                 [[str(r), f"{p:.4f}", Code(diff) if diff else "(MAP)", Code(ltl)]
                  for r, p, diff, ltl in zip(self.top.index, self.top["probability"],
-                                            self.top["difference"], self.top["ltl"])])
+                                            self.top["difference"], self.top["readable"])])
         if "clause_marginals" in pngs:
             doc.add("h", 3, "Clause inclusion probabilities")
             doc.add("figure", "clause_marginals",

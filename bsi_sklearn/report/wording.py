@@ -45,7 +45,7 @@ def ordered_clauses(specification):
     )
 
 
-def unicode_ltl(specification):
+def unicode_ltl(specification, *, chains=False, vacuous=()):
     """The specification in temporal-logic symbols, as plain Unicode text.
 
     ``□`` is *always* (G), ``◇`` *eventually* (F), ``U`` *until*, ``¬`` *not*, ``→``
@@ -55,6 +55,11 @@ def unicode_ltl(specification):
     Parameters
     ----------
     specification : Specification
+    chains : bool, default=False
+        Leave out the orders the others imply (:meth:`Specification.implied_orders`).
+    vacuous : iterable of clause keys, default=()
+        Clauses set apart after the formula, as ``[untested: ...]`` (see
+        :meth:`Specification.readable`).
 
     Returns
     -------
@@ -69,18 +74,27 @@ def unicode_ltl(specification):
     □(safe) ∧ (a_ok → ◇(a)) ∧ ◇(b) ∧ (a_ok → (¬b U a))
     >>> unicode_ltl(Specification())
     '⊤'
+    >>> chain = Specification(orders=[("a", "b"), ("b", "c")])
+    >>> print(unicode_ltl(chain, chains=True, vacuous=[("U", "a", "b")]))
+    (¬c U b)  [untested: (¬b U a)]
     """
     spec = _check_spec(specification)
     cond = spec.conditions
-    parts = []
+    implied = {("U", a, b) for a, b in spec.implied_orders()} if chains else set()
+    vacuous = set(vacuous)
+    parts, apart = [], []
     for key in ordered_clauses(spec):
-        if key[0] == "G":
-            parts.append(f"□({key[1]})")
+        if key in implied:
             continue
-        subtask = key[1]
-        body = f"◇({subtask})" if key[0] == "F" else f"(¬{key[2]} U {subtask})"
-        parts.append(f"({cond[subtask]} → {body})" if subtask in cond else body)
-    return " ∧ ".join(parts) if parts else "⊤"
+        if key[0] == "G":
+            text = f"□({key[1]})"
+        else:
+            subtask = key[1]
+            body = f"◇({subtask})" if key[0] == "F" else f"(¬{key[2]} U {subtask})"
+            text = f"({cond[subtask]} → {body})" if subtask in cond else body
+        (apart if key in vacuous else parts).append(text)
+    shown = " ∧ ".join(parts) if parts else "⊤"
+    return f"{shown}  [untested: {' ∧ '.join(apart)}]" if apart else shown
 
 
 def clause_specification(clause, conditions=None):
@@ -214,11 +228,13 @@ def clause_sentence(clause, conditions=None, descriptions=None):
     return f"{_capitalised(a, d)} before {_phrase(b, d)}."
 
 
-def describe_specification(specification, descriptions=None):
+def describe_specification(specification, descriptions=None, *, chains=False):
     """One sentence per clause of a specification, in :func:`ordered_clauses` order.
 
     See :func:`clause_sentence` for the phrasing. The empty specification (``true``) has no
-    clauses and gives an empty list.
+    clauses and gives an empty list. ``chains=True`` leaves out the orders the others imply
+    (:meth:`Specification.implied_orders`): "a before c" when "a before b" and "b before c"
+    are said.
 
     Examples
     --------
@@ -229,9 +245,14 @@ def describe_specification(specification, descriptions=None):
     Always, the robot is safe.
     Eventually, a holds.
     a holds before b holds.
+    >>> chain = Specification(orders=[("a", "b"), ("b", "c")])
+    >>> describe_specification(chain, chains=True)
+    ['a holds before b holds.', 'b holds before c holds.']
     """
     spec = _check_spec(specification)
-    return [clause_sentence(c, spec.conditions, descriptions) for c in ordered_clauses(spec)]
+    implied = {("U", a, b) for a, b in spec.implied_orders()} if chains else set()
+    return [clause_sentence(c, spec.conditions, descriptions) for c in ordered_clauses(spec)
+            if c not in implied]
 
 
 def violated_clauses(specification, trace, feature_names=None):
@@ -278,19 +299,6 @@ def _clause_condition(clause, conditions):
     if clause[0] == "G":
         return None
     return conditions.get(clause[1])
-
-
-def _transitive_reduction(orders):
-    orders = set(orders)
-    succ = {}
-    for a, b in orders:
-        succ.setdefault(a, set()).add(b)
-    return sorted(
-        ((a, b) for a, b in orders
-         if not any((c, b) in orders for c in succ.get(a, ()) if c != b)),
-        key=lambda o: (_sort_key(o[0]), _sort_key(o[1])),
-    )
-
 
 
 def _difference(spec, reference):
