@@ -194,7 +194,7 @@ def run_cell(kind, seed, size, noises=NOISES, variant_list=None, n_test=N_TEST):
     return rows
 
 
-def run_benchmark(kinds=KINDS, seeds=range(5), sizes=SIZES, noises=NOISES, n_jobs=1,
+def run_benchmark(kinds=KINDS, seeds=range(20), sizes=SIZES, noises=NOISES, n_jobs=1,
                   verbose=1, variant_list=None, n_test=N_TEST):
     """Every cell; a DataFrame with one row per (cell, noise, variant)."""
     import pandas as pd
@@ -230,7 +230,7 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true",
                         help="2 seeds, sizes 20 and 40, 60 test demonstrations; writes into "
                              "a temporary folder unless --out is given")
-    parser.add_argument("--seeds", type=int, default=5, help="independent tasks per kind")
+    parser.add_argument("--seeds", type=int, default=20, help="independent tasks per kind")
     parser.add_argument("--n-jobs", type=int, default=1, help="cells in parallel (joblib)")
     parser.add_argument("--verbose", type=int, default=1, help="0: no progress bars")
     parser.add_argument("--out", default=None, help="folder of RESULTS_roles.md/.csv, figures/")

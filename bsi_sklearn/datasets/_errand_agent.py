@@ -77,8 +77,8 @@ def act(task, rng):
         done = np.flatnonzero(trace[:, k])
         if len(done):
             trace[done[0] + 1:, k] = False
-    if rng.random() < r["p_unsafe"]:
-        start = int(rng.integers(len(trace)))
+    if rng.random() < r["p_unsafe"] and len(trace) > 1:
+        start = int(rng.integers(1, len(trace)))  # safety holds at the first step
         trace[start:start + int(rng.integers(1, 4)), col[task.safety]] = False
     for d in task.distractors:
         k = col[d]

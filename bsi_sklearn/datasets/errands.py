@@ -12,8 +12,8 @@ Two kinds, each drawn per ``random_state`` by :func:`make_errand_task`:
 
 * ``"errand"``: a robot runs errands in a room. Propositions:
 
-  - ``safe``: the global safety proposition, true from the first step; the agent sometimes
-    breaks it for one to three steps.
+  - ``safe``: the global safety proposition, true at the first step; the agent sometimes
+    breaks it for one to three steps after the first.
   - ``powered``: true at every step of every demonstration (a proposition true from the first
     step that no rule mentions).
   - ``door_closed``: the condition, drawn true with probability 0.5 at the first step; it turns
