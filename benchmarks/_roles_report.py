@@ -43,6 +43,14 @@ def _fmt(m, lo, hi):
     return f"{m:.3f} [{lo:.3f}, {hi:.3f}]"
 
 
+def _in_chains_text(df):
+    if "rule_in_chains" not in df:
+        return "not recorded"
+    tasks = df.drop_duplicates(["kind", "seed"])
+    return ", ".join(f"{kind} {int(g['rule_in_chains'].sum())} of {len(g)} tasks"
+                     for kind, g in tasks.groupby("kind", sort=False))
+
+
 def _fitted(df):
     ok = df["available"].astype(bool)
     if "accuracy" in df:
@@ -234,7 +242,14 @@ def write_outputs(df, vlist, out, command, seconds, quick, settings, external=No
         f"`flip_prior={tuple(settings['flip_prior'])}`, fixed beforehand); every other "
         "parameter at its default (`inference=\"auto\"`), `random_state` = seed, `n_jobs=1`.",
         "* Intervals: 95 % Student-t over seeds; differences are paired by seed (same task, "
-        "same training and test sets). `(one draw)` marks a single seed.", ""]
+        "same training and test sets). `(one draw)` marks a single seed.",
+        "* One change to the family since it was fixed, made before any full run was read: a "
+        "safety violation starts after the first step, as the family's docstring said (a new "
+        "test caught the agent breaking it at step 0).",
+        "* Whether the task's true rule lies in the default prior's support (Prior 2 holds "
+        "orders as disjoint chains; a join such as `grasped < placed` and `opened_container "
+        "< placed` is outside it, for every training set): " + _in_chains_text(df) + ". "
+        "Where it is not, even the given-roles fit cannot represent the rule exactly.", ""]
     if missing:
         lines += ["Not available in this checkout (listed, not fitted): " + ", ".join(
             f"`{v.name}` ({v.reason})" for v in missing) + ".", ""]

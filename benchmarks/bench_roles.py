@@ -46,7 +46,7 @@ from bsi_sklearn import BSIClassifier  # noqa: E402
 from bsi_sklearn.datasets.errands import make_errand_demos, make_errand_task  # noqa: E402
 from bsi_sklearn.likelihood import LIKELIHOODS  # noqa: E402
 
-__all__ = ["Variant", "variants", "flip_labels", "run_cell", "run_benchmark", "main",
+__all__ = ["Variant", "variants", "flip_labels", "run_cell", "in_chains", "run_benchmark", "main",
            "SIZES", "NOISES", "KINDS", "FLIP_PRIOR"]
 
 SIZES = (20, 40, 72)
@@ -114,6 +114,26 @@ def flip_labels(y, noise, rng):
         idx = rng.choice(len(y), k, replace=False)
         y[idx] = 1 - y[idx]
     return y
+
+
+def in_chains(spec):
+    """Whether ``spec``'s orders are disjoint chains (each subtask at most one immediate
+    predecessor and one immediate successor): the orders the default prior (Prior 2, sets of
+    chains) can hold. A rule with a join (two subtasks both before a third, unordered between
+    themselves) is outside its support whatever the data.
+
+    >>> from bsi_sklearn import Specification
+    >>> in_chains(Specification(orders=[("a", "b"), ("b", "c")]))
+    True
+    >>> in_chains(Specification(orders=[("a", "c"), ("b", "c")]))
+    False
+    """
+    closed = set(spec.orders)
+    cover = [(a, b) for a, b in closed
+             if not any((a, c) in closed and (c, b) in closed for _, c in closed)]
+    succ = [a for a, _ in cover]
+    pred = [b for _, b in cover]
+    return len(succ) == len(set(succ)) and len(pred) == len(set(pred))
 
 
 def _seeds(kind, seed, size):
@@ -186,7 +206,8 @@ def run_cell(kind, seed, size, noises=NOISES, variant_list=None, n_test=N_TEST):
         y = flip_labels(train.y, noise, np.random.default_rng(s_train + 1))
         for v in variant_list:
             row = {"kind": kind, "seed": seed, "n_train": size, "noise": noise,
-                   "n_props": len(task.feature_names), "train_pos": int(y.sum()),
+                   "n_props": len(task.feature_names), "rule_in_chains": in_chains(
+                       task.specification()), "train_pos": int(y.sum()),
                    "flipped": int(np.sum(y != train.y)), "test_pos": int(test.y.sum()),
                    "n_test": n_test}
             row.update(_fit_one(v, train.roles, train.traces, y, test.traces, test.y, seed))
@@ -259,7 +280,7 @@ def main(argv=None):
     if args.external:
         from roles_external import run_external
 
-        external = run_external(args.data, quick=args.quick, verbose=args.verbose)
+        external = run_external(args.data, quick=args.quick, verbose=args.verbose, out=out)
     command = "python benchmarks/bench_roles.py " + " ".join(argv if argv is not None
                                                               else sys.argv[1:])
     paths = write_outputs(df, vlist, out, command=command.strip(),

@@ -13,7 +13,7 @@ if str(BENCH) not in sys.path:
 
 # Modules with examples; the bench_* modules have none and import heavier dependencies.
 MODULES = ["external", "external_bsi", "external_scarlet", "run", "reference.webppl",
-           "_roles_report"]
+           "_roles_report", "bench_roles"]
 FLAGS = doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS
 
 
