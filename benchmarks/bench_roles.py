@@ -259,6 +259,9 @@ def main(argv=None):
                         metavar=("A", "B"), help="Beta prior of the ci+flip variant")
     parser.add_argument("--external", action="store_true",
                         help="also the published benchmark files (roles_external.py)")
+    parser.add_argument("--external-every", type=int, default=8,
+                        help="every k-th published file (default fits without screening go "
+                             "to MCMC on the 5-7-proposition files: 10-25 s each)")
     parser.add_argument("--data", default=None, help="published files (default ../shared/"
                                                      "benchmarks-data)")
     args = parser.parse_args(argv)
@@ -280,7 +283,8 @@ def main(argv=None):
     if args.external:
         from roles_external import run_external
 
-        external = run_external(args.data, quick=args.quick, verbose=args.verbose, out=out)
+        external = run_external(args.data, quick=args.quick, every=args.external_every,
+                                verbose=args.verbose, out=out)
     command = "python benchmarks/bench_roles.py " + " ".join(argv if argv is not None
                                                               else sys.argv[1:])
     paths = write_outputs(df, vlist, out, command=command.strip(),
