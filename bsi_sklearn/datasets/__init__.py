@@ -1,4 +1,4 @@
-"""Generators of the paper's domains with known ground-truth specifications."""
+"""Generators of the paper's domains, and of errand tasks built outside them, with known rules."""
 
 from bsi_sklearn.datasets.dinner_table import (
     dinner_table_labels,
@@ -6,6 +6,7 @@ from bsi_sklearn.datasets.dinner_table import (
     dinner_table_tsrs,
     make_dinner_table_demos,
 )
+from bsi_sklearn.datasets.errands import ErrandTask, make_errand_demos, make_errand_task
 from bsi_sklearn.datasets.plotting import plot_demos
 from bsi_sklearn.datasets.poi_threat import (
     make_poi_threat_demos,
@@ -15,11 +16,14 @@ from bsi_sklearn.datasets.poi_threat import (
 from bsi_sklearn.datasets.tsr import TaskSpaceRegion, make_pose
 
 __all__ = [
+    "ErrandTask",
     "TaskSpaceRegion",
     "dinner_table_labels",
     "dinner_table_specification",
     "dinner_table_tsrs",
     "make_dinner_table_demos",
+    "make_errand_demos",
+    "make_errand_task",
     "make_pose",
     "make_poi_threat_demos",
     "plot_demos",

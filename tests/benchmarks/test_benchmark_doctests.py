@@ -12,7 +12,8 @@ if str(BENCH) not in sys.path:
     sys.path.insert(0, str(BENCH))
 
 # Modules with examples; the bench_* modules have none and import heavier dependencies.
-MODULES = ["external", "external_bsi", "external_scarlet", "run", "reference.webppl"]
+MODULES = ["external", "external_bsi", "external_scarlet", "run", "reference.webppl",
+           "_roles_report", "bench_roles"]
 FLAGS = doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS
 
 
