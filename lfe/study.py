@@ -21,7 +21,8 @@ import pandas as pd
 from sklearn.utils.parallel import Parallel, delayed
 
 from bsi_sklearn.io import write_atomic, write_files_atomic
-from lfe._cli_study import DEFAULTS, QUICK, add_arguments
+from lfe._settings import STUDY_DEFAULTS as DEFAULTS
+from lfe._settings import STUDY_QUICK as QUICK
 from lfe._study_cells import (
     ROWS,
     bsi_settings,
@@ -38,7 +39,7 @@ from lfe._study_stats import paired_differences, summarise
 from lfe.annotate import MISSION_OBJECTIVES
 from lfe.extractor import PROPOSITION_SETS
 
-__all__ = ["DEFAULTS", "MAX_POOL", "QUICK", "add_arguments", "run", "study"]
+__all__ = ["DEFAULTS", "MAX_POOL", "QUICK", "run", "study"]
 
 #: Largest training pool a repeat simulates (the largest allowed training size).
 MAX_POOL = 500
