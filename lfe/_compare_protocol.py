@@ -1,13 +1,10 @@
-"""The protocol of ``bsi-lfe compare``: the folds, the fit of each row, :func:`compare`.
+"""The protocol of ``bsi-lfe compare`` (:mod:`lfe.compare`): the folds, the tasks, :func:`compare`.
 
-The paper's large-force-exercise evaluation: four-fold cross-validation over the 24 missions
-(18 training / 6 test scenarios per fold), six classifiers (LSTM, Bi-LSTM, LSTM Coupled,
-Bi-LSTM Coupled, BSI with Prior 2 and BSI with Prior 3), weighted F1 over both outcomes per
-mission objective; and the F1 of the MAP specification fitted on the whole dataset. Beside
-the paper's rows, on the same folds: BSI with the CI likelihood, and what a practitioner
-would try first (:mod:`baselines.practitioner`: a logistic regression on plain temporal
-features, and MiniRocket). The rows are :mod:`lfe._compare_rows`'s; the result and its
-tables :mod:`lfe._compare_result`'s.
+The same folds for every row (shuffled, stratified on the three outcomes where possible); one
+task per row and fold (a network, a practitioner's row, a BSI classifier per objective or the
+majority class, fitted on the fold's training scenarios and predicting its test ones) and one
+per BSI row fitted on every scenario (its MAP specification scored); the tasks run through
+joblib, and their predictions make the tables of a :class:`~lfe.compare.ComparisonResult`.
 """
 
 from __future__ import annotations
