@@ -5,8 +5,10 @@ or matplotlib; :func:`run` imports :mod:`lfe.report` when the command runs. The 
 written out here; ``tests/test_cli_help.py`` checks them against the modules they come from.
 """
 
+from lfe._settings import REPORT_QUICK as QUICK
+
 __all__ = ["LIKELIHOOD_CHOICES", "OBJECTIVE_CHOICES", "PRIOR_CHOICES",
-           "PROPOSITION_SET_CHOICES", "QUICK", "add_arguments", "run"]
+           "PROPOSITION_SET_CHOICES", "add_arguments", "run"]
 
 #: ``lfe.annotate.MISSION_OBJECTIVES``.
 OBJECTIVE_CHOICES = ("MO1", "MO2", "MO3")
@@ -15,11 +17,6 @@ PROPOSITION_SET_CHOICES = ("paper", "extended")
 #: ``bsi_sklearn.priors.PRIORS`` and ``bsi_sklearn.likelihood.LIKELIHOODS``.
 PRIOR_CHOICES = ("linear_chain", "sets_of_chains", "forest")
 LIKELIHOOD_CHOICES = ("cb", "ci")
-
-#: ``--quick``: the simulated scenarios (unless ``--dataset``) and a short MCMC run. The
-#: paper's proposition set has 8,296,448 hypotheses under Prior 2: exact enumeration takes a
-#: few seconds, so the default run is exact; larger sets fall back to MCMC.
-QUICK = dict(n_scenarios=8, n_samples=300, n_chains=2, burn_in=50)
 
 
 def add_arguments(parser):

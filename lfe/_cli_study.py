@@ -1,21 +1,18 @@
-"""``bsi-lfe study``'s arguments and settings, in a module that imports nothing heavy.
+"""``bsi-lfe study``'s arguments, in a module that imports nothing heavy.
 
 ``bsi-lfe study --help`` builds its parser from here without loading the study (pandas,
-scikit-learn, torch); :func:`run` imports :mod:`lfe.study` when the command runs.
+scikit-learn, torch); :func:`run` imports :mod:`lfe.study` when the command runs. The
+defaults it shows are :mod:`lfe._settings`'s, which :mod:`lfe.study` reads too.
 """
 
-__all__ = ["DEFAULTS", "QUICK", "add_arguments", "run"]
+from lfe._settings import STUDY_DEFAULTS, STUDY_QUICK
 
-#: The default study: 5 sizes x 10 repeats x 2 noise rates x 2 proposition sets.
-DEFAULTS = dict(sizes=(6, 12, 18, 36, 72), repeats=10, test_size=200, noise=(0.0, 0.04),
-                propositions=("paper", "extended"))
-#: ``--quick``: a smoke test in about a minute (small networks, short MCMC runs).
-QUICK = dict(sizes=(4, 8), repeats=2, test_size=12, noise=(0.04,), propositions=("paper",))
+__all__ = ["add_arguments", "run"]
 
 
 def add_arguments(parser):
     """Arguments of ``bsi-lfe study``."""
-    d, q = DEFAULTS, QUICK
+    d, q = STUDY_DEFAULTS, STUDY_QUICK
 
     def listed(values):
         return ",".join(f"{v:g}" if isinstance(v, float) else str(v) for v in values)

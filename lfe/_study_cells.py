@@ -25,10 +25,10 @@ from baselines.practitioner import (
     make_practitioner_baseline,
 )
 from bsi_sklearn.classifier import BSIClassifier
+from lfe._compare_protocol import _weighted_f1  # the comparison's scorer, shared within lfe
+from lfe._compare_rows import BSI_ROWS as COMPARE_BSI_ROWS
+from lfe._compare_rows import WITHOUT_ROLES  # rows fitted without the extractor's roles
 from lfe.annotate import MISSION_OBJECTIVES, annotate_scenarios
-from lfe.compare import BSI_ROWS as COMPARE_BSI_ROWS
-from lfe.compare import WITHOUT_ROLES  # rows fitted without the extractor's roles
-from lfe.compare import _weighted_f1  # the comparison's scorer, shared within lfe
 from lfe.dataset import make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
 from lfe.scenario import checked_once

@@ -165,8 +165,8 @@ def study_repeat_digest(seed=0, repeat=0):
     summary : str
         What was hashed, in words.
     """
+    from lfe._settings import STUDY_DEFAULTS as DEFAULTS
     from lfe._study_cells import TIME_NOISE, repeat_dataset, repeat_seeds
-    from lfe.study import DEFAULTS
 
     seeds = repeat_seeds(seed, repeat)
     n_pool, test_size = max(DEFAULTS["sizes"]), DEFAULTS["test_size"]

@@ -2,8 +2,9 @@
 
 Each subcommand's arguments live in a light module exposing ``add_arguments(parser)`` and
 ``run(args)`` (``lfe._cli_*``: nothing heavy imported, so that ``--help`` is quick); ``run``
-imports the subcommand's real module. This file only wires them, importing a module when its
-subcommand is chosen.
+imports the subcommand's real module when it runs. The real modules never import the light
+ones back: the settings both need (``--quick`` sizes, the study's defaults) live in
+``lfe._settings``. This file only wires them, importing a module when its subcommand is chosen.
 """
 
 import sys

@@ -9,13 +9,13 @@ from pathlib import Path
 from bsi_sklearn.classifier import BSIClassifier
 from bsi_sklearn.param_validation import Interval, check_options
 from bsi_sklearn.report import explain
-from lfe._cli_report import QUICK, add_arguments
+from lfe._settings import REPORT_QUICK
 from lfe.annotate import MISSION_OBJECTIVES
 from lfe.dataset import load_lfe_dataset, make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
 from lfe.propositions import PROPOSITION_DESCRIPTIONS
 
-__all__ = ["OBJECTIVE_TITLES", "add_arguments", "explain_objectives", "run", "write_reports"]
+__all__ = ["OBJECTIVE_TITLES", "explain_objectives", "run", "write_reports"]
 
 #: The mission objectives as the commander briefs them (paper, section on LFE).
 OBJECTIVE_TITLES = {
@@ -23,8 +23,6 @@ OBJECTIVE_TITLES = {
     "MO2": "Destroy the assigned target within the time-on-target window",
     "MO3": "Friendly attrition does not exceed 25%",
 }
-
-_QUICK = QUICK  # the --quick settings, with the command line's arguments (lfe._cli_report)
 
 
 def explain_objectives(dataset=None, *, objectives=MISSION_OBJECTIVES, propositions="paper",
@@ -181,13 +179,14 @@ def run(args):
     """Fit, explain and write the reports; print a one-line summary per objective."""
     check_options(args, _OPTION_CONSTRAINTS)
     if args.dataset is None and args.quick:
-        dataset = make_lfe_dataset(n_scenarios=_QUICK["n_scenarios"], random_state=args.seed)
+        dataset = make_lfe_dataset(n_scenarios=REPORT_QUICK["n_scenarios"],
+                                   random_state=args.seed)
     else:
         dataset = load_lfe_dataset(args.dataset)
     if args.quick:
         # auto: exact whenever its work budget allows (milliseconds on the LFE template)
-        sampling = dict(inference="auto", n_samples=_QUICK["n_samples"],
-                        n_chains=_QUICK["n_chains"], burn_in=_QUICK["burn_in"])
+        sampling = dict(inference="auto", n_samples=REPORT_QUICK["n_samples"],
+                        n_chains=REPORT_QUICK["n_chains"], burn_in=REPORT_QUICK["burn_in"])
     else:
         sampling = dict(inference=args.inference, n_samples=args.n_samples)
     reports = explain_objectives(

@@ -10,18 +10,29 @@ network. See :func:`study` and the README.
 
 from __future__ import annotations
 
+import argparse
 import io
 import json
-import math
-import numbers
+import os
 import time
+from numbers import Integral, Real
 from pathlib import Path
 
 import pandas as pd
 from sklearn.utils.parallel import Parallel, delayed
 
 from bsi_sklearn.io import write_atomic, write_files_atomic
-from lfe._cli_study import DEFAULTS, QUICK, add_arguments
+from bsi_sklearn.param_validation import (
+    NONZERO_INTEGER,
+    Interval,
+    Satisfies,
+    StrOptions,
+    check_options,
+    is_satisfied,
+    validate_params,
+)
+from lfe._settings import STUDY_DEFAULTS as DEFAULTS
+from lfe._settings import STUDY_QUICK as QUICK
 from lfe._study_cells import (
     ROWS,
     bsi_settings,
@@ -40,61 +51,54 @@ from lfe.extractor import PROPOSITION_SETS
 
 # The repeat's missions, the cells' training draws and seeds, and the intervals are public:
 # a script that recomputes some rows of the study on its own cells (benchmarks/) needs them.
-__all__ = ["DEFAULTS", "MAX_POOL", "QUICK", "add_arguments", "derive_seed", "draw_training_set",
-           "repeat_seeds", "run", "simulate_repeat", "study", "t_interval"]
+__all__ = ["DEFAULTS", "MAX_POOL", "QUICK", "derive_seed", "draw_training_set", "repeat_seeds",
+           "run", "simulate_repeat", "study", "t_interval"]
 
 #: Largest training pool a repeat simulates (the largest allowed training size).
 MAX_POOL = 500
 _MAX_TEST = 5000
 
 
-def _check(sizes, repeats, test_size, noise, propositions, seed, n_jobs, out):
-    """Validate every argument before anything is simulated; return them normalised."""
-    def integer(value, name, low, high=None):
-        if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low \
-                or (high is not None and value > high):
-            bound = f"in [{low}, {high}]" if high is not None else f">= {low}"
-            raise ValueError(f"{name} must be an integer {bound}, got {value!r}")
-        return int(value)
+def _distinct_list(item, words):
+    """A non-empty list of distinct values, each satisfying the constraint ``item``."""
+    return Satisfies(lambda v: isinstance(v, list) and len(v) > 0 and len(set(v)) == len(v)
+                     and all(is_satisfied(item, x) for x in v), words)
 
-    sizes = list(sizes)
-    if not sizes:
-        raise ValueError("--sizes needs at least one training size")
-    for n in sizes:
-        if not isinstance(n, bool) and isinstance(n, numbers.Integral) and n > MAX_POOL:
-            raise ValueError(f"--sizes: {n} is above the training pool: a repeat simulates at "
-                             f"most {MAX_POOL} training missions")
-        integer(n, "every --sizes value", 2)
-    if len(set(sizes)) != len(sizes):
-        raise ValueError(f"--sizes has a repeated value: {sizes}")
-    repeats = integer(repeats, "--repeats", 1)
-    test_size = integer(test_size, "--test-size", 2, _MAX_TEST)
-    noise = list(noise)
-    if not noise:
-        raise ValueError("--noise needs at least one rate")
-    for rate in noise:
-        if isinstance(rate, bool) or not isinstance(rate, numbers.Real) \
-                or not math.isfinite(rate) or not 0.0 <= rate <= 0.5:
-            raise ValueError(f"every --noise rate must be a number in [0, 0.5] (a probability "
-                             f"of flipping a verdict), got {rate!r}")
-    if len(set(noise)) != len(noise):
-        raise ValueError(f"--noise has a repeated value: {noise}")
-    propositions = list(propositions)
-    unknown = [p for p in propositions if p not in PROPOSITION_SETS]
-    if unknown or not propositions:
-        raise ValueError(f"unknown proposition set(s) {unknown}; choose among "
-                         f"{sorted(PROPOSITION_SETS)}")
-    if len(set(propositions)) != len(propositions):
-        raise ValueError(f"--propositions has a repeated value: {propositions}")
-    seed = integer(seed, "--seed", 0, 2**32 - 1)
-    if n_jobs is not None and (isinstance(n_jobs, bool) or not isinstance(n_jobs, numbers.Integral)
-                               or n_jobs == 0):
-        raise ValueError(f"--n-jobs must be a non-zero integer, got {n_jobs!r}")
-    out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise ValueError(f"--out {out} is a file, not a directory")
-    return (sorted(int(n) for n in sizes), repeats, test_size, [float(r) for r in noise],
-            propositions, seed, out)
+
+def _not_a_file(value):
+    return isinstance(value, (str, os.PathLike)) and not (
+        Path(value).exists() and not Path(value).is_dir())
+
+
+#: The study's arguments (:mod:`bsi_sklearn.param_validation`), checked in this order before
+#: anything is simulated; the command line checks its options against the same constraints.
+_STUDY_CONSTRAINTS = {
+    "sizes": [_distinct_list(
+        Interval(Integral, 2, MAX_POOL, closed="both"),
+        f"a non-empty list of distinct integers in [2, {MAX_POOL}] (a repeat simulates at most "
+        f"{MAX_POOL} training missions)")],
+    "repeats": [Interval(Integral, 1, None, closed="left")],
+    "test_size": [Interval(Integral, 2, _MAX_TEST, closed="both")],
+    "noise": [_distinct_list(
+        Interval(Real, 0, 0.5, closed="both"),
+        "a non-empty list of distinct numbers in [0, 0.5] (probabilities of flipping a "
+        "verdict)")],
+    "propositions": [_distinct_list(
+        StrOptions(sorted(PROPOSITION_SETS)),
+        f"a non-empty list of distinct proposition sets among {sorted(PROPOSITION_SETS)}")],
+    "seed": [Interval(Integral, 0, 2**32 - 1, closed="both")],
+    "n_jobs": [None, NONZERO_INTEGER],
+    "out": [Satisfies(_not_a_file, "a directory, or a path where one can be made (not a file)")],
+    "quick": "no_validation",  # read as a truth value
+    "verbose": [Interval(Integral, 0, None, closed="left")],
+}
+
+
+def _listed(values):
+    """``values`` as a list when it is a sequence or an iterator (left as given otherwise)."""
+    if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
+        return values
+    return list(values)
 
 
 def _cell_name(noise, propositions, n_train, repeat):
@@ -191,17 +195,28 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
         ``study.csv``, ``study_paired.csv``, ``study_runs.csv``, ``study_warnings.csv``,
         ``study.md``, ``config.json``, ``study_times.csv`` and one ``learning_curve_<MO>.png``
         per objective.
+
+    Raises
+    ------
+    ValueError
+        An :class:`~bsi_sklearn.param_validation.InvalidParameterError` naming the first bad
+        argument and what it must be, before anything is simulated or written; or ``out``
+        holds a study with other arguments.
     """
     base = QUICK if quick else DEFAULTS
-    args = _check(base["sizes"] if sizes is None else sizes,
-                  base["repeats"] if repeats is None else repeats,
-                  base["test_size"] if test_size is None else test_size,
-                  base["noise"] if noise is None else noise,
-                  base["propositions"] if propositions is None else propositions,
-                  seed, n_jobs, out)
-    sizes, repeats, test_size, noise, propositions, seed, out = args
-    if isinstance(verbose, bool) or not isinstance(verbose, numbers.Integral) or verbose < 0:
-        raise ValueError(f"verbose must be an integer >= 0, got {verbose!r}")
+    params = {
+        "sizes": _listed(base["sizes"] if sizes is None else sizes),
+        "repeats": base["repeats"] if repeats is None else repeats,
+        "test_size": base["test_size"] if test_size is None else test_size,
+        "noise": _listed(base["noise"] if noise is None else noise),
+        "propositions": _listed(base["propositions"] if propositions is None else propositions),
+        "seed": seed, "n_jobs": n_jobs, "out": out, "quick": quick, "verbose": verbose,
+    }
+    validate_params(params, _STUDY_CONSTRAINTS, "study")
+    sizes = sorted(int(n) for n in params["sizes"])
+    repeats, test_size, seed = (int(params[k]) for k in ("repeats", "test_size", "seed"))
+    noise = [float(r) for r in params["noise"]]
+    propositions, out = params["propositions"], Path(out)
     if command is None:
         command = (f"bsi-lfe study --sizes {','.join(map(str, sizes))} --repeats {repeats} "
                    f"--test-size {test_size} --noise {','.join(f'{r:g}' for r in noise)} "
@@ -337,6 +352,8 @@ def run(args):
         "propositions": (None if args.propositions is None
                          else [p.strip() for p in args.propositions.split(",") if p.strip()]),
     }
+    # every option checked as typed (--sizes, not sizes) before anything is simulated
+    check_options(argparse.Namespace(**{**vars(args), **parsed}), _STUDY_CONSTRAINTS)
     paths = study(**parsed, repeats=args.repeats, test_size=args.test_size, seed=args.seed,
                   n_jobs=args.n_jobs, out=args.out, quick=args.quick, verbose=args.verbose)
     paired = pd.read_csv(paths["study_paired.csv"])

@@ -11,6 +11,7 @@ import pytest
 from sklearn.metrics import f1_score
 
 from lfe import make_lfe_dataset
+from lfe._compare_protocol import _folds, _weighted_f1
 from lfe.cli import main
 from lfe.compare import (
     BSI_ROWS,
@@ -19,8 +20,6 @@ from lfe.compare import (
     PAPER_F1,
     PAPER_MAP_F1,
     ROWS,
-    _folds,
-    _weighted_f1,
     compare,
 )
 

@@ -128,18 +128,15 @@ def test_each_repeat_is_simulated_once_for_all_its_cells(tmp_path, monkeypatch):
     assert len(simulated) == 1 and len(seen) == 4 and len(set(seen)) == 1
 
 
-@pytest.mark.parametrize("argv, message", [
-    (["--sizes", "3,600"], "above the training pool"),
-    (["--sizes", "1"], "--sizes"),
-    (["--noise", "-0.1"], "--noise"),
-    (["--noise", "0.7"], "--noise"),
-    (["--propositions", "paper,nope"], "unknown proposition set"),
-    (["--repeats", "0"], "--repeats"),
-    (["--test-size", "1"], "--test-size"),
-    (["--n-jobs", "0"], "--n-jobs"),
-    (["--sizes", "3,x"], "comma-separated"),
-])
-def test_bad_arguments_rejected_before_simulation(argv, message, tmp_path, monkeypatch):
+SIZES = ("must be a non-empty list of distinct integers in [2, 500] (a repeat simulates at "
+         "most 500 training missions), got ")
+NOISE = ("must be a non-empty list of distinct numbers in [0, 0.5] (probabilities of flipping a "
+         "verdict), got ")
+SETS = "must be a non-empty list of distinct proposition sets among ['extended', 'paper'], got "
+OUT = "must be a directory, or a path where one can be made (not a file), got "
+
+
+def _no_simulation(monkeypatch):
     import lfe._study_cells
 
     def boom(**kwargs):
@@ -147,10 +144,87 @@ def test_bad_arguments_rejected_before_simulation(argv, message, tmp_path, monke
 
     monkeypatch.setattr(lfe._study_cells, "simulate_repeat", boom)
     monkeypatch.setattr("lfe.study.simulate_repeat", boom)
+
+
+# Issue 22: the study's arguments go through bsi_sklearn.param_validation (before: hand checks
+# beside it); the command line names its options as typed, the function its parameters.
+@pytest.mark.parametrize("argv, message", [
+    (["--sizes", "3,600"], "--sizes " + SIZES + "[3, 600]"),
+    (["--sizes", "1"], "--sizes " + SIZES + "[1]"),
+    (["--sizes", "4,4"], "--sizes " + SIZES + "[4, 4]"),
+    (["--sizes", ","], "--sizes " + SIZES + "[]"),
+    (["--noise", "-0.1"], "--noise " + NOISE + "[-0.1]"),
+    (["--noise", "0.7"], "--noise " + NOISE + "[0.7]"),
+    (["--noise", "0,0.0"], "--noise " + NOISE + "[0.0, 0.0]"),
+    (["--propositions", "paper,nope"], "--propositions " + SETS + "['paper', 'nope']"),
+    (["--repeats", "0"], "--repeats must be an integer >= 1, got 0"),
+    (["--test-size", "1"], "--test-size must be an integer in [2, 5000], got 1"),
+    (["--seed", "-1"], "--seed must be an integer in [0, 4294967295], got -1"),
+    (["--n-jobs", "0"], "--n-jobs must be a non-zero integer, got 0"),
+    (["--verbose", "-1"], "--verbose must be an integer >= 0, got -1"),
+    (["--sizes", "3,x"], "cannot read '3,x' as a comma-separated list of int"),
+])
+def test_bad_arguments_rejected_before_simulation(argv, message, tmp_path, monkeypatch):
+    _no_simulation(monkeypatch)
     status, _, err = _run(["--quick", "--verbose", "0", "--out", str(tmp_path / "o"), *argv])
     assert status == 2
-    assert message in err
+    assert err == f"bsi-lfe study: error: {message}\n"
     assert not (tmp_path / "o").exists()
+
+
+def test_an_out_that_is_a_file_is_rejected(tmp_path, monkeypatch):
+    _no_simulation(monkeypatch)
+    (tmp_path / "f").write_text("mine")
+    status, _, err = _run(["--quick", "--verbose", "0", "--out", str(tmp_path / "f")])
+    assert status == 2 and err == f"bsi-lfe study: error: --out {OUT}{str(tmp_path / 'f')!r}\n"
+    assert (tmp_path / "f").read_text() == "mine"
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"sizes": [3, 600]}, "sizes " + SIZES + "[3, 600]"),
+    ({"sizes": (1, 4)}, "sizes " + SIZES + "[1, 4]"),
+    ({"sizes": [4, 4]}, "sizes " + SIZES + "[4, 4]"),
+    ({"sizes": []}, "sizes " + SIZES + "[]"),
+    ({"sizes": [4.0]}, "sizes " + SIZES + "[4.0]"),
+    ({"sizes": 4}, "sizes " + SIZES + "4"),
+    ({"repeats": 0}, "repeats must be an integer >= 1, got 0"),
+    ({"repeats": True}, "repeats must be an integer >= 1, got True"),
+    ({"test_size": 5001}, "test_size must be an integer in [2, 5000], got 5001"),
+    ({"noise": [float("nan")]}, "noise " + NOISE + "[nan]"),
+    ({"noise": (0.04, 0.04)}, "noise " + NOISE + "[0.04, 0.04]"),
+    ({"noise": [0.6]}, "noise " + NOISE + "[0.6]"),
+    ({"propositions": "paper"}, "propositions " + SETS + "'paper'"),
+    ({"propositions": ["paper", "paper"]}, "propositions " + SETS + "['paper', 'paper']"),
+    ({"seed": 2**32}, "seed must be an integer in [0, 4294967295], got 4294967296"),
+    ({"n_jobs": 0}, "n_jobs must be None or a non-zero integer, got 0"),
+    ({"n_jobs": 1.5}, "n_jobs must be None or a non-zero integer, got 1.5"),
+    ({"out": 3}, "out " + OUT + "3"),
+    ({"verbose": -1}, "verbose must be an integer >= 0, got -1"),
+])
+def test_study_names_each_bad_argument(kwargs, message, tmp_path, monkeypatch):
+    from bsi_sklearn.param_validation import InvalidParameterError
+    from lfe.study import study
+
+    _no_simulation(monkeypatch)
+    with pytest.raises(ValueError) as caught:
+        study(**{"quick": True, "out": tmp_path / "o", **kwargs})
+    assert isinstance(caught.value, InvalidParameterError)
+    assert str(caught.value) == f"study: {message}"
+    assert not (tmp_path / "o").exists()
+
+
+def test_study_arguments_are_normalised(tmp_path, monkeypatch):
+    # iterables are read once: a generator of sizes is validated and used, not exhausted
+    import numpy as np
+
+    from lfe.study import study
+
+    _no_simulation(monkeypatch)
+    with pytest.raises(AssertionError, match="simulated despite"):
+        study(sizes=(n for n in (8, 4)), noise=np.array([0.04]), repeats=np.int64(1),
+              test_size=4, quick=True, out=tmp_path, verbose=0)
+    config = json.loads((tmp_path / "config.json").read_text())
+    assert (config["sizes"], config["noise"], config["repeats"]) == ([4, 8], [0.04], 1)
 
 
 def test_t_interval_and_seeds():
