@@ -37,6 +37,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from benchmarks._common import machine_info, md_table  # noqa: E402
 from bsi_sklearn import BSIClassifier  # noqa: E402
 from bsi_sklearn.likelihood import LIKELIHOODS  # noqa: E402
+from lfe.annotate import MISSION_OBJECTIVES  # noqa: E402
 from lfe.study import (  # noqa: E402
     derive_seed,
     draw_training_set,
@@ -44,7 +45,6 @@ from lfe.study import (  # noqa: E402
     simulate_repeat,
     t_interval,
 )
-from lfe.annotate import MISSION_OBJECTIVES  # noqa: E402
 
 #: BSI rows with the extractor's roles (the study's fixed rows): name -> parameters.
 WITH_ROLES = {"BSI (Prior 2)": {"prior": "sets_of_chains"},

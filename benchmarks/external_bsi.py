@@ -127,7 +127,8 @@ def fit_bsi(X_train, y_train, cfg, random_state=0):
     clf : BSIClassifier
     info : dict
         ``fit_s`` (wall seconds: augmentation, screening and fit), ``globals``, ``subtasks``
-        (the roles used), ``screened_*`` (candidates before the caps).
+        (the roles used), ``screened_*`` (candidates before the caps), ``warnings`` (the
+        categories of the warnings the fit raised) and ``n_warnings`` (how many).
     """
     t0 = time.perf_counter()
     augmenter = NegationAugmenter(prefix=NEG).fit(X_train)
@@ -141,10 +142,12 @@ def fit_bsi(X_train, y_train, cfg, random_state=0):
                         subtasks=subtasks, inference="auto", max_exact_hypotheses=cfg.max_exact,
                         n_samples=cfg.n_samples, n_chains=cfg.n_chains, n_jobs=1,
                         random_state=random_state)
-    with warnings.catch_warnings():
-        # R-hat warnings are recorded per file (mcmc_rhat), not printed 400 times
-        warnings.simplefilter("ignore")
+    with warnings.catch_warnings(record=True) as caught:
+        # counted per file (the "warnings" column), not printed 400 times
+        warnings.simplefilter("always")
         clf.fit(Xa, y_train)
     info = {"fit_s": time.perf_counter() - t0, "globals": globals_, "subtasks": subtasks,
-            "screened_globals": screened["globals"], "screened_subtasks": screened["subtasks"]}
+            "screened_globals": screened["globals"], "screened_subtasks": screened["subtasks"],
+            "warnings": "; ".join(sorted({w.category.__name__ for w in caught})),
+            "n_warnings": len(caught)}
     return augmenter, clf, info
