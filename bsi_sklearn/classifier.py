@@ -60,14 +60,16 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     conditions : dict, default=None
         Subtask -> condition proposition ``pi_w`` (read at t = 0). Subtasks without an entry
         have ``pi_w = true``; ``{}``: no conditions.
-    roles : {"all", "infer"}, default="all"
-        What the roles left at ``None`` become. ``"all"``: every proposition is a global
-        candidate and a subtask, and no subtask has a condition (the paper's setting).
-        ``"infer"``: read from the training demonstrations (propositions whose clauses the
+    roles : {"infer", "all"}, default="infer"
+        What the roles left at ``None`` become. ``"infer"``: read from the training
+        demonstrations (propositions whose clauses the
         demonstrations can test, each subtask's condition from the initial values that
         separate the acceptable demonstrations completing it from those skipping it; see
         :func:`bsi_sklearn.inferred_roles.infer_roles` and ``docs/roles.md``). A role given
-        explicitly is used as given either way; ``roles_`` says what was used.
+        explicitly is used as given either way; ``roles_`` says what was used. ``"all"``:
+        every proposition is a global candidate and a subtask, and no subtask has a
+        condition (the paper's setting without an expert's roles; vacuous clauses and chance
+        orders then enter the MAP, see ``docs/roles.md``).
     p_global : float, default=0.8
         Prior inclusion probability of each ``G`` clause.
     p_eventual : float, default=0.8
@@ -218,7 +220,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     """
 
     def __init__(self, *, prior="sets_of_chains", likelihood="cb", global_candidates=None,
-                 subtasks=None, conditions=None, roles="all", p_global=0.8, p_eventual=0.8,
+                 subtasks=None, conditions=None, roles="infer", p_global=0.8, p_eventual=0.8,
                  p_part=0.3, n_new=5.0, epsilon=None, inference="auto", n_samples=10_000,
                  burn_in=100, n_chains=4, n_temperatures="auto", max_exact_hypotheses=None,
                  tol=1e-9, binarize=None, pos_label=None, n_jobs=None, random_state=None,
