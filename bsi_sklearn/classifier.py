@@ -196,7 +196,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     every state the chains visited (they agree, if they do, on a wrong mode), when some chain
     never visited more than 5% of the mass the chains found (``max_missed_mass``: they
     disagree), and when the split-R-hat exceeds 1.05 (with one chain, the halves of its
-    trace are compared, and no chain can disagree). With the default roles (every proposition
+    trace are compared, and no chain can disagree). With ``roles="all"`` (every proposition
     a global candidate and a subtask) and a support that ``"auto"`` could not enumerate, a
     ``UserWarning`` suggests ``global_candidates``, ``subtasks`` and ``conditions``.
 

@@ -199,11 +199,12 @@ def warn_all_roles(n_props, n_hyp, above_cap):
               else "needs more than inference='auto''s work budget to enumerate exactly "
                    "(about a second)")
     warnings.warn(
-        f"With the default roles all {n_props} propositions are global candidates and "
+        f"With roles='all' all {n_props} propositions are global candidates and "
         f"subtasks: the support ({n_hyp:.3g} hypotheses) {reason}, so MCMC samples it. "
         "Say which propositions play which role with global_candidates=, subtasks= and "
         "conditions= (a dataset's Bunch has them: BSIClassifier(**data.roles)), or infer "
-        "them from the data with roles='infer', to make the posterior smaller and exact.",
+        "them from the data with roles='infer' (the default), to make the posterior smaller "
+        "and exact.",
         UserWarning,
         stacklevel=4,
     )

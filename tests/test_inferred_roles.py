@@ -244,7 +244,7 @@ def test_inferred_roles_do_not_claim_the_default_roles_in_warnings():
         warnings.simplefilter("always")
         BSIClassifier(roles="infer", max_exact_hypotheses=1, n_samples=20, n_chains=1,
                       random_state=0).fit(X)
-    assert not [w for w in caught if "default roles" in str(w.message)]
+    assert not [w for w in caught if "roles='all'" in str(w.message)]
 
 
 # ---------------------------------------------------------------- a conditional step

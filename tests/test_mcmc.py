@@ -146,11 +146,12 @@ def test_no_convergence_warning_when_the_reported_posterior_agrees():
     assert one.mcmc_diagnostics_["max_missed_mass"] == 0.0 and caught == []
 
 
-def test_default_roles_with_a_huge_support_suggest_roles():
+def test_every_proposition_in_every_role_with_a_huge_support_suggests_roles():
     X = [np.array([[1, 0, 0], [1, 1, 0], [1, 1, 1]])] * 3
-    with pytest.warns(UserWarning, match=r"default roles all 3 propositions.*global_candidates="):
+    with pytest.warns(UserWarning, match=r"roles='all' all 3 propositions.*global_candidates="):
         warnings.simplefilter("ignore", ConvergenceWarning)
-        BSIClassifier(max_exact_hypotheses=10, n_samples=20, random_state=0).fit(X)
+        BSIClassifier(roles="all", max_exact_hypotheses=10, n_samples=20,
+                      random_state=0).fit(X)
     with warnings.catch_warnings():
         warnings.simplefilter("error", UserWarning)
         BSIClassifier(max_exact_hypotheses=10, n_samples=20, n_chains=1, subtasks=[1, 2],
