@@ -190,6 +190,16 @@ class _Found(NamedTuple):
     work: int            # of the tables (the walk down them costs as much)
 
 
+def _pair_lls(lik, k, ps, ns):
+    # pair_ll over arrays, in numpy where a table holds it (a call into numba per structure
+    # group would cost more than the lookups).
+    if lik.joint.shape[0] == 0:
+        return lik.pos[k, ps] + lik.neg[k, ns]
+    if lik.joint.shape[1] > 0:
+        return lik.joint[np.minimum(k, lik.joint.shape[0] - 1), ps, ns]
+    return pair_ll_many(lik, k.astype(np.int64), ps.astype(np.int64), ns.astype(np.int64))
+
+
 def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
     # The subset-pair groups each flagged structure group may reach keep with; the work and
     # the number of hypotheses the last walk may list.
@@ -209,7 +219,7 @@ def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
         ps = popcounts(hs.pos, ss.bits[g])
         ns = popcounts(hs.neg, ss.bits[g])
         k = ss.size[g] + hs.size
-        ll = pair_ll_many(lik, k.astype(np.int64), ps.astype(np.int64), ns.astype(np.int64))
+        ll = _pair_lls(lik, k, ps, ns)
         ok = np.flatnonzero(hs.best + ss.best[g] + ll >= keep)
         pass_h.append(ok)
         pass_ll.append(ll[ok])
