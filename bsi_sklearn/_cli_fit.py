@@ -21,7 +21,7 @@ __all__ = ["add_arguments", "run", "parse_conditions"]
 # numba (tests/test_cli_fit.py checks them against bsi_sklearn.priors.PRIORS and
 # bsi_sklearn.likelihood.LIKELIHOODS).
 PRIOR_CHOICES = ("linear_chain", "sets_of_chains", "forest")
-LIKELIHOOD_CHOICES = ("cb", "ci")
+LIKELIHOOD_CHOICES = ("cb", "ci", "calibrated")
 
 _DESCRIPTION = """\
 Fit BSI on each FILE (one model per file) and print the MAP specification, the training

@@ -12,15 +12,16 @@ from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn._compile_progress import compile_progress
 from bsi_sklearn.clauses import clause_truth
-from bsi_sklearn.inference.diagnostics import MISSED_WARN, MODE_WARN, RHAT_WARN
+from bsi_sklearn.inference.diagnostics import disagreement_problems
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.inference.mcmc import sample_posterior
 from bsi_sklearn.inferred_roles import infer_roles, warn_all_roles
-from bsi_sklearn.likelihood import LIKELIHOODS
+from bsi_sklearn.likelihood import LIKELIHOODS, flip_rate_posterior, is_flip_prior
 from bsi_sklearn.model import make_model
 from bsi_sklearn.param_validation import (
     NONZERO_INTEGER,
     Interval,
+    Satisfies,
     StrOptions,
     validate_params,
 )
@@ -51,8 +52,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     prior : {"linear_chain", "sets_of_chains", "forest"}, default="sets_of_chains"
         Prior over the order structure: Prior 1 (one permutation of all subtasks), Prior 2 (sets
         of disjoint chains) or Prior 3 (forest of subtasks).
-    likelihood : {"cb", "ci"}, default="cb"
-        Complexity-based (size principle) or complexity-independent likelihood.
+    likelihood : {"cb", "ci", "calibrated"}, default="cb"
+        Complexity-based (size principle), complexity-independent likelihood, or the size
+        principle calibrated by the data (``docs/likelihoods.md``).
     global_candidates : list of str or int, default=None
         Propositions that may be required to hold always (the set T). ``None``: all.
     subtasks : list of str or int, default=None
@@ -81,6 +83,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     epsilon : float, default=None
         Likelihood of a misclassified demonstration, in (0, 1). ``None`` uses the paper's
         ``log eps = -4 log(2) (|T| + |Omega| + |Omega|(|Omega|-1)/2)``.
+    flip_prior : (float, float), default=None
+        ``(a, b)``: with ``"ci"`` only, the flip rate ``epsilon`` has a Beta(a, b) prior and
+        is integrated out (``docs/likelihoods.md``; e.g. ``(1, 9)``: keep ``b > a``).
     inference : {"auto", "exact", "mcmc"}, default="auto"
         ``"auto"`` enumerates the posterior exactly when the enumeration needs at most about a
         second of work on a 2020s CPU core, however large the support, and samples with MCMC
@@ -155,6 +160,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         Size of the prior's support.
     log_epsilon_ : float
         ``log(epsilon)`` used by the likelihood.
+    flip_rate_, flip_rate_interval_ : float, (float, float)
+        With ``flip_prior``, the flip rate's posterior mean and central 95% interval
+        (``docs/likelihoods.md``); ``None`` without.
     mcmc_diagnostics_ : dict or None
         For MCMC (``None`` after exact inference):
 
@@ -221,10 +229,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
 
     def __init__(self, *, prior="sets_of_chains", likelihood="cb", global_candidates=None,
                  subtasks=None, conditions=None, roles="infer", p_global=0.8, p_eventual=0.8,
-                 p_part=0.3, n_new=5.0, epsilon=None, inference="auto", n_samples=10_000,
-                 burn_in=100, n_chains=4, n_temperatures="auto", max_exact_hypotheses=None,
-                 tol=1e-9, binarize=None, pos_label=None, n_jobs=None, random_state=None,
-                 verbose=0):
+                 p_part=0.3, n_new=5.0, epsilon=None, flip_prior=None, inference="auto",
+                 n_samples=10_000, burn_in=100, n_chains=4, n_temperatures="auto",
+                 max_exact_hypotheses=None, tol=1e-9, binarize=None, pos_label=None,
+                 n_jobs=None, random_state=None, verbose=0):
         self.prior = prior
         self.likelihood = likelihood
         self.global_candidates = global_candidates
@@ -236,6 +244,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         self.p_part = p_part
         self.n_new = n_new
         self.epsilon = epsilon
+        self.flip_prior = flip_prior
         self.inference = inference
         self.n_samples = n_samples
         self.burn_in = burn_in
@@ -274,6 +283,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         "p_part": [Interval(Real, 0.0, 1.0, closed="both")],
         "n_new": [Interval(Real, 0.0, math.inf, closed="neither")],
         "epsilon": [Interval(Real, 0.0, 1.0, closed="neither"), None],
+        "flip_prior": [None, Satisfies(is_flip_prior, "a pair (a, b) of positive numbers")],
         "inference": [StrOptions(_INFERENCE)],
         "n_samples": [Interval(Integral, 1, None, closed="left")],
         "burn_in": [Interval(Integral, 0, None, closed="left")],
@@ -330,7 +340,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         truth = clause_truth(traces, roles)
         model = make_model(prior=self.prior, likelihood=self.likelihood, n_globals=n_g,
                            n_subtasks=n, p_global=self.p_global, p_eventual=self.p_eventual,
-                           p_part=self.p_part, n_new=self.n_new, epsilon=self.epsilon)
+                           p_part=self.p_part, n_new=self.n_new, epsilon=self.epsilon,
+                           flip_prior=self.flip_prior)
         n_hyp = count_hypotheses(self.prior, n_g, n)
         inference = self.inference
         work = None
@@ -381,31 +392,13 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         advice = (f"Increase n_samples (now {self.n_samples:,}) or n_chains (now "
                   f"{self.n_chains}), or restrict the roles (global_candidates, subtasks, "
                   f"conditions) to shrink the support ({n_hyp:.3g} hypotheses).")
-        problems = []
-        if diag["optimum_gap"] > MODE_WARN:
-            problems.append(
-                "MCMC chains missed a mode: a deterministic search found a specification "
-                f"exp({diag['optimum_gap']:.3g}) times more probable than any state the chains "
-                "visited (mcmc_diagnostics_['optimum_gap'] > log 20); it is in the reported "
-                "posterior, but the chains never reached its neighbourhood, so the rest of "
-                "the reported posterior is unreliable.")
-        worst = diag["max_missed_mass"]
-        if worst > MISSED_WARN:
-            chain = int(np.argmax(diag["missed_mass_per_chain"]))
-            problems.append(
-                f"MCMC chains disagree: chain {chain} never visited specifications holding "
-                f"{worst:.1%} of the mass the chains found (> {MISSED_WARN:.0%}; "
-                "mcmc_diagnostics_['missed_mass_per_chain']), so the reported posterior is "
-                "unreliable.")
-        if diag["rhat"] > RHAT_WARN:  # nan (too few samples) does not warn
-            problems.append(
-                f"MCMC chains have not mixed: the split-R-hat of their log posteriors is "
-                f"{diag['rhat']:.3g} (> {RHAT_WARN}; mcmc_diagnostics_['rhat']).")
-        for message in problems:
+        for message in disagreement_problems(diag):
             warnings.warn(f"{message} {advice}", ConvergenceWarning, stacklevel=4)
 
     def _fit_exact(self, truth, y01, roles, model, max_work):
         res = exact_posterior(truth, y01, model, tol=float(self.tol), max_work=max_work)
+        self.flip_rate_, self.flip_rate_interval_ = flip_rate_posterior(
+            np.arange(len(res.violation_mass)), res.violation_mass, len(y01), self.flip_prior)
         probs = np.exp(res.log_prob)
         probs /= probs.sum()
         post = Posterior(res.structures, res.tau_masks, res.w1_masks, probs, roles,
@@ -416,6 +409,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         res = sample_posterior(truth, y01, model, seeds, n_samples=int(self.n_samples),
                                burn_in=int(self.burn_in), n_temperatures=self.n_temperatures,
                                n_jobs=self.n_jobs, verbose=self.verbose)
+        self.flip_rate_, self.flip_rate_interval_ = flip_rate_posterior(
+            res.violations, res.probabilities, len(y01), self.flip_prior)
         post = Posterior(res.structures, res.tau_masks, res.w1_masks, res.probabilities, roles)
         return post, res.diagnostics
 

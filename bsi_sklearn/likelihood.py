@@ -1,14 +1,25 @@
-"""Complexity-based (CB) and complexity-independent (CI) likelihoods, in log space."""
+"""The likelihoods of BSI, in log space, from counts (derivations: ``docs/likelihoods.md``).
+
+Complexity-based (CB, code 0) and complexity-independent (CI, code 1) as in the paper; CI with
+the flip rate integrated over a Beta prior (code 2); the size principle calibrated by the data
+(code 3). Codes 2 and 3 depend on the satisfied positives and negatives jointly.
+"""
 
 import math
+import numbers
 
 import numpy as np
 from numba import njit
 
-__all__ = ["default_log_epsilon", "resolve_log_epsilon", "log_likelihood", "LIKELIHOODS"]
+__all__ = ["default_log_epsilon", "resolve_log_epsilon", "log_likelihood", "LIKELIHOODS",
+           "likelihood_code", "is_flip_prior", "resolve_flip_prior", "splits_by_label",
+           "depends_on_conjuncts", "step_scale", "log_likelihood_reference",
+           "flip_rate_posterior"]
 
-LIKELIHOODS = ("cb", "ci")
-_LIKELIHOOD_CODE = {"cb": 0, "ci": 1}
+LIKELIHOODS = ("cb", "ci", "calibrated")
+_LIKELIHOOD_CODE = {"cb": 0, "ci": 1, "calibrated": 3}
+#: Code of ``"ci"`` with a Beta prior on the flip rate (``flip_prior=(a, b)``).
+_CI_FLIP_CODE = 2
 
 
 def default_log_epsilon(n_globals, n_subtasks):
@@ -33,9 +44,93 @@ def resolve_log_epsilon(epsilon, n_globals, n_subtasks):
     return math.log(epsilon)
 
 
-def likelihood_code(likelihood):
-    """Integer code of a likelihood name for the kernels."""
+def likelihood_code(likelihood, flip_prior=None):
+    """Integer code of a likelihood name (and flip prior) for the kernels."""
+    if flip_prior is not None:
+        resolve_flip_prior(likelihood, flip_prior)
+        return _CI_FLIP_CODE
     return _LIKELIHOOD_CODE[likelihood]
+
+
+def is_flip_prior(value):
+    """Whether ``value`` is a pair ``(a, b)`` of positive finite numbers (not booleans).
+
+    Examples
+    --------
+    >>> is_flip_prior((1, 9)), is_flip_prior((0, 1)), is_flip_prior((True, 1)), is_flip_prior(1)
+    (True, False, False, False)
+    """
+    if not isinstance(value, (tuple, list)) or len(value) != 2:
+        return False
+    return all(isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
+               and 0.0 < float(v) < math.inf for v in value)
+
+
+def resolve_flip_prior(likelihood, flip_prior, epsilon=None):
+    """``(a, b)`` of the flip rate's Beta prior as floats; ``(0.0, 0.0)`` for none.
+
+    Raises
+    ------
+    ValueError
+        When the prior is given with another likelihood than ``"ci"`` (CB and the calibrated
+        likelihood are not normalised over the labels, so a prior on their epsilon has no
+        meaning), together with ``epsilon`` (which it replaces), or is not a pair of positive
+        finite numbers.
+
+    Examples
+    --------
+    >>> resolve_flip_prior("ci", (1, 9))
+    (1.0, 9.0)
+    >>> resolve_flip_prior("cb", None)
+    (0.0, 0.0)
+    """
+    if flip_prior is None:
+        return 0.0, 0.0
+    if likelihood != "ci":
+        raise ValueError(
+            f"flip_prior applies to likelihood='ci' only, got likelihood={likelihood!r}: the "
+            "CB and calibrated likelihoods are not normalised over the labels, so their "
+            "epsilon is a penalty, not a flip rate with a prior")
+    if epsilon is not None:
+        raise ValueError(f"flip_prior={flip_prior!r} integrates the flip rate out: leave "
+                         f"epsilon=None (got epsilon={epsilon!r})")
+    if not is_flip_prior(flip_prior):
+        raise ValueError(f"flip_prior must be a pair (a, b) of positive finite numbers, got "
+                         f"{flip_prior!r}")
+    return float(flip_prior[0]), float(flip_prior[1])
+
+
+def splits_by_label(code):
+    """Whether the log-likelihood of ``code`` is a sum of a positives' and a negatives' term.
+
+    True for CB and CI; the others depend on the two counts jointly.
+    """
+    return code in (0, 1)
+
+
+def depends_on_conjuncts(code):
+    """Whether the likelihood of ``code`` depends on the number of conjuncts (CB only)."""
+    return code == 0
+
+
+def step_scale(code, log_eps, n_pos, n_neg, flip_a, flip_b):
+    """The largest change of the log-likelihood by one demonstration or one conjunct.
+
+    What the MCMC's temperature ladder spans (``mcmc.temperature_ladder``): ``|log eps|``
+    for a demonstration changing side; for CB also ``n_pos log 2`` for a conjunct; with the
+    flip rate integrated, the first violation costs ``log((b + n - 1) / a)``; the calibrated
+    likelihood also moves every correctly classified demonstration by up to ``log(n + 2)``
+    when one demonstration changes side.
+    """
+    n = n_pos + n_neg
+    if code == 0:
+        return max(-log_eps, n_pos * math.log(2.0))
+    if code == _CI_FLIP_CODE:
+        return max(abs(math.log(max(flip_b + n - 1.0, 1e-300) / flip_a)),
+                   abs(math.log(max(flip_a + n - 1.0, 1e-300) / flip_b)))
+    if code == 3:
+        return -log_eps + math.log(n + 2.0)
+    return -log_eps
 
 
 @njit(cache=True, nogil=True)
@@ -47,7 +142,12 @@ def _log1mexp(x):
 
 
 @njit(cache=True, nogil=True)
-def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code):
+def _log_beta(a, b):
+    return math.lgamma(a) + math.lgamma(b) - math.lgamma(a + b)
+
+
+@njit(cache=True, nogil=True)
+def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code, flip_a, flip_b):
     """Log-likelihood of a dataset given a formula, from counts.
 
     Parameters
@@ -59,9 +159,12 @@ def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code):
     n_conj : int
         Number of conjuncts ``N`` of the formula.
     log_eps : float
-        ``log(epsilon)``.
+        ``log(epsilon)`` (unused by code 2).
     code : int
-        0 for ``"cb"``, 1 for ``"ci"``.
+        0 ``"cb"``, 1 ``"ci"``, 2 ``"ci"`` with the flip rate integrated over a Beta(a, b)
+        prior, 3 ``"calibrated"``.
+    flip_a, flip_b : float
+        The Beta prior of code 2 (unused by the others).
 
     Returns
     -------
@@ -75,11 +178,28 @@ def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code):
             # log(2^N / (2^N - 1)) = -log(1 - 2^-N); a violated formula has N >= 1.
             out += neg_viol * (-_log1mexp(-n_conj * 0.6931471805599453))
         return out
-    log1m_eps = _log1mexp(log_eps)
-    return (pos_sat + neg_viol) * log1m_eps + (pos_viol + neg_sat) * log_eps
+    if code == 1:
+        log1m_eps = _log1mexp(log_eps)
+        return (pos_sat + neg_viol) * log1m_eps + (pos_viol + neg_sat) * log_eps
+    wrong = pos_viol + neg_sat
+    if code == 2:
+        # The flip rate integrated over its Beta(a, b) prior: B(a + v, b + n - v) / B(a, b).
+        return (_log_beta(flip_a + wrong, flip_b + pos_sat + neg_viol)
+                - _log_beta(flip_a, flip_b))
+    # Calibrated size principle: the mass of ext(phi) estimated from every demonstration,
+    # m = (s + 1) / (n + 2); an accepted satisfying demonstration earns 1 / m, a rejected
+    # violating one 1 / (1 - m), a misclassified one epsilon.
+    log_n2 = math.log(n_pos + n_neg + 2.0)
+    sat = pos_sat + neg_sat
+    out = wrong * log_eps
+    if pos_sat > 0.0:
+        out += pos_sat * (log_n2 - math.log(sat + 1.0))
+    if neg_viol > 0.0:
+        out += neg_viol * (log_n2 - math.log(n_pos + n_neg - sat + 1.0))
+    return out
 
 
-def log_likelihood_reference(satisfied, y, n_conj, log_eps, likelihood):
+def log_likelihood_reference(satisfied, y, n_conj, log_eps, likelihood, flip_prior=None):
     """Per-demonstration reference implementation (plain Python), for tests and docs.
 
     Parameters
@@ -90,20 +210,99 @@ def log_likelihood_reference(satisfied, y, n_conj, log_eps, likelihood):
         Labels.
     n_conj : int
     log_eps : float
-    likelihood : {"cb", "ci"}
+    likelihood : {"cb", "ci", "calibrated"}
+    flip_prior : tuple of float, default=None
+        ``(a, b)``: with ``"ci"``, the flip rate integrated over a Beta(a, b) prior (as the
+        product of the sequential predictive probabilities of each demonstration being
+        classified correctly, Polya's urn).
 
     Returns
     -------
     float
     """
+    sat_all = np.asarray(satisfied, bool)
+    labels = np.asarray(y)
+    if flip_prior is not None:
+        a, b = flip_prior
+        total, wrong = 0.0, 0
+        for i, (s, label) in enumerate(zip(sat_all, labels)):
+            bad = bool(s) != (label == 1)
+            total += math.log(((a + wrong) if bad else (b + i - wrong)) / (a + b + i))
+            wrong += bad
+        return total
+    m = (sat_all.sum() + 1.0) / (len(sat_all) + 2.0)
     total = 0.0
-    for s, label in zip(np.asarray(satisfied, bool), np.asarray(y)):
+    for s, label in zip(sat_all, labels):
         if likelihood == "cb":
             if label == 1:
                 total += n_conj * math.log(2) if s else log_eps
             else:
                 total += log_eps if s else math.log(2.0**n_conj / (2.0**n_conj - 1))
+        elif likelihood == "calibrated":
+            if label == 1:
+                total += -math.log(m) if s else log_eps
+            else:
+                total += log_eps if s else -math.log(1.0 - m)
         else:
             ok = s if label == 1 else not s
             total += math.log1p(-math.exp(log_eps)) if ok else log_eps
     return total
+
+
+def flip_rate_posterior(violations, weights, n_demos, flip_prior, level=0.95):
+    """Posterior mean and central interval of the flip rate under a Beta(a, b) prior.
+
+    Given a hypothesis that misclassifies ``v`` of ``n`` demonstrations, the flip rate's
+    posterior is Beta(a + v, b + n - v); over the posterior of the hypotheses it is the
+    mixture of those Betas weighted by the posterior mass of each ``v``.
+
+    Parameters
+    ----------
+    violations : array-like of float
+        Numbers of misclassified demonstrations ``v`` (acceptable ones the formula violates
+        plus unacceptable ones it satisfies).
+    weights : array-like of float
+        Posterior mass of each entry of ``violations`` (normalised here).
+    n_demos : int
+        Number of demonstrations ``n``.
+    flip_prior : tuple of float or None
+        ``(a, b)``; ``None`` returns ``(None, None)``.
+    level : float, default=0.95
+        Mass of the central interval.
+
+    Returns
+    -------
+    mean : float
+    interval : tuple of float
+        The ``(1 - level) / 2`` and ``(1 + level) / 2`` quantiles of the mixture (bisection on
+        its distribution function, to 1e-12).
+
+    Examples
+    --------
+    >>> mean, (lo, hi) = flip_rate_posterior([0], [1.0], 8, (1.0, 1.0))
+    >>> round(mean, 4), round(lo, 4), round(hi, 4)   # Beta(1, 9)
+    (0.1, 0.0028, 0.3363)
+    """
+    from scipy.special import betainc
+
+    if flip_prior is None:
+        return None, None
+    a, b = (float(x) for x in flip_prior)
+    v = np.asarray(violations, dtype=float)
+    w = np.asarray(weights, dtype=float)
+    keep = w > 0
+    v, w = v[keep], w[keep] / w[keep].sum()
+    alpha, beta = a + v, b + n_demos - v
+    mean = float(w @ (alpha / (alpha + beta)))
+
+    def quantile(q):
+        lo, hi = 0.0, 1.0
+        while hi - lo > 1e-12:
+            mid = 0.5 * (lo + hi)
+            if float(w @ betainc(alpha, beta, mid)) < q:
+                lo = mid
+            else:
+                hi = mid
+        return 0.5 * (lo + hi)
+
+    return mean, (quantile((1.0 - level) / 2.0), quantile((1.0 + level) / 2.0))

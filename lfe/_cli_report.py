@@ -16,7 +16,7 @@ OBJECTIVE_CHOICES = ("MO1", "MO2", "MO3")
 PROPOSITION_SET_CHOICES = ("paper", "extended")
 #: ``bsi_sklearn.priors.PRIORS`` and ``bsi_sklearn.likelihood.LIKELIHOODS``.
 PRIOR_CHOICES = ("linear_chain", "sets_of_chains", "forest")
-LIKELIHOOD_CHOICES = ("cb", "ci")
+LIKELIHOOD_CHOICES = ("cb", "ci", "calibrated")
 
 
 def add_arguments(parser):

@@ -64,7 +64,8 @@ def _forest_paths(perm, n, n_new):
 
 
 def brute_force_posterior(X, y, names, globals_, subtasks, conditions, prior, likelihood,
-                          p_global=0.8, p_eventual=0.8, p_part=0.3, n_new=5.0, log_eps=None):
+                          p_global=0.8, p_eventual=0.8, p_part=0.3, n_new=5.0, log_eps=None,
+                          flip_prior=None):
     """Posterior over every specification, from first principles (slow, small problems only).
 
     Uses the program enumeration for the order prior, SampleSubset probabilities for the rest,
@@ -98,7 +99,8 @@ def brute_force_posterior(X, y, names, globals_, subtasks, conditions, prior, li
                     k = sum(bits)
                     lp += k * math.log(p) + (len(bits) - k) * math.log(1 - p)
                 sat = [spec.satisfied_by(x, feature_names=names) for x in X]
-                lp += log_likelihood_reference(sat, y, spec.n_conjuncts, log_eps, likelihood)
+                lp += log_likelihood_reference(sat, y, spec.n_conjuncts, log_eps, likelihood,
+                                               flip_prior)
                 logpost[spec] = lp
     mx = max(logpost.values())
     z = math.fsum(math.exp(v - mx) for v in logpost.values())

@@ -36,7 +36,7 @@ from bsi_sklearn.model import Model
 from bsi_sklearn.priors import log_inclusion, log_prior, log_prior_structure, log_prior_subset
 
 __all__ = ["Demos", "ChainState", "ChainBuffers", "make_buffers", "chain_kernel",
-           "init_viol", "score_one", "score_rows"]
+           "init_viol", "score_one", "score_rows", "violation_rows"]
 
 
 class Demos(NamedTuple):
@@ -121,7 +121,8 @@ def _unmanaged_bundles(state, demos, model, bufs):
                   demos.n_pos, demos.n_neg)
     model = Model(model.n_g, model.n, model.prior, model.forest, model.p_global,
                   model.p_eventual, model.p_part, model.n_new, model.log_eps, model.likelihood,
-                  _unmanaged(model.lp_chains), _unmanaged(model.forest_g), model.forest_const)
+                  _unmanaged(model.lp_chains), _unmanaged(model.forest_g), model.forest_const,
+                  model.flip_a, model.flip_b)
     bufs = ChainBuffers(_unmanaged(bufs.ubuf), _unmanaged(bufs.viol), _unmanaged(bufs.cur),
                         _unmanaged(bufs.lw), _unmanaged(bufs.cand_lp), _unmanaged(bufs.cand_ll),
                         _unmanaged(bufs.cand_head), _unmanaged(bufs.cand_pos),
@@ -168,7 +169,8 @@ def score_one(tau, w1, parent, demos, model):
     viol, n_conj = init_viol(tau, w1, parent, demos.truth_t, model)
     ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
     return log_prior(tau, w1, parent, model), log_likelihood(
-        ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps, model.likelihood)
+        ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps, model.likelihood, model.flip_a,
+        model.flip_b)
 
 
 @njit(cache=True, nogil=True)
@@ -181,6 +183,23 @@ def score_rows(states, demos, model):
                            states[r, n_g:n_g + n].astype(np.int64),
                            states[r, n_g + n:].astype(np.int64), demos, model)
         out[r] = lp + ll
+    return out
+
+
+@njit(cache=True, nogil=True)
+def violation_rows(states, demos, model):
+    """Misclassified demonstrations of every state row ``[tau, w1, parent]``.
+
+    The acceptable ones it violates plus the unacceptable ones it satisfies (weighted).
+    """
+    n_g, n = model.n_g, model.n
+    out = np.empty(states.shape[0])
+    for r in range(states.shape[0]):
+        viol, _ = init_viol(states[r, :n_g].astype(np.int64),
+                            states[r, n_g:n_g + n].astype(np.int64),
+                            states[r, n_g + n:].astype(np.int64), demos.truth_t, model)
+        ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
+        out[r] = demos.n_pos - ps + ns
     return out
 
 
@@ -279,7 +298,7 @@ def _init_cache(state, demos, model, bufs, n_rungs):
         lp_struct[r] = log_prior_structure(state.parent[r], model)
         ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
         ll[r] = log_likelihood(ps, ns, demos.n_pos, demos.n_neg, n_conj[r], model.log_eps,
-                               model.likelihood)
+                               model.likelihood, model.flip_a, model.flip_b)
     return n_conj, lp_sub, lp_struct, ll
 
 

@@ -1,14 +1,15 @@
 """The numba passes of the grouped exact enumeration (:mod:`bsi_sklearn.inference.exact`).
 
 The passes run over pairs (structure group, subset-pair group). A pair's likelihood depends on
-(satisfied positives ``ps``, satisfied negatives ``ns``, conjuncts ``k``) and splits into
-``lik_pos[k, ps] + lik_neg[k, ns]``. Pairs that cannot matter are skipped with a bound: a
-pair's ``ps`` is at most the positives both groups satisfy, so its likelihood is at most
-``bound[k, min(P_g, P_h)]``; whenever that bound, times the whole prior mass, is below
-``exp(margin)`` times the evidence found so far, the pair and every later one of its size class
-(groups are sorted by decreasing ``P_g``) are skipped. What they drop is below ``exp(margin)``
-of the evidence (``margin <= log(1e-16)``), and never holds a hypothesis above the keep
-threshold.
+(satisfied positives ``ps``, satisfied negatives ``ns``, conjuncts ``k``) only
+(:class:`Likelihoods`: a sum ``lik_pos[k, ps] + lik_neg[k, ns]`` for CB and CI, a joint table
+of ``(ps, ns)`` for the likelihoods that are not a sum). Pairs that cannot matter are skipped
+with a bound: a pair's ``ps`` is at most the positives both groups satisfy, so its likelihood
+is at most ``bound[k, min(P_g, P_h)]`` (the largest over every ``ns`` and every ``ps`` up to
+it); whenever that bound, times the whole prior mass, is below ``exp(margin)`` times the
+evidence found so far, the pair and every later one of its size class (groups are sorted by
+decreasing ``P_g``) are skipped. What they drop is below ``exp(margin)`` of the evidence
+(``margin <= log(1e-16)``), and never holds a hypothesis above the keep threshold.
 """
 
 import math
@@ -18,10 +19,11 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn.clauses import popcount
-from bsi_sklearn.likelihood import log_likelihood
+from bsi_sklearn.likelihood import depends_on_conjuncts, log_likelihood, splits_by_label
 from bsi_sklearn.priors import structure_log_prior
 
 __all__ = ["StructureSide", "SubsetSide", "Likelihoods", "Listing", "likelihood_tables",
+           "pair_ll", "pair_ll_many",
            "log_evidence", "group_masses", "list_hypotheses", "MAX_CELLS"]
 
 #: Largest (satisfied positives x satisfied negatives) table of the passes' caches; above it
@@ -53,11 +55,53 @@ class SubsetSide(NamedTuple):
 
 
 class Likelihoods(NamedTuple):
-    """``log L = pos[k, ps] + neg[k, ns]``, and ``bound[k, p] >= log L`` whenever ps <= p."""
+    """``log L`` of a pair by (conjuncts k, satisfied positives ps, satisfied negatives ns).
 
-    pos: np.ndarray
-    neg: np.ndarray
-    bound: np.ndarray
+    ``bound[k, p] >= log L`` whenever ``ps <= p``, whatever ``ns``. A likelihood that is a sum
+    (CB, CI) is ``pos[k, ps] + neg[k, ns]`` and ``joint`` is empty; any other is
+    ``joint[min(k, K - 1), ps, ns]`` (``K = 1`` when it does not depend on ``k``), or, when
+    that table would pass :data:`MAX_CELLS`, computed from the counts (``joint`` of shape
+    ``(K, 0, 0)``). Read it with :func:`pair_ll`.
+    """
+
+    pos: np.ndarray        # (max_conj + 1, n_pos + 1), or (1, 1) unused
+    neg: np.ndarray        # (max_conj + 1, n_neg + 1), or (1, 1) unused
+    bound: np.ndarray      # (max_conj + 1, n_pos + 1)
+    joint: np.ndarray      # (K, n_pos + 1, n_neg + 1); (0, 1, 1) for a sum
+    n_pos: int
+    n_neg: int
+    log_eps: float         # the model's likelihood parameters, for the counts' path
+    code: int
+    flip_a: float
+    flip_b: float
+
+
+@njit(cache=True, nogil=True, inline="always")
+def pair_ll(lik, k, ps, ns):
+    """The log-likelihood of a pair of groups with ``k`` conjuncts, ``ps`` / ``ns`` satisfied."""
+    if lik.joint.shape[0] == 0:
+        return lik.pos[k, ps] + lik.neg[k, ns]
+    kk = min(k, lik.joint.shape[0] - 1)
+    if lik.joint.shape[1] > 0:
+        return lik.joint[kk, ps, ns]
+    return _joint_ll(lik, k, ps, ns)
+
+
+@njit(cache=True, nogil=True)
+def _joint_ll(lik, k, ps, ns):
+    if k == 0 and (ps < lik.n_pos or ns < lik.n_neg):
+        return -np.inf  # no conjunct: every demonstration satisfies it
+    return log_likelihood(float(ps), float(ns), float(lik.n_pos), float(lik.n_neg), k,
+                          lik.log_eps, lik.code, lik.flip_a, lik.flip_b)
+
+
+@njit(cache=True, nogil=True)
+def pair_ll_many(lik, k, ps, ns):
+    """:func:`pair_ll` of arrays of pairs (for the Python side)."""
+    out = np.empty(k.shape[0])
+    for i in range(k.shape[0]):
+        out[i] = pair_ll(lik, k[i], ps[i], ns[i])
+    return out
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -71,12 +115,48 @@ def _counts(s_bits, g, h_pos, h_neg, h):
 
 
 def likelihood_tables(n_pos, n_neg, max_conj, model):
-    """The likelihood as a sum of a term of the positives and one of the negatives."""
-    return Likelihoods(*_likelihood_tables(n_pos, n_neg, max_conj, model))
+    """The likelihood of a pair of groups by its counts, and its bound (:class:`Likelihoods`)."""
+    if splits_by_label(model.likelihood):
+        pos, neg, bound = _sum_tables(n_pos, n_neg, max_conj, model)
+        joint = np.empty((0, 1, 1))
+    else:
+        n_k = max_conj + 1 if depends_on_conjuncts(model.likelihood) else 1
+        cells = float(n_k) * (n_pos + 1) * (n_neg + 1)
+        joint = np.empty((n_k, n_pos + 1, n_neg + 1) if cells <= MAX_CELLS else (n_k, 0, 0))
+        pos = neg = np.zeros((1, 1))
+        bound = np.empty((max_conj + 1, n_pos + 1))
+    lik = Likelihoods(pos, neg, bound, joint, int(n_pos), int(n_neg), float(model.log_eps),
+                      int(model.likelihood), float(model.flip_a), float(model.flip_b))
+    if joint.shape[0] > 0:
+        _fill_joint(lik, max_conj)
+    return lik
 
 
 @njit(cache=True, nogil=True)
-def _likelihood_tables(n_pos, n_neg, max_conj, model):
+def _fill_joint(lik, max_conj):
+    # The joint table (when it has room) and the bound: the best over every ns, then a running
+    # best over ps. A table for every k (K = 1) is the likelihood of k >= 1 conjuncts: with
+    # none, only (n_pos, n_neg) can occur, where the two agree.
+    n_k = lik.joint.shape[0]
+    rows = np.empty((n_k, lik.n_pos + 1))
+    for kk in range(n_k):
+        for ps in range(lik.n_pos + 1):
+            top = -np.inf
+            for ns in range(lik.n_neg + 1):
+                v = _joint_ll(lik, kk if n_k > 1 else 1, ps, ns)
+                if lik.joint.shape[1] > 0:
+                    lik.joint[kk, ps, ns] = v
+                top = max(top, v)
+            rows[kk, ps] = top
+    for k in range(max_conj + 1):
+        run = -np.inf
+        for ps in range(lik.n_pos + 1):
+            run = max(run, rows[min(k, n_k - 1), ps])
+            lik.bound[k, ps] = run
+
+
+@njit(cache=True, nogil=True)
+def _sum_tables(n_pos, n_neg, max_conj, model):
     lik_pos = np.empty((max_conj + 1, n_pos + 1))
     lik_neg = np.empty((max_conj + 1, n_neg + 1))
     bound = np.empty((max_conj + 1, n_pos + 1))
@@ -87,12 +167,12 @@ def _likelihood_tables(n_pos, n_neg, max_conj, model):
                 lik_neg[k, ns] = -np.inf  # no conjunct: every demonstration satisfies it
             else:
                 lik_neg[k, ns] = log_likelihood(0.0, float(ns), 0.0, float(n_neg), k,
-                                                model.log_eps, model.likelihood)
+                                                model.log_eps, model.likelihood, 0.0, 0.0)
             top = max(top, lik_neg[k, ns])
         run = -np.inf
         for ps in range(n_pos + 1):
             lik_pos[k, ps] = log_likelihood(float(ps), 0.0, float(n_pos), 0.0, k,
-                                            model.log_eps, model.likelihood)
+                                            model.log_eps, model.likelihood, 0.0, 0.0)
             run = max(run, lik_pos[k, ps] + top)
             bound[k, ps] = run
     return lik_pos, lik_neg, bound
@@ -115,8 +195,8 @@ def log_evidence(ss, hs, lik, cut_offset, cut_floor):
     Relative to the structure weights' ref. A pair is skipped when its bound is below the
     running sum + ``cut_offset`` or below ``cut_floor``.
     """
-    n_neg1 = lik.neg.shape[1]
-    n_cells = lik.pos.shape[1] * n_neg1
+    n_neg1 = lik.n_neg + 1
+    n_cells = (lik.n_pos + 1) * n_neg1
     use_hist = n_cells <= MAX_CELLS
     hist = np.zeros(n_cells if use_hist else 1)
     stamp = np.zeros(n_cells if use_hist else 1, dtype=np.int64)
@@ -147,22 +227,24 @@ def log_evidence(ss, hs, lik, cut_offset, cut_floor):
                         nt += 1
                     hist[cell] += ss.weight[g]
                 else:
-                    mx, acc = _lse_add(mx, acc, log_w[g] + lik.pos[k, ps] + lik.neg[k, ns]
-                                       + hs.lw[h])
+                    mx, acc = _lse_add(mx, acc, log_w[g] + pair_ll(lik, k, ps, ns) + hs.lw[h])
             for i in range(nt):
                 cell = touched[i]
                 ps = cell // n_neg1
                 ns = cell - ps * n_neg1
-                mx, acc = _lse_add(mx, acc, math.log(hist[cell]) + lik.pos[k, ps]
-                                   + lik.neg[k, ns] + hs.lw[h])
+                mx, acc = _lse_add(mx, acc, math.log(hist[cell]) + pair_ll(lik, k, ps, ns)
+                                   + hs.lw[h])
     return mx + math.log(acc)
 
 
 @njit(cache=True, nogil=True)
 def group_masses(ss, hs, lik, log_z, keep, cut):
-    """Posterior mass of every structure group and subset-pair group, and flags.
+    """Posterior masses of the groups and by misclassified demonstrations, and flags.
 
-    The flags say which structure groups may hold a kept hypothesis.
+    ``mass_s``, ``mass_h``: the mass of every structure group and subset-pair group.
+    The flags say which structure groups may hold a kept hypothesis. ``mass_v[v]`` is the
+    (normalised) mass of the hypotheses that violate ``v - ns`` acceptable demonstrations and
+    satisfy ``ns`` unacceptable ones (``v = n_pos - ps + ns``).
 
     ``log_z`` is relative to the structure weights' ref. A structure group is flagged when,
     with some subset-pair group, its best member may reach ``keep`` (absolute log posterior,
@@ -171,8 +253,9 @@ def group_masses(ss, hs, lik, log_z, keep, cut):
     mass_s = np.zeros(ss.weight.shape[0])
     mass_h = np.zeros(hs.pos.shape[0])
     flag = np.zeros(ss.weight.shape[0], dtype=np.uint8)
-    n_neg1 = lik.neg.shape[1]
-    n_cells = lik.pos.shape[1] * n_neg1
+    mass_v = np.zeros(lik.n_pos + lik.n_neg + 1)
+    n_neg1 = lik.n_neg + 1
+    n_cells = (lik.n_pos + 1) * n_neg1
     use_cache = n_cells <= MAX_CELLS
     stamp = np.zeros(n_cells if use_cache else 1, dtype=np.int64)
     factor = np.empty(n_cells if use_cache else 1)
@@ -194,19 +277,20 @@ def group_masses(ss, hs, lik, log_z, keep, cut):
                     cell = ps * n_neg1 + ns
                     if stamp[cell] != cur:
                         stamp[cell] = cur
-                        cell_ll[cell] = lik.pos[k, ps] + lik.neg[k, ns]
+                        cell_ll[cell] = pair_ll(lik, k, ps, ns)
                         factor[cell] = math.exp(cell_ll[cell] + off)
                     ll = cell_ll[cell]
                     p = ss.weight[g] * factor[cell]
                 else:
-                    ll = lik.pos[k, ps] + lik.neg[k, ns]
+                    ll = pair_ll(lik, k, ps, ns)
                     p = ss.weight[g] * math.exp(ll + off)
                 mass_s[g] += p
+                mass_v[lik.n_pos - ps + ns] += p
                 mh += p
                 if ss.best[g] + ll >= keep_h:
                     flag[g] = 1
         mass_h[h] = mh
-    return mass_s, mass_h, flag
+    return mass_s, mass_h, flag, mass_v
 
 
 @njit(cache=True, nogil=True)

@@ -55,6 +55,12 @@ def structure_tables(structures, clause_bits, full, model):
 
 @njit(cache=True, nogil=True)
 def _hyp_logpost(s, t, e, parts_s, parts_t, parts_e, labels, model):
+    return _hyp_logpost_counts(s, t, e, parts_s, parts_t, parts_e, labels, model)[0]
+
+
+@njit(cache=True, nogil=True)
+def _hyp_logpost_counts(s, t, e, parts_s, parts_t, parts_e, labels, model):
+    # The log posterior (unnormalised) and the number of misclassified demonstrations.
     pos_sat = 0
     neg_sat = 0
     for w in range(labels.pos.shape[0]):
@@ -62,15 +68,19 @@ def _hyp_logpost(s, t, e, parts_s, parts_t, parts_e, labels, model):
         pos_sat += int(popcount(sat & labels.pos[w]))
         neg_sat += int(popcount(sat & labels.neg[w]))
     n_conj = parts_s.size[s] + parts_t.size[t] + parts_e.size[e]
-    return parts_s.lp[s] + parts_t.lp[t] + parts_e.lp[e] + log_likelihood(
+    lp = parts_s.lp[s] + parts_t.lp[t] + parts_e.lp[e] + log_likelihood(
         float(pos_sat), float(neg_sat), labels.n_pos, labels.n_neg, n_conj, model.log_eps,
-        model.likelihood
+        model.likelihood, model.flip_a, model.flip_b
     )
+    return lp, int(labels.n_pos) - pos_sat + neg_sat
 
 
 @njit(cache=True, nogil=True)
 def ungrouped_kernel(parts_s, parts_t, parts_e, labels, model, log_keep):
-    """Log evidence, kept hypotheses (log posterior >= log_keep) and per-part masses."""
+    """Log evidence, kept hypotheses (log posterior >= log_keep) and per-part masses.
+
+    Also the posterior mass by number of misclassified demonstrations.
+    """
     s_lp = parts_s.lp
     n_s, n_t, n_e = s_lp.shape[0], parts_t.lp.shape[0], parts_e.lp.shape[0]
     # Pass 1: log normaliser with a running maximum.
@@ -94,6 +104,7 @@ def ungrouped_kernel(parts_s, parts_t, parts_e, labels, model, log_keep):
     mass_s = np.zeros(n_s)
     mass_t = np.zeros(n_t)
     mass_e = np.zeros(n_e)
+    mass_v = np.zeros(int(labels.n_pos + labels.n_neg) + 1)
     cap = 1024
     keep_idx = np.empty((cap, 3), dtype=np.int64)
     keep_lp = np.empty(cap)
@@ -103,10 +114,12 @@ def ungrouped_kernel(parts_s, parts_t, parts_e, labels, model, log_keep):
             continue
         for t in range(n_t):
             for e in range(n_e):
-                lp = _hyp_logpost(s, t, e, parts_s, parts_t, parts_e, labels, model) - log_z
+                lp, v = _hyp_logpost_counts(s, t, e, parts_s, parts_t, parts_e, labels, model)
+                lp -= log_z
                 if lp == -np.inf:
                     continue
                 p = math.exp(lp)
+                mass_v[v] += p
                 mass_s[s] += p
                 mass_t[t] += p
                 mass_e[e] += p
@@ -124,6 +137,6 @@ def ungrouped_kernel(parts_s, parts_t, parts_e, labels, model, log_keep):
                     keep_idx[k, 2] = e
                     keep_lp[k] = lp
                     k += 1
-    return log_z, keep_idx[:k], keep_lp[:k], mass_s, mass_t, mass_e
+    return log_z, keep_idx[:k], keep_lp[:k], mass_s, mass_t, mass_e, mass_v
 
 

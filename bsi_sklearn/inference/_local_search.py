@@ -73,7 +73,7 @@ def _score(row, demos, model, scratch):
             a = parent[a]
     ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
     return lp + log_likelihood(ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps,
-                               model.likelihood)
+                               model.likelihood, model.flip_a, model.flip_b)
 
 
 @njit(cache=True, nogil=True)

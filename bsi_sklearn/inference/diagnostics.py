@@ -4,8 +4,8 @@ import math
 
 import numpy as np
 
-__all__ = ["split_rhat", "missed_mass", "total_variation", "RHAT_WARN", "MISSED_WARN",
-           "MODE_WARN"]
+__all__ = ["split_rhat", "missed_mass", "total_variation", "disagreement_problems",
+           "RHAT_WARN", "MISSED_WARN", "MODE_WARN"]
 
 #: Split-R-hat of the chains' log posteriors above which the chains have not mixed.
 RHAT_WARN = 1.05
@@ -127,3 +127,33 @@ def total_variation(p, q):
     p, q = as_dict(p), as_dict(q)
     keys = set(p) | set(q)
     return 0.5 * math.fsum(abs(p.get(k, 0.0) - q.get(k, 0.0)) for k in keys)
+
+
+def disagreement_problems(diag):
+    """What a sampler's diagnostics say is wrong, one sentence each (empty when nothing is).
+
+    A better optimum than the chains found (``optimum_gap > MODE_WARN``), a chain that missed
+    more than ``MISSED_WARN`` of the mass the chains found, a split-R-hat above
+    ``RHAT_WARN`` (NaN, too few samples, says nothing): the estimator warns with each.
+    """
+    problems = []
+    if diag["optimum_gap"] > MODE_WARN:
+        problems.append(
+            "MCMC chains missed a mode: a deterministic search found a specification "
+            f"exp({diag['optimum_gap']:.3g}) times more probable than any state the chains "
+            "visited (mcmc_diagnostics_['optimum_gap'] > log 20); it is in the reported "
+            "posterior, but the chains never reached its neighbourhood, so the rest of "
+            "the reported posterior is unreliable.")
+    worst = diag["max_missed_mass"]
+    if worst > MISSED_WARN:
+        chain = int(np.argmax(diag["missed_mass_per_chain"]))
+        problems.append(
+            f"MCMC chains disagree: chain {chain} never visited specifications holding "
+            f"{worst:.1%} of the mass the chains found (> {MISSED_WARN:.0%}; "
+            "mcmc_diagnostics_['missed_mass_per_chain']), so the reported posterior is "
+            "unreliable.")
+    if diag["rhat"] > RHAT_WARN:  # nan (too few samples) does not warn
+        problems.append(
+            f"MCMC chains have not mixed: the split-R-hat of their log posteriors is "
+            f"{diag['rhat']:.3g} (> {RHAT_WARN}; mcmc_diagnostics_['rhat']).")
+    return problems

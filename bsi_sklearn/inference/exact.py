@@ -34,6 +34,7 @@ from bsi_sklearn.inference._exact_kernels import (
     likelihood_tables,
     list_hypotheses,
     log_evidence,
+    pair_ll_many,
 )
 from bsi_sklearn.inference._exact_parts import (
     PartTable,
@@ -66,7 +67,7 @@ class ExactResult:
     """What the enumeration returns: kept hypotheses, their log posterior, marginals."""
 
     def __init__(self, structures, tau_masks, w1_masks, log_prob, dropped_mass,
-                 clause_marginals, log_evidence, n_hypotheses):
+                 clause_marginals, log_evidence, n_hypotheses, violation_mass):
         self.structures = structures          # (H, n) parent arrays
         self.tau_masks = tau_masks            # (H, n_g) bool
         self.w1_masks = w1_masks              # (H, n) bool
@@ -75,6 +76,7 @@ class ExactResult:
         self.clause_marginals = clause_marginals
         self.log_evidence = log_evidence
         self.n_hypotheses = n_hypotheses
+        self.violation_mass = violation_mass  # (n_demos + 1,) mass by misclassified demos
 
 
 def _mask_bits(masks, n_items):
@@ -188,6 +190,16 @@ class _Found(NamedTuple):
     work: int            # of the tables (the walk down them costs as much)
 
 
+def _pair_lls(lik, k, ps, ns):
+    # pair_ll over arrays, in numpy where a table holds it (a call into numba per structure
+    # group would cost more than the lookups).
+    if lik.joint.shape[0] == 0:
+        return lik.pos[k, ps] + lik.neg[k, ns]
+    if lik.joint.shape[1] > 0:
+        return lik.joint[np.minimum(k, lik.joint.shape[0] - 1), ps, ns]
+    return pair_ll_many(lik, k.astype(np.int64), ps.astype(np.int64), ns.astype(np.int64))
+
+
 def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
     # The subset-pair groups each flagged structure group may reach keep with; the work and
     # the number of hypotheses the last walk may list.
@@ -207,7 +219,7 @@ def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
         ps = popcounts(hs.pos, ss.bits[g])
         ns = popcounts(hs.neg, ss.bits[g])
         k = ss.size[g] + hs.size
-        ll = lik.pos[k, ps] + lik.neg[k, ns]
+        ll = _pair_lls(lik, k, ps, ns)
         ok = np.flatnonzero(hs.best + ss.best[g] + ll >= keep)
         pass_h.append(ok)
         pass_ll.append(ll[ok])
@@ -249,8 +261,8 @@ def _grouped(clause_bits, full, labels, model, log_keep, max_kept, max_work, tol
     log_z = found.log_z_rel + sg.ref
     keep = log_keep + log_z
     budget.spend(len(ss.weight) * len(hs.lw), "the second pass")
-    mass_s, mass_h, flag = group_masses(ss, hs, lik, found.log_z_rel, keep,
-                                        found.log_z_rel + found.offset)
+    mass_s, mass_h, flag, mass_v = group_masses(ss, hs, lik, found.log_z_rel, keep,
+                                                found.log_z_rel + found.offset)
     pass_start, pass_h, pass_ll, n_list = _listing(found, hs, h_order, subsets, lik, flag,
                                                    keep, budget)
     # Down the structure tables: order marginals, and the derivations of the flagged groups.
@@ -279,7 +291,7 @@ def _grouped(clause_bits, full, labels, model, log_keep, max_kept, max_work, tol
     par, idx, lp = par[kept].astype(np.int64), idx[kept], lp[kept]
     order = _sorted_head(par, idx[:, 0], idx[:, 1], lp, log_keep > -np.inf, tol)
     marg = np.concatenate([*_subset_marginals(subsets, mass_h, model.n_g, model.n), marg_o])
-    return log_z, par[order], idx[order, 0], idx[order, 1], lp[order], marg
+    return log_z, par[order], idx[order, 0], idx[order, 1], lp[order], marg, mass_v
 
 
 def _sorted_head(par, t, e, lp, cut, tol):
@@ -307,7 +319,7 @@ def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, max_work, t
     parts_s = ungrouped_structures(structures, clause_bits, full, model)
     parts_t = PartTable(*subset_table(clause_bits, 0, n_g, model.p_global, full))
     parts_e = PartTable(*subset_table(clause_bits, n_g, n, model.p_eventual, full))
-    log_z, keep_idx, keep_lp, mass_s, mass_t, mass_e = ungrouped_kernel(
+    log_z, keep_idx, keep_lp, mass_s, mass_t, mass_e, mass_v = ungrouped_kernel(
         parts_s, parts_t, parts_e, labels, model, log_keep)
     order = np.argsort(-keep_lp, kind="stable")
     keep_idx, keep_lp = keep_idx[order], keep_lp[order]
@@ -325,7 +337,8 @@ def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, max_work, t
             while a >= 0:
                 marg[clause_index_order(a, v, n_g, n)] += mass_s[s]
                 a = parent[a]
-    return (log_z, structures[keep_idx[:, 0]], keep_idx[:, 1], keep_idx[:, 2], keep_lp, marg)
+    return (log_z, structures[keep_idx[:, 0]], keep_idx[:, 1], keep_idx[:, 2], keep_lp, marg,
+            mass_v)
 
 
 def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT,
@@ -367,7 +380,9 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
     Returns
     -------
     ExactResult
-        The kept hypotheses are every hypothesis of normalised log posterior at least
+        ``violation_mass[v]``: the posterior mass of the hypotheses that misclassify ``v``
+        demonstrations (violated acceptable plus satisfied unacceptable ones), over the whole
+        support. The kept hypotheses are every hypothesis of normalised log posterior at least
         ``log(tol / n_hypotheses)``, cut to the shortest most-probable prefix that covers
         ``1 - tol``; ties are ordered by structure (lexicographic parent array), then global
         and eventual subset masks.
@@ -384,9 +399,8 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
     n_hyp = count_hypotheses(PRIORS[model.prior], n_g, n)
     log_keep = math.log(tol / n_hyp) if tol > 0 else -np.inf
     engine = _grouped if grouped else _ungrouped
-    log_z, structures, t_masks, e_masks, keep_lp, marg = engine(clause_bits, full, labels,
-                                                                model, log_keep, max_kept,
-                                                                max_work, tol)
+    log_z, structures, t_masks, e_masks, keep_lp, marg, mass_v = engine(
+        clause_bits, full, labels, model, log_keep, max_kept, max_work, tol)
     # Smallest prefix of the sorted kept hypotheses that covers 1 - tol.
     cum = np.cumsum(np.exp(keep_lp))
     if tol > 0:
@@ -403,4 +417,5 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
         clause_marginals=marg,
         log_evidence=log_z,
         n_hypotheses=n_hyp,
+        violation_mass=mass_v,
     )

@@ -26,9 +26,11 @@ from bsi_sklearn.inference._chain_kernel import (
     chain_kernel,
     make_buffers,
     score_rows,
+    violation_rows,
 )
 from bsi_sklearn.inference._local_search import beam_search, n_neighbours_max, neighbourhood
 from bsi_sklearn.inference.diagnostics import MODE_WARN, missed_mass, split_rhat
+from bsi_sklearn.likelihood import step_scale
 from bsi_sklearn.priors import draw_hypothesis, next_structure
 
 __all__ = ["Demos", "ChainResult", "MCMCResult", "run_chain", "deduplicate_demos",
@@ -73,6 +75,7 @@ class MCMCResult(NamedTuple):
     w1_masks: np.ndarray    # (H, n) bool
     probabilities: np.ndarray
     diagnostics: dict
+    violations: np.ndarray  # (H,) misclassified demonstrations, with a flip prior; else None
 
 
 def unique_states(states, counts, return_inverse=False):
@@ -133,7 +136,8 @@ def temperature_ladder(demos, model, n_temperatures="auto"):
     (``n_pos``: acceptable demonstrations; the second term for CB only), the hottest replica
     has ``beta = 1 / L``, where one such step costs at most about one nat, so that it moves
     nearly as freely as the prior; the rungs halve beta (``LADDER_RATIO``), which gives
-    ``"auto"`` ``1 + ceil(log2 L)`` rungs (one when ``L <= 1``). An integer sets the number
+    ``"auto"`` ``1 + ceil(log2 L)`` rungs (one when ``L <= 1``). The other likelihoods'
+    steps are in :func:`bsi_sklearn.likelihood.step_scale`. An integer sets the number
     of rungs (1: no tempering), spread geometrically between 1 and ``1 / L``.
 
     Examples
@@ -147,9 +151,8 @@ def temperature_ladder(demos, model, n_temperatures="auto"):
     >>> temperature_ladder(d, m, 1).tolist()
     [1.0]
     """
-    scale = -model.log_eps
-    if model.likelihood == 0:  # CB: the size principle, log 2 per conjunct and positive
-        scale = max(scale, demos.n_pos * math.log(2.0))
+    scale = step_scale(model.likelihood, model.log_eps, demos.n_pos, demos.n_neg,
+                       model.flip_a, model.flip_b)
     if n_temperatures == "auto":
         n_rungs = 1 if scale <= 1.0 else 1 + math.ceil(math.log(scale) / -math.log(LADDER_RATIO))
         return np.maximum(LADDER_RATIO ** np.arange(n_rungs), 1.0 / scale)
@@ -345,5 +348,8 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples=10_000, burn_in=100,
         "log_posterior_traces": traces,
         "seeds": np.asarray(seeds),
     }
+    # The flip rate's posterior needs each specification's misclassified demonstrations.
+    violations = (violation_rows(np.ascontiguousarray(uniq, dtype=np.int64), demos, model)
+                  if model.flip_a > 0 else None)
     return MCMCResult(uniq[:, n_g + n:].astype(np.int64), uniq[:, :n_g].astype(bool),
-                      uniq[:, n_g:n_g + n].astype(bool), probs, diagnostics)
+                      uniq[:, n_g:n_g + n].astype(bool), probs, diagnostics, violations)

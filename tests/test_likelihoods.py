@@ -1,0 +1,303 @@
+"""The calibrated likelihood and CI with the flip rate integrated (issue 20, items 2 and 3).
+
+Each against a reference written independently of the kernels: per-demonstration formulas,
+a numerical integral over the flip rate, the enumeration of every specification from first
+principles, the ungrouped exact engine, and MCMC.
+"""
+
+import math
+import pickle
+
+import numpy as np
+import pytest
+from _reference import brute_force_posterior
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from poi_problems import make_poi_problem
+from scipy import integrate, stats
+from test_exact_grouped import _assert_same_posterior
+from test_exact_grouped import _problem as _grouped_problem
+
+import bsi_sklearn.inference._exact_kernels as kernels
+from bsi_sklearn import BSIClassifier
+from bsi_sklearn.inference.diagnostics import total_variation
+from bsi_sklearn.inference.exact import exact_posterior
+from bsi_sklearn.likelihood import (
+    default_log_epsilon,
+    flip_rate_posterior,
+    likelihood_code,
+    log_likelihood,
+    log_likelihood_reference,
+)
+from bsi_sklearn.model import make_model
+from bsi_sklearn.priors import PRIORS
+
+#: (likelihood, flip_prior) of the new settings.
+NEW = [("calibrated", None), ("ci", (1.0, 9.0)), ("ci", (2.5, 0.7))]
+
+
+def _kernel(sat, y, n_conj, log_eps, likelihood, flip_prior):
+    sat, y = np.asarray(sat, bool), np.asarray(y)
+    a, b = flip_prior if flip_prior is not None else (0.0, 0.0)
+    return log_likelihood(float((sat & (y == 1)).sum()), float((sat & (y == 0)).sum()),
+                          float((y == 1).sum()), float((y == 0).sum()), n_conj, log_eps,
+                          likelihood_code(likelihood, flip_prior), a, b)
+
+
+@pytest.mark.parametrize("likelihood, flip_prior", NEW)
+def test_kernel_matches_the_per_demonstration_reference(likelihood, flip_prior):
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        n = int(rng.integers(1, 30))
+        y = rng.integers(0, 2, size=n)
+        sat = rng.random(n) < rng.random()
+        n_conj = int(rng.integers(1, 40))
+        log_eps = -float(rng.uniform(0.1, 60))
+        ref = log_likelihood_reference(sat, y, n_conj, log_eps, likelihood, flip_prior)
+        got = _kernel(sat, y, n_conj, log_eps, likelihood, flip_prior)
+        assert got == pytest.approx(ref, rel=1e-11, abs=1e-9)
+
+
+@pytest.mark.parametrize("a, b", [(1.0, 1.0), (1.0, 9.0), (0.5, 0.5), (3.0, 0.8)])
+def test_integrated_flip_rate_is_the_integral_over_epsilon(a, b):
+    # The product of per-demonstration CI likelihoods, integrated numerically over the Beta.
+    rng = np.random.default_rng(int(10 * a + b))
+    for _ in range(5):
+        n = int(rng.integers(1, 25))
+        y = rng.integers(0, 2, size=n)
+        sat = rng.random(n) < 0.6
+        wrong = int(((sat == 1) != (y == 1)).sum())
+
+        def integrand(eps, wrong=wrong, n=n):
+            return eps**wrong * (1 - eps) ** (n - wrong) * stats.beta.pdf(eps, a, b)
+
+        value, _ = integrate.quad(integrand, 0, 1, epsabs=0, epsrel=1e-12, limit=200)
+        got = _kernel(sat, y, 3, -5.0, "ci", (a, b))
+        assert got == pytest.approx(math.log(value), rel=1e-8, abs=1e-8)
+
+
+def test_calibrated_does_not_depend_on_conjuncts_and_a_vacuous_clause_earns_nothing():
+    y = np.array([1, 1, 1, 0, 0, 1])
+    sat = np.array([1, 1, 1, 0, 1, 1], bool)
+    values = {_kernel(sat, y, k, -9.0, "calibrated", None) for k in (1, 2, 7, 300)}
+    assert len(values) == 1
+    # A clause every demonstration satisfies changes neither count: nothing to earn. Under CB
+    # the same clause pays log 2 for every satisfying acceptable demonstration.
+    assert _kernel(sat, y, 4, -9.0, "cb", None) - _kernel(sat, y, 3, -9.0, "cb", None) == \
+        pytest.approx(4 * math.log(2) - math.log((2**4 - 1) / 2**4) - math.log(8 / 7))
+    # Joint in the counts: moving a negative from violated to satisfied changes what every
+    # satisfied positive earns (not a positives' term plus a negatives' term).
+    base = _kernel(sat, y, 3, -9.0, "calibrated", None)
+    sat2 = sat.copy()
+    sat2[3] = True
+    m1, m2 = 6 / 8, 7 / 8
+    assert _kernel(sat2, y, 3, -9.0, "calibrated", None) - base == pytest.approx(
+        -9.0 + math.log(1 - m1) + 4 * (math.log(m1) - math.log(m2)))
+
+
+def _small_problem(seed=3):
+    return make_poi_problem(n_demos=6, n_threats=2, n_pois=3, chain=(0, 2), n_negative=4,
+                            seed=seed, always_violated=(1,))
+
+
+@pytest.mark.parametrize("prior", PRIORS)
+@pytest.mark.parametrize("likelihood, flip_prior", NEW[:2])
+def test_exact_matches_first_principles(prior, likelihood, flip_prior):
+    X, y, roles = _small_problem()
+    names = list(X[0].columns)
+    ref = brute_force_posterior(X, y, names, roles["global_candidates"], roles["subtasks"],
+                                roles["conditions"], prior, likelihood, flip_prior=flip_prior)
+    clf = BSIClassifier(prior=prior, likelihood=likelihood, flip_prior=flip_prior,
+                        inference="exact", tol=0.0, **roles).fit(X, y)
+    assert total_variation(clf.posterior_, ref) < 1e-9
+    marg = clf.posterior_.clause_marginals()
+    for key, value in marg.items():
+        assert value == pytest.approx(sum(p for s, p in ref.items() if key in s.clauses()),
+                                      abs=1e-9)
+
+
+@settings(max_examples=50, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 10**6), prior=st.sampled_from(PRIORS),
+       setting=st.sampled_from(NEW), n_g=st.integers(0, 3), n=st.integers(0, 4),
+       n_demos=st.integers(1, 80), frac_pos=st.sampled_from([0.0, 0.5, 0.8, 1.0]),
+       p_true=st.floats(0.3, 0.97), epsilon=st.sampled_from([None, 0.01, 0.2]),
+       tol=st.sampled_from([1e-9, 1e-4, 0.0]))
+def test_grouped_equals_ungrouped(seed, prior, setting, n_g, n, n_demos, frac_pos, p_true,
+                                  epsilon, tol):
+    likelihood, flip_prior = setting
+    truth, y, _ = _grouped_problem(seed, prior, "cb", n_g, n, n_demos, frac_pos, p_true, None)
+    model = make_model(prior=prior, likelihood=likelihood, n_globals=n_g, n_subtasks=n,
+                       epsilon=None if flip_prior else epsilon, flip_prior=flip_prior)
+    a = exact_posterior(truth, y, model, tol=tol)
+    b = exact_posterior(truth, y, model, tol=tol, grouped=False)
+    _assert_same_posterior(a, b)
+    assert np.abs(a.violation_mass - b.violation_mass).max() < 1e-12
+    assert a.violation_mass.sum() == pytest.approx(1.0, abs=1e-12)
+
+
+@pytest.mark.parametrize("setting", [("cb", None), ("ci", None), *NEW])
+def test_the_likelihood_from_counts_equals_its_table(monkeypatch, setting):
+    # Above MAX_CELLS a joint likelihood is computed from the counts instead of a table.
+    likelihood, flip_prior = setting
+    truth, y, _ = _grouped_problem(7, "sets_of_chains", "cb", 2, 4, 60, 0.6, 0.8, None)
+    model = make_model(prior="sets_of_chains", likelihood=likelihood, n_globals=2,
+                       n_subtasks=4, flip_prior=flip_prior)
+    table = exact_posterior(truth, y, model)
+    monkeypatch.setattr(kernels, "MAX_CELLS", 0)
+    counts = exact_posterior(truth, y, model)
+    _assert_same_posterior(table, counts)
+
+
+@pytest.mark.parametrize("setting", [("cb", None), ("ci", None), *NEW])
+def test_the_bound_bounds_every_pair(setting):
+    likelihood, flip_prior = setting
+    model = make_model(prior="forest", likelihood=likelihood, n_globals=1, n_subtasks=3,
+                       epsilon=None if flip_prior else 0.1, flip_prior=flip_prior)
+    n_pos, n_neg, max_conj = 7, 5, 10
+    lik = kernels.likelihood_tables(n_pos, n_neg, max_conj, model)
+    for k in range(max_conj + 1):
+        grid = np.array([[kernels.pair_ll(lik, k, ps, ns) for ns in range(n_neg + 1)]
+                         for ps in range(n_pos + 1)])
+        if k == 0:  # no conjunct: only (n_pos, n_neg) occurs
+            grid = np.full_like(grid, -np.inf)
+            grid[n_pos, n_neg] = kernels.pair_ll(lik, 0, n_pos, n_neg)
+        best = np.maximum.accumulate(grid.max(axis=1))
+        assert np.all(lik.bound[k] >= best - 1e-12)
+        if k > 0:  # and it is tight (the engine skips no more than it must)
+            assert np.allclose(lik.bound[k], best)
+
+
+def test_violation_mass_is_the_posterior_of_the_misclassified_count():
+    X, y, roles = _small_problem(seed=5)
+    names = list(X[0].columns)
+    ref = brute_force_posterior(X, y, names, roles["global_candidates"], roles["subtasks"],
+                                roles["conditions"], "sets_of_chains", "ci",
+                                flip_prior=(1.0, 4.0))
+    want = np.zeros(len(y) + 1)
+    for spec, p in ref.items():
+        sat = np.array([spec.satisfied_by(x, feature_names=names) for x in X])
+        want[int((sat != (np.asarray(y) == 1)).sum())] += p
+    seen = []
+    clf = BSIClassifier(likelihood="ci", flip_prior=(1.0, 4.0), inference="exact", tol=0.0,
+                        **roles)
+    real = exact_posterior
+
+    def recording(*args, **kwargs):
+        seen.append(real(*args, **kwargs))
+        return seen[-1]
+
+    import bsi_sklearn.classifier as classifier_module
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(classifier_module, "exact_posterior", recording)
+        clf.fit(X, y)
+    assert np.abs(seen[0].violation_mass - want).max() < 1e-10
+
+
+def _flip_rate_by_integration(X, y, roles, a, b):
+    # The flip rate's marginal posterior density, summed over every specification, on a grid.
+    names = list(X[0].columns)
+    ref = brute_force_posterior(X, y, names, roles["global_candidates"], roles["subtasks"],
+                                roles["conditions"], "sets_of_chains", "ci",
+                                flip_prior=(a, b))
+    grid = np.linspace(0, 1, 200_001)[1:-1]
+    log_dens = np.full_like(grid, -np.inf)
+    labels = np.asarray(y) == 1
+    log_prior_eps = stats.beta.logpdf(grid, a, b)
+    for spec, p in ref.items():
+        sat = np.array([spec.satisfied_by(x, feature_names=names) for x in X])
+        wrong = int((sat != labels).sum())
+        # p(h | D) p(eps | h, D): the posterior of h times the normalised conditional density.
+        cond = wrong * np.log(grid) + (len(y) - wrong) * np.log1p(-grid) + log_prior_eps
+        cond -= np.logaddexp.reduce(cond) + np.log(grid[1] - grid[0])
+        log_dens = np.logaddexp(log_dens, math.log(p) + cond)
+    dens = np.exp(log_dens)
+    step = grid[1] - grid[0]
+    cdf = np.cumsum(dens) * step
+    return (float((grid * dens).sum() * step),
+            (float(np.interp(0.025, cdf, grid)), float(np.interp(0.975, cdf, grid))))
+
+
+@pytest.mark.parametrize("a, b", [(1.0, 9.0), (2.0, 3.0)])
+def test_flip_rate_posterior_against_numerical_integration(a, b):
+    X, y, roles = make_poi_problem(n_demos=5, n_threats=1, n_pois=2, chain=(0, 1),
+                                   n_negative=3, seed=2, always_violated=())
+    y = np.asarray(y).copy()
+    y[0] = 0  # a flipped label
+    clf = BSIClassifier(likelihood="ci", flip_prior=(a, b), inference="exact", tol=0.0,
+                        **roles).fit(X, y)
+    mean, (lo, hi) = _flip_rate_by_integration(X, y, roles, a, b)
+    assert clf.flip_rate_ == pytest.approx(mean, abs=1e-6)
+    assert clf.flip_rate_interval_[0] == pytest.approx(lo, abs=1e-4)
+    assert clf.flip_rate_interval_[1] == pytest.approx(hi, abs=1e-4)
+
+
+def test_flip_rate_posterior_of_one_beta_and_of_a_mixture():
+    mean, (lo, hi) = flip_rate_posterior([3], [1.0], 20, (2.0, 5.0))
+    dist = stats.beta(5.0, 22.0)
+    assert mean == pytest.approx(dist.mean(), rel=1e-12)
+    assert (lo, hi) == pytest.approx(dist.ppf([0.025, 0.975]), abs=1e-10)
+    mean, (lo, hi) = flip_rate_posterior([0, 4], [0.25, 0.75], 10, (1.0, 1.0))
+    mix_cdf = lambda x: 0.25 * stats.beta.cdf(x, 1, 11) + 0.75 * stats.beta.cdf(x, 5, 7)  # noqa: E731
+    assert mix_cdf(lo) == pytest.approx(0.025, abs=1e-9)
+    assert mix_cdf(hi) == pytest.approx(0.975, abs=1e-9)
+    assert mean == pytest.approx(0.25 / 12 + 0.75 * 5 / 12, rel=1e-12)
+    assert flip_rate_posterior([0], [1.0], 3, None) == (None, None)
+
+
+@pytest.fixture(scope="module")
+def poi():
+    return make_poi_problem(n_demos=50, n_negative=10, seed=11)
+
+
+@pytest.mark.parametrize("likelihood, flip_prior", NEW[:2])
+def test_mcmc_agrees_with_exact(poi, likelihood, flip_prior):
+    X, y, roles = poi
+    kw = dict(prior="sets_of_chains", likelihood=likelihood, flip_prior=flip_prior, **roles)
+    exact = BSIClassifier(inference="exact", **kw).fit(X, y)
+    mcmc = BSIClassifier(inference="mcmc", random_state=0, **kw).fit(X, y)
+    tv = total_variation(exact.posterior_, mcmc.posterior_)
+    assert tv <= 0.02, tv
+    assert np.abs(exact.predict_proba(X) - mcmc.predict_proba(X)).max() <= 0.02
+    if flip_prior is not None:
+        assert mcmc.flip_rate_ == pytest.approx(exact.flip_rate_, abs=0.005)
+        assert np.allclose(mcmc.flip_rate_interval_, exact.flip_rate_interval_, atol=0.01)
+    else:
+        assert mcmc.flip_rate_ is None and exact.flip_rate_ is None
+
+
+@pytest.mark.parametrize("params, match", [
+    (dict(likelihood="cb", flip_prior=(1, 9)), "likelihood='ci' only"),
+    (dict(likelihood="calibrated", flip_prior=(1, 9)), "likelihood='ci' only"),
+    (dict(likelihood="ci", flip_prior=(1, 9), epsilon=0.1), "leave epsilon=None"),
+    (dict(likelihood="ci", flip_prior=(0, 9)), "flip_prior must be"),
+    (dict(likelihood="ci", flip_prior=(1, 2, 3)), "flip_prior must be"),
+    (dict(likelihood="ci", flip_prior=(True, 2)), "flip_prior must be"),
+    (dict(likelihood="ci", flip_prior="ab"), "flip_prior must be"),
+    (dict(likelihood="ci", flip_prior=(1, math.inf)), "flip_prior must be"),
+    (dict(likelihood="size"), "likelihood must be"),
+])
+def test_bad_flip_prior_is_a_clear_error(params, match):
+    X, y, roles = _small_problem()
+    with pytest.raises(ValueError, match=match):
+        BSIClassifier(**params, **roles).fit(X, y)
+
+
+def test_new_settings_are_reproducible_and_pickle():
+    X, y, roles = _small_problem(seed=1)
+    for likelihood, flip_prior in NEW[:2]:
+        for inference in ("exact", "mcmc"):
+            kw = dict(likelihood=likelihood, flip_prior=flip_prior, inference=inference,
+                      n_samples=1000, random_state=3, **roles)
+            a = BSIClassifier(**kw).fit(X, y)
+            b = pickle.loads(pickle.dumps(BSIClassifier(**kw).fit(X, y)))
+            assert np.array_equal(a.posterior_.probabilities, b.posterior_.probabilities)
+            assert np.array_equal(a.predict_proba(X), b.predict_proba(X))
+            assert a.flip_rate_ == b.flip_rate_
+            assert a.flip_rate_interval_ == b.flip_rate_interval_
+
+
+def test_default_epsilon_is_the_papers_for_the_calibrated_likelihood():
+    model = make_model(prior="forest", likelihood="calibrated", n_globals=2, n_subtasks=3)
+    assert model.log_eps == pytest.approx(default_log_epsilon(2, 3))
+    assert (model.flip_a, model.flip_b) == (0.0, 0.0)
