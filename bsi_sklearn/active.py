@@ -80,8 +80,8 @@ def entropy_sampling(clf, X_pool, n_instances=1):
     --------
     >>> import numpy as np
     >>> from bsi_sklearn import BSIClassifier
-    >>> # propositions: a, b. One demonstration does a, then b.
-    >>> clf = BSIClassifier(random_state=0).fit([np.array([[1, 0], [1, 1]])])
+    >>> # propositions: a, b. One demonstration does a, then b; both may be subtasks.
+    >>> clf = BSIClassifier(roles="all", random_state=0).fit([np.array([[1, 0], [1, 1]])])
     >>> pool = [np.array([[1, 0], [1, 1]]),   # what was shown: no news
     ...         np.array([[0, 1], [1, 1]]),   # b before a: does the order matter?
     ...         np.array([[0, 0], [0, 0]])]   # nothing done: almost surely bad

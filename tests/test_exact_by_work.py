@@ -128,12 +128,12 @@ class _Spent:
 def test_default_classifier_without_roles_is_exact_on_a_huge_support(monkeypatch):
     X, y = _no_roles_problem(60)
     spent = _Spent(monkeypatch)
-    fits = [BSIClassifier(n_jobs=n_jobs).fit(X, y) for n_jobs in (1, 2)]
+    fits = [BSIClassifier(roles="all", n_jobs=n_jobs).fit(X, y) for n_jobs in (1, 2)]
     assert [f.inference_ for f in fits] == ["exact", "exact"]
     assert fits[0].n_hypotheses_ == 3_456_413_271_588_864  # 11 x 11 under Prior 2
     assert fits[0].max_exact_hypotheses is None
     assert np.array_equal(fits[0].posterior_.probabilities, fits[1].posterior_.probabilities)
-    forced = BSIClassifier(inference="exact").fit(X, y)
+    forced = BSIClassifier(roles="all", inference="exact").fit(X, y)
     assert np.array_equal(forced.posterior_.probabilities, fits[0].posterior_.probabilities)
     assert forced.map_specification_ == fits[0].map_specification_
     # The choice is a function of the counted work only: the same count every time, exact
@@ -141,9 +141,9 @@ def test_default_classifier_without_roles_is_exact_on_a_huge_support(monkeypatch
     assert 0 < spent.total / 3 <= classifier._AUTO_EXACT_WORK
     work = spent.total / 3
     monkeypatch.setattr(classifier, "_AUTO_EXACT_WORK", work)
-    assert BSIClassifier().fit(X, y).inference_ == "exact"
+    assert BSIClassifier(roles="all").fit(X, y).inference_ == "exact"
     monkeypatch.setattr(classifier, "_AUTO_EXACT_WORK", work - 1)
-    assert BSIClassifier(n_samples=50, random_state=0).fit(X, y).inference_ == "mcmc"
+    assert BSIClassifier(roles="all", n_samples=50, random_state=0).fit(X, y).inference_ == "mcmc"
 
 
 def test_auto_is_exact_on_supports_beyond_int64():
@@ -155,7 +155,7 @@ def test_auto_is_exact_on_supports_beyond_int64():
             tr[t:, p] = 1
         X.append(tr)
     y = np.array([int(i % 3 != 0) for i in range(20)])
-    clf = BSIClassifier(prior="linear_chain").fit(X, y)
+    clf = BSIClassifier(roles="all", prior="linear_chain").fit(X, y)
     assert clf.n_hypotheses_ > 2**64  # 14! x 2**28
     assert clf.inference_ == "exact"
     assert clf.map_specification_.orders == {(a, b) for a in range(14) for b in range(a + 1, 14)}
@@ -166,7 +166,8 @@ def test_over_budget_falls_back_to_mcmc_deterministically():
     # A complexity-independent likelihood on these missions is nearly flat: listing what the
     # posterior needs is far over auto's budget, found before the work is done.
     X, y = _no_roles_problem(30)
-    fits = [BSIClassifier(likelihood="ci", n_samples=200, random_state=0, n_jobs=n_jobs)
+    fits = [BSIClassifier(roles="all", likelihood="ci", n_samples=200, random_state=0,
+                          n_jobs=n_jobs)
             .fit(X, y) for n_jobs in (1, 2)]
     assert [f.inference_ for f in fits] == ["mcmc", "mcmc"]
     assert np.array_equal(fits[0].posterior_.probabilities, fits[1].posterior_.probabilities)
@@ -182,7 +183,7 @@ def test_over_budget_falls_back_to_mcmc_deterministically():
 
 def test_a_cap_on_the_support_still_applies():
     X, y = _no_roles_problem(30)
-    assert BSIClassifier(max_exact_hypotheses=10**12, n_samples=50,
+    assert BSIClassifier(roles="all", max_exact_hypotheses=10**12, n_samples=50,
                          random_state=0).fit(X, y).inference_ == "mcmc"
     with pytest.raises(ValueError, match="max_exact_hypotheses"):
-        BSIClassifier(inference="exact", max_exact_hypotheses=10**12).fit(X, y)
+        BSIClassifier(roles="all", inference="exact", max_exact_hypotheses=10**12).fit(X, y)

@@ -128,7 +128,8 @@ def test_predict_checks_propositions():
     with pytest.warns(UserWarning, match="does not have valid feature names"):
         clf.predict([np.ones((2, 2))])
     with pytest.raises(ValueError, match="inference='exact' needs"):
-        BSIClassifier(inference="exact", max_exact_hypotheses=10).fit([np.ones((2, 3))])
+        BSIClassifier(roles="all", inference="exact",
+                      max_exact_hypotheses=10).fit([np.ones((2, 3))])
 
 
 def test_single_dataframe_is_rejected_unless_long_format():
