@@ -251,7 +251,7 @@ def write_outputs(df, vlist, out, command, seconds, quick, settings, external=No
         "< placed` is outside it, for every training set): " + _in_chains_text(df) + ". "
         "Where it is not, even the given-roles fit cannot represent the rule exactly.", ""]
     if missing:
-        lines += ["Not available in this checkout (listed, not fitted): " + ", ".join(
+        lines += ["Not fitted (listed, with the reason): " + ", ".join(
             f"`{v.name}` ({v.reason})" for v in missing) + ".", ""]
     lines += ["## Targets", "",
               md_table(["target", "wanted", "measured", "met (mean)", "met (95 % interval)"],

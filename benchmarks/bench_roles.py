@@ -46,8 +46,8 @@ from bsi_sklearn import BSIClassifier  # noqa: E402
 from bsi_sklearn.datasets.errands import make_errand_demos, make_errand_task  # noqa: E402
 from bsi_sklearn.likelihood import LIKELIHOODS  # noqa: E402
 
-__all__ = ["Variant", "variants", "flip_labels", "run_cell", "in_chains", "run_benchmark", "main",
-           "SIZES", "NOISES", "KINDS", "FLIP_PRIOR"]
+__all__ = ["Variant", "variants", "skip_variants", "flip_labels", "run_cell", "in_chains",
+           "run_benchmark", "main", "SIZES", "NOISES", "KINDS", "FLIP_PRIOR"]
 
 SIZES = (20, 40, 72)
 NOISES = (0.0, 0.1)
@@ -104,6 +104,16 @@ def variants(flip_prior=FLIP_PRIOR):
                 missing.append("no roles parameter")
             out.append(Variant(roles, lik, p, not missing, "; ".join(missing)))
     return out
+
+
+def skip_variants(vlist, names):
+    """``vlist`` with the variants named in ``names`` marked not fitted (``--skip``)."""
+    known = {v.name for v in vlist}
+    unknown = sorted(set(names) - known)
+    if unknown:
+        raise ValueError(f"--skip: unknown variant(s) {unknown}; known: {sorted(known)}")
+    return [Variant(v.roles, v.likelihood, v.params, False, "skipped (--skip)")
+            if v.name in names and v.available else v for v in vlist]
 
 
 def flip_labels(y, noise, rng):
@@ -264,6 +274,9 @@ def main(argv=None):
                              "to MCMC on the 5-7-proposition files: 10-25 s each)")
     parser.add_argument("--data", default=None, help="published files (default ../shared/"
                                                      "benchmarks-data)")
+    parser.add_argument("--skip", default="", metavar="NAME,...",
+                        help="variants not to fit, e.g. all/ci+flip (listed in the results "
+                             "as skipped, with the reason)")
     args = parser.parse_args(argv)
     if args.out is not None:
         out = Path(args.out)
@@ -277,7 +290,7 @@ def main(argv=None):
     n_test = 60 if args.quick else N_TEST
     t0 = time.perf_counter()
     _warm_up()
-    vlist = variants(args.flip_prior)
+    vlist = skip_variants(variants(args.flip_prior), [n for n in args.skip.split(",") if n])
     df = run_benchmark(KINDS, seeds, sizes, NOISES, args.n_jobs, args.verbose, vlist, n_test)
     external = None
     if args.external:
