@@ -146,3 +146,15 @@ def test_write_outputs(tmp_path, bench, report):
     assert len(pd.read_csv(csv)) == len(df)
     text = md.read_text()
     assert "## Targets" in text and "smoke run" in text and "**missed**" in text
+
+
+def test_skipped_variants_stay_listed_with_their_reason(bench):
+    vlist = bench.skip_variants(bench.variants(), ["all/ci+flip"])
+    names = [v.name for v in vlist]
+    assert names == [v.name for v in bench.variants()]  # none dropped
+    skipped = [v for v in vlist if v.name == "all/ci+flip"]
+    assert len(skipped) == 1 and not skipped[0].available
+    assert skipped[0].reason == "skipped (--skip)"
+    assert all(v.available for v in vlist if v.name != "all/ci+flip")
+    with pytest.raises(ValueError, match="unknown variant"):
+        bench.skip_variants(vlist, ["all/typo"])
