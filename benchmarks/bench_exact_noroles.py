@@ -1,8 +1,9 @@
-"""Exact by work, not by support (issue 19): LFE missions with no roles, the default classifier.
+"""Exact by work, not by support (issue 19): LFE missions, every proposition in every role.
 
-Every one of the 11 propositions is a global candidate and a subtask (3.5e15 hypotheses under
-Prior 2, CB likelihood). For 18, 36 and 72 missions and each commander's objective (MO1-MO3)
-the default ``BSIClassifier()`` is timed (median of warm fits) beside an uncapped
+Every one of the 11 propositions is a global candidate and a subtask (``roles="all"``, the
+default before issue 20: 3.5e15 hypotheses under Prior 2, CB likelihood). For 18, 36 and 72
+missions and each commander's objective (MO1-MO3) ``BSIClassifier(roles="all")`` (every other
+parameter at its default) is timed (median of warm fits) beside an uncapped
 ``inference="exact"`` fit, and their posteriors compared (total variation).
 
     python benchmarks/run.py --only exact_noroles
@@ -36,9 +37,9 @@ def run(cfg):
         X, labels = _missions(n, seed)
         for mo in cfg.pick(("MO1", "MO2", "MO3"), ("MO1",)):
             y = labels[mo].to_numpy()
-            auto = BSIClassifier(random_state=0)
+            auto = BSIClassifier(roles="all", random_state=0)
             t_auto, _, _, _ = time_call(lambda c=auto, X=X, y=y: c.fit(X, y), reps)
-            exact = BSIClassifier(inference="exact", max_exact_hypotheses=10**30)
+            exact = BSIClassifier(roles="all", inference="exact", max_exact_hypotheses=10**30)
             t_exact, _, _, _ = time_call(lambda c=exact, X=X, y=y: c.fit(X, y), reps)
             tv = total_variation(auto.posterior_, exact.posterior_)
             cells.append({"missions": n, "seed": seed, "objective": mo,
@@ -49,10 +50,11 @@ def run(cfg):
                          f"{tv:.2g}", f"{len(exact.posterior_):,}"])
     sec.add("`make_lfe_dataset(n, random_state=seed)` (seeds: 18 missions 2, 36 missions 3, 72 "
             "missions 1), `LFEPropositionExtractor().fit_transform`, labels of one objective; "
-            "no roles: every proposition is a global candidate and a subtask "
+            "`roles=\"all\"`: every proposition is a global candidate and a subtask "
             f"({cells[0]['hypotheses']:.2g} hypotheses, Prior 2, CB). `default fit` is "
-            "`BSIClassifier(random_state=0).fit` (whatever `auto` chose), `exact fit` is "
-            "`BSIClassifier(inference=\"exact\", max_exact_hypotheses=10**30).fit`; median of "
+            "`BSIClassifier(roles=\"all\", random_state=0).fit` (whatever `auto` chose), "
+            "`exact fit` is `BSIClassifier(roles=\"all\", inference=\"exact\", "
+            "max_exact_hypotheses=10**30).fit`; median of "
             f"{reps} warm calls each, validation and clause truth included. TV: total variation "
             "between the two posteriors; `kept`: specifications the exact posterior lists.")
     sec.add(md_table(["missions", "objective", "auto chose", "default fit", "exact fit",

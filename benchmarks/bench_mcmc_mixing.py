@@ -79,12 +79,13 @@ def s2l_files(data=DEFAULT_DATA, every=20, max_props=3):
 
 
 def s2l_problems(files, negations=True):
-    """``(name, X, y, roles)`` of samples2LTL files, negations added, default roles."""
+    """``(name, X, y, roles)`` of samples2LTL files, negations added, every proposition in
+    every role (``roles="all"``: the sampler's hard case, the default before issue 20)."""
     for f in files:
         X, y, _ = load_trace_file(f)
         if negations:
             X = NegationAugmenter().fit_transform(X)
-        yield "/".join(Path(f).parts[-3:]), X, y, {}
+        yield "/".join(Path(f).parts[-3:]), X, y, {"roles": "all"}
 
 
 def seven_files(data=DEFAULT_DATA, n=4):
