@@ -237,7 +237,8 @@ def write_outputs(df, vlist, out, command, seconds, quick, settings, external=No
         "posterior vote).",
         "* Variants: roles `given` (the task's true roles: the safety proposition as global "
         "candidate, the subtasks and the conditional step as subtasks, its condition), `all` "
-        "(every proposition in every role: today's default), `infer` (`roles=\"infer\"`) x "
+        "(every proposition in every role: `roles=\"all\"`, the default before issue 20), "
+        "`infer` (`roles=\"infer\"`, the default now) x "
         "likelihood `cb`, `ci`, `calibrated`, `ci+flip` (`likelihood=\"ci\"`, "
         f"`flip_prior={tuple(settings['flip_prior'])}`, fixed beforehand); every other "
         "parameter at its default (`inference=\"auto\"`), `random_state` = seed, `n_jobs=1`.",

@@ -14,12 +14,12 @@ scored on the true verdicts). The same training set is used clean and noisy, and
 variant, so the comparisons are paired.
 
 Variants: roles (``given``: the task's true roles; ``all``: every proposition in every role,
-today's default; ``infer``: ``roles="infer"``) x likelihood (``cb``, ``ci``, ``calibrated``,
-``ci`` with ``flip_prior``). Each is fitted with every other default (``inference="auto"``,
-``random_state`` = the seed, ``n_jobs=1``). A variant whose option the installed classifier does
-not have (detected from ``BSIClassifier().get_params()`` and
-``bsi_sklearn.likelihood.LIKELIHOODS``) is listed as not available. Every warning a fit raises
-is recorded (never silenced) and counted per variant.
+the default before issue 20; ``infer``: ``roles="infer"``, the default now) x likelihood
+(``cb``, ``ci``, ``calibrated``, ``ci`` with ``flip_prior``). Each is fitted with every other
+default (``inference="auto"``, ``random_state`` = the seed, ``n_jobs=1``). A variant whose
+option the installed classifier does not have (detected from ``BSIClassifier().get_params()``
+and ``bsi_sklearn.likelihood.LIKELIHOODS``) is listed as not available. Every warning a fit
+raises is recorded (never silenced) and counted per variant.
 """
 
 from __future__ import annotations
