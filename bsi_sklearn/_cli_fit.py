@@ -133,20 +133,26 @@ def add_arguments(parser):
                         help=".trace files (samples2LTL / Scarlet) or long-format CSV files")
     parser.add_argument("--globals", nargs="*", metavar="PROP", default=None,
                         help="propositions that may be required to hold always, G(p) "
-                             "(default: all; give none for no G clauses)")
+                             "(default: by --roles; give none for no G clauses)")
     parser.add_argument("--subtasks", nargs="*", metavar="PROP", default=None,
                         help="subtask-completion propositions, F(w) and ordering clauses "
-                             "(default: all; give none for no subtasks)")
+                             "(default: by --roles; give none for no subtasks)")
     parser.add_argument("--conditions", nargs="+", metavar="W=PI", default=None,
                         type=_conditions_type,
                         help="condition of a subtask, read at t = 0: subtask=condition pairs "
-                             "separated by commas or spaces (default: no conditions)")
+                             "separated by commas or spaces (default: by --roles)")
+    parser.add_argument("--roles", choices=["infer", "all"], default="infer",
+                        help="what the role options not given become: read from the "
+                             "demonstrations (infer) or every proposition in every role and "
+                             "no conditions (all, the paper's setting) (default: %(default)s)")
     parser.add_argument("--prior", choices=PRIOR_CHOICES, default="sets_of_chains",
                         help="prior over the order of subtasks: one chain, sets of chains or "
                              "a forest (default: %(default)s)")
     parser.add_argument("--likelihood", choices=LIKELIHOOD_CHOICES, default="cb",
                         help="complexity-based (cb, the size principle) or "
-                             "complexity-independent (ci) likelihood (default: %(default)s)")
+                             "complexity-independent (ci) likelihood, or the size principle "
+                             "calibrated on the demonstrations (calibrated) "
+                             "(default: %(default)s)")
     parser.add_argument("--inference", choices=["auto", "exact", "mcmc"], default="auto",
                         help="exact enumeration, MCMC, or auto: exact when the support is "
                              "small enough (default: %(default)s)")
@@ -278,7 +284,7 @@ def run(args):
             raise ValueError(f"{path}: --pos-label {args.pos_label!r} is given, but the file "
                              "has no labels (every demonstration is acceptable)")
         pos_label = _pos_label(args.pos_label, y)
-        clf = BSIClassifier(prior=args.prior, likelihood=args.likelihood,
+        clf = BSIClassifier(prior=args.prior, likelihood=args.likelihood, roles=args.roles,
                             inference=args.inference, n_samples=args.n_samples,
                             random_state=args.seed, pos_label=pos_label,
                             **_roles(args, names, path))
@@ -293,6 +299,10 @@ def run(args):
               f"{clf.n_features_in_} propositions, {clf.inference_} inference")
         if target is not None:
             print(f"target     : {target}")
+        used = clf.roles_
+        print(f"roles      : globals {' '.join(map(str, used['global_candidates'])) or '-'}; "
+              f"subtasks {' '.join(map(str, used['subtasks'])) or '-'}; conditions "
+              + (", ".join(f"{w}={c}" for w, c in used["conditions"].items()) or "-"))
         # Readable: orders as chains, clauses every demonstration satisfies set apart as
         # untested; the full formula beneath when it differs (and in the --save file).
         spec = clf.map_specification_

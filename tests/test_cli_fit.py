@@ -84,3 +84,22 @@ def test_errors_while_fitting_name_the_file(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.startswith(f"bsi fit: error: {path}: ") and "only unacceptable" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["only_bad.csv"]
+
+
+def test_roles_option_and_the_roles_line(tmp_path):
+    import subprocess
+    import sys
+
+    path = tmp_path / "demo.trace"
+    # x0 then x1; x2 (safe) holds throughout; the bad trace does x1 before x0
+    path.write_text("0,0,1;1,0,1;1,1,1\n0,0,1;0,0,1;1,0,1;1,1,1\n---\n0,0,1;0,1,1;1,1,1\n"
+                    "---\nF,G\n")
+    run = [sys.executable, "-m", "bsi_sklearn", "fit", str(path), "--top", "1"]
+    inferred = subprocess.run(run, capture_output=True, text=True)
+    assert inferred.returncode == 0, inferred.stderr
+    assert "roles      : globals x2; subtasks x0 x1; conditions -" in inferred.stdout
+    every = subprocess.run([*run, "--roles", "all"], capture_output=True, text=True)
+    assert every.returncode == 0, every.stderr
+    assert "roles      : globals x0 x1 x2; subtasks x0 x1 x2; conditions -" in every.stdout
+    bad = subprocess.run([*run, "--roles", "some"], capture_output=True, text=True)
+    assert bad.returncode == 2 and "--roles" in bad.stderr
