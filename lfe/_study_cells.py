@@ -25,9 +25,11 @@ from baselines.practitioner import (
     make_practitioner_baseline,
 )
 from bsi_sklearn.classifier import BSIClassifier
-from lfe._compare_protocol import _weighted_f1  # the comparison's scorer, shared within lfe
+from lfe._compare_protocol import (  # the comparison's scorer and fit of a BSI row, shared
+    _fit_bsi,
+    _weighted_f1,
+)
 from lfe._compare_rows import BSI_ROWS as COMPARE_BSI_ROWS
-from lfe._compare_rows import WITHOUT_ROLES  # rows fitted without the extractor's roles
 from lfe.annotate import MISSION_OBJECTIVES, annotate_scenarios
 from lfe.dataset import make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
@@ -214,13 +216,6 @@ def draw_training_set(clean, n_pool, n_train, seed):
     raise AssertionError("an unstratified split cannot fail")  # pragma: no cover
 
 
-def _fit_bsi(X, y, roles, params, seed, name):
-    if not np.any(y == 1):
-        return None  # BSI needs an acceptable mission; predict "failed" throughout
-    roles = {} if name in WITHOUT_ROLES else roles
-    return BSIClassifier(random_state=seed, **roles, **params, **BSI_ROWS[name]).fit(X, y)
-
-
 def _fit_bsi_cv(X, y, roles, params, grid, seed):
     """GridSearchCV over ``grid`` on the training set only; ``(classifier, chosen params)``."""
     if not np.any(y == 1):
@@ -229,7 +224,7 @@ def _fit_bsi_cv(X, y, roles, params, grid, seed):
     if n_min == 1:
         # One mission of a class: some inner training fold would lack it (an inner fit
         # without an acceptable mission fails), so there is nothing to cross-validate.
-        return _fit_bsi(X, y, roles, params, seed, "BSI (Prior 2)"), {}
+        return _fit_bsi("BSI (Prior 2)", X, y, roles, params, seed), {}
     n_splits = min(3, len(y))
     cv = (StratifiedKFold(min(n_splits, n_min), shuffle=True, random_state=seed)
           if n_min >= 2 else KFold(n_splits, shuffle=True, random_state=seed))
@@ -367,8 +362,8 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
                                               settings["grid"], model_seed)
                     chosen.append(";".join(f"{p}={v}" for p, v in sorted(params.items())))
                 else:
-                    clf = _fit_bsi(X_train, y[train, k], roles, settings["bsi"], model_seed,
-                                   name)
+                    clf = _fit_bsi(name, X_train, y[train, k], roles, settings["bsi"],
+                                   model_seed)
                 columns.append(np.zeros(len(test), dtype=y.dtype) if clf is None
                                else clf.predict(X_test))
         preds[name] = np.column_stack(columns)
