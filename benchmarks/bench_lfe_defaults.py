@@ -39,6 +39,8 @@ from benchmarks._common import machine_info, md_table  # noqa: E402
 from bsi_sklearn import BSIClassifier  # noqa: E402
 from bsi_sklearn.likelihood import LIKELIHOODS  # noqa: E402
 from lfe.annotate import MISSION_OBJECTIVES  # noqa: E402
+from lfe.compare import BSI_ROWS  # noqa: E402
+from lfe.compare import WITHOUT_ROLES as STUDY_WITHOUT_ROLES  # noqa: E402
 from lfe.study import (  # noqa: E402
     derive_seed,
     draw_training_set,
@@ -48,9 +50,9 @@ from lfe.study import (  # noqa: E402
 )
 
 #: BSI rows with the extractor's roles (the study's fixed rows): name -> parameters.
-WITH_ROLES = {"BSI (Prior 2)": {"prior": "sets_of_chains"},
-              "BSI (Prior 3)": {"prior": "forest"},
-              "BSI (Prior 2, CI)": {"prior": "sets_of_chains", "likelihood": "ci"}}
+WITH_ROLES = {name: p for name, p in BSI_ROWS.items() if name not in STUDY_WITHOUT_ROLES}
+#: The study's own row of the defaults without roles, and its name here.
+STUDY_DEFAULTS = {name: "no roles, defaults" for name in STUDY_WITHOUT_ROLES}
 #: Fits without the extractor's roles: name -> (parameters, what they need to exist).
 #: ``roles="all"`` and the CI flip prior are left out: on the extended set the first samples
 #: (about 100 s a fit) and the second is over auto's work budget everywhere (MCMC), which
@@ -187,25 +189,28 @@ def report(runs, table, config, seconds, command, source=None):
     return "\n".join(lines)
 
 
-def _from_study(folder, args, argv):
-    """The paired table from a study's own runs: its no-roles row against its rows with roles."""
-    start = time.perf_counter()
+def _from_study(folder):
+    """A study's own runs of the rows compared here (its no-roles row renamed) and config."""
     study = pd.read_csv(folder / "study_runs.csv")
-    keep = {**{n: n for n in WITH_ROLES}, "BSI (no roles)": "no roles, defaults"}
+    keep = {**{n: n for n in WITH_ROLES}, **STUDY_DEFAULTS}
     runs = study[study["classifier"].isin(keep)].rename(columns={"classifier": "variant"})
     runs["variant"] = runs["variant"].map(keep)
-    table = paired(runs)
     config = json.loads((folder / "config.json").read_text())
-    out = Path(args.out) if args.out else Path(__file__).resolve().parent
-    folder_out = out / "lfe_defaults"
-    folder_out.mkdir(parents=True, exist_ok=True)
-    table.to_csv(folder_out / "paired.csv", index=False)
+    return runs, config
+
+
+def _write(out, argv, runs, config, start, source=None):
+    """``lfe_defaults/`` (the paired table; every fit when they were fitted here) and
+    ``RESULTS_lfe_defaults.md`` under ``out``; print the Markdown."""
+    table = paired(runs)
+    seconds = time.perf_counter() - start
+    folder = out / "lfe_defaults"
+    folder.mkdir(parents=True, exist_ok=True)
+    if source is None:
+        runs.to_csv(folder / "runs.csv", index=False)
+    table.to_csv(folder / "paired.csv", index=False)
     command = "python benchmarks/bench_lfe_defaults.py " + " ".join(argv or sys.argv[1:])
-    runs = runs.assign(inference="(see the study's files)", warnings=0, fit_s=float("nan"))
-    text = report(runs, table, {"repeats": config["repeats"], "sizes": config["sizes"],
-                                "noise": config["noise"], "propositions": config["propositions"],
-                                "test_size": config["test_size"]},
-                  time.perf_counter() - start, command.strip(), source=folder)
+    text = report(runs, table, config, seconds, command.strip(), source=source)
     (out / "RESULTS_lfe_defaults.md").write_text(text + "\n")
     print(text)
     return 0
@@ -228,30 +233,22 @@ def main(argv=None):
                              "study_runs.csv: 'BSI (no roles)' is the defaults) instead of "
                              "fitting; the other options are then ignored")
     args = parser.parse_args(argv)
+    out = Path(args.out) if args.out else Path(__file__).resolve().parent
+    start = time.perf_counter()
     if args.from_study:
-        return _from_study(Path(args.from_study), args, argv)
+        source = Path(args.from_study)
+        runs, config = _from_study(source)
+        return _write(out, argv, runs, config, start, source=source)
     if args.quick:
         args.repeats, args.sizes, args.noise, args.propositions = 2, "6,18", "0.04", "paper"
     config = dict(repeats=args.repeats, sizes=[int(s) for s in args.sizes.split(",")],
                   noise=[float(s) for s in args.noise.split(",")],
                   propositions=args.propositions.split(","), test_size=args.test_size,
                   seed=args.seed, variants=variants())
-    out = Path(args.out) if args.out else Path(__file__).resolve().parent
-    folder = out / "lfe_defaults"
-    folder.mkdir(parents=True, exist_ok=True)
-    start = time.perf_counter()
     chunks = Parallel(n_jobs=args.n_jobs)(delayed(run_repeat)(r, config)
                                           for r in range(args.repeats))
     runs = pd.DataFrame([row for chunk in chunks for row in chunk])
-    table = paired(runs)
-    seconds = time.perf_counter() - start
-    runs.to_csv(folder / "runs.csv", index=False)
-    table.to_csv(folder / "paired.csv", index=False)
-    command = "python benchmarks/bench_lfe_defaults.py " + " ".join(argv or sys.argv[1:])
-    text = report(runs, table, config, seconds, command.strip())
-    (out / "RESULTS_lfe_defaults.md").write_text(text + "\n")
-    print(text)
-    return 0
+    return _write(out, argv, runs, config, start)
 
 
 if __name__ == "__main__":
