@@ -158,3 +158,24 @@ def test_skipped_variants_stay_listed_with_their_reason(bench):
     assert all(v.available for v in vlist if v.name != "all/ci+flip")
     with pytest.raises(ValueError, match="unknown variant"):
         bench.skip_variants(vlist, ["all/typo"])
+
+
+def test_pooled_differences_average_per_task_then_interval_over_tasks(report):
+    rows = []
+    acc = {("a", 0): {"infer/cb": [0.8, 0.6], "all/cb": [0.7, 0.3]},
+           ("a", 1): {"infer/cb": [0.9, 0.9], "all/cb": [0.9, 0.7]},
+           ("b", 0): {"infer/cb": [0.5, 0.5], "all/cb": [0.6, 0.6]}}
+    for (kind, seed), by_variant in acc.items():
+        for variant, values in by_variant.items():
+            for n, value in zip((20, 40), values):
+                rows.append({"kind": kind, "seed": seed, "n_train": n, "noise": 0.0,
+                             "variant": variant, "available": True, "accuracy": value})
+    table = report.pooled_differences(pd.DataFrame(rows))
+    assert list(table["variant"]) == ["all/cb"]
+    per_task = np.array([(-0.1 - 0.3) / 2, (0.0 - 0.2) / 2, (0.1 + 0.1) / 2])
+    row = table.iloc[0]
+    assert row.tasks == 3
+    assert row["mean"] == pytest.approx(per_task.mean())
+    half = 4.302652729911275 * per_task.std(ddof=1) / np.sqrt(3)  # t(0.975, 2)
+    assert row.low == pytest.approx(per_task.mean() - half)
+    assert row.high == pytest.approx(per_task.mean() + half)
