@@ -67,7 +67,7 @@ class ExactResult:
     """What the enumeration returns: kept hypotheses, their log posterior, marginals."""
 
     def __init__(self, structures, tau_masks, w1_masks, log_prob, dropped_mass,
-                 clause_marginals, log_evidence, n_hypotheses, violation_mass):
+                 clause_marginals, log_evidence, n_hypotheses, violation_mass, work=None):
         self.structures = structures          # (H, n) parent arrays
         self.tau_masks = tau_masks            # (H, n_g) bool
         self.w1_masks = w1_masks              # (H, n) bool
@@ -77,6 +77,7 @@ class ExactResult:
         self.log_evidence = log_evidence
         self.n_hypotheses = n_hypotheses
         self.violation_mass = violation_mass  # (n_demos + 1,) mass by misclassified demos
+        self.work = work                      # the work count spent (None: ungrouped)
 
 
 def _mask_bits(masks, n_items):
@@ -149,22 +150,28 @@ class _Budget:
     # allocation) it pays for, and depends on the data only, never on timing.
     def __init__(self, max_work):
         self.left = np.inf if max_work is None else float(max_work)
+        self.spent = 0.0
 
     def spend(self, work, what):
         self.left -= work
+        self.spent += work
         if self.left < 0:
             raise ExactWorkExceeded(f"exact enumeration stopped: {what} exceeds its work budget")
 
 
-def _evidence(clause_bits, full, labels, model, thr, cut, hs, lik, margin, budget):
+def _evidence(clause_bits, full, labels, model, thr, cut, hs, lik, margin, budget, walked):
     # Group the structures that satisfy at least thr acceptable demonstrations; log evidence
-    # over them (relative to the groups' ref) and what the later passes need.
+    # over them (relative to the groups' ref) and what the later passes need. Tables that the
+    # last walk goes down again (walked) are charged twice here, so that a budget too small
+    # for the walk stops the enumeration while the tables are built, not after every pass.
     n = model.n
     # Before its arrays over the 2**n subsets (about 60 bytes each) are allocated.
     budget.spend(STEP_COST * 8 * 2.0**n, f"the tables of 2**{n} subsets of subtasks")
+    times = 2.0 if walked else 1.0
     tables, work = structure_tables(clause_bits, full, labels.pos, thr, model,
-                                    max(budget.left, 0.0))
-    budget.spend(work if tables is not None else np.inf, "grouping the order structures")
+                                    max(budget.left, 0.0) / times)
+    budget.spend(times * work if tables is not None else np.inf,
+                 "grouping the order structures" + (" and the walk down them" if walked else ""))
     sg, members, gid = structure_groups(tables, model)
     budget.spend(len(sg.size) * len(hs.lw),
                  f"{len(sg.size):,} x {len(hs.lw):,} pairs of groups")
@@ -187,7 +194,7 @@ class _Found(NamedTuple):
     rank: np.ndarray     # table order -> sorted position
     log_z_rel: float
     offset: float
-    work: int            # of the tables (the walk down them costs as much)
+    work: int            # of the tables (the walk down them costs as much: charged twice)
 
 
 def _pair_lls(lik, k, ps, ns):
@@ -234,8 +241,7 @@ def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
     return np.cumsum(pass_start), pass_h, pass_ll, n_list
 
 
-def _grouped(clause_bits, full, labels, model, log_keep, max_kept, max_work, tol):
-    budget = _Budget(max_work)
+def _grouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol):
     subsets = group_subsets(clause_bits, full, model, budget.spend)
     hs, h_order = _subset_side(subsets.groups, labels)
     max_conj = model.n_g + model.n + model.n * (model.n - 1) // 2
@@ -252,11 +258,12 @@ def _grouped(clause_bits, full, labels, model, log_keep, max_kept, max_work, tol
         # of it: those satisfying at least thr acceptable demonstrations (bound is
         # non-decreasing in them).
         first = _evidence(clause_bits, full, labels, model, n_pos, -np.inf, hs, lik, margin,
-                          budget)
+                          budget, walked=False)
         if first.log_z_rel > -np.inf:
             cut = first.log_z_rel + first.sg.ref + margin - h_total
     thr = int(np.searchsorted(bound, cut)) if cut > -np.inf else 0
-    found = _evidence(clause_bits, full, labels, model, thr, cut, hs, lik, margin, budget)
+    found = _evidence(clause_bits, full, labels, model, thr, cut, hs, lik, margin, budget,
+                      walked=True)
     sg, ss = found.sg, found.ss
     log_z = found.log_z_rel + sg.ref
     keep = log_keep + log_z
@@ -273,7 +280,6 @@ def _grouped(clause_bits, full, labels, model, log_keep, max_kept, max_work, tol
     top_out[held] = (mass_s[g_sorted[held]] / ss.weight[g_sorted[held]]
                      * np.exp(lw[held] - np.log(found.tables.weight[ids[held]]) - sg.ref))
     marked = (g_sorted >= 0) & (flag[np.maximum(g_sorted, 0)] == 1)
-    budget.spend(found.work, "the walk down the structure tables")
     marg_o, rec_start, rec = descend(found.tables, clause_bits, full, labels.pos, thr, model,
                                      ids, top_out, marked)
     ls = Listing(rec_start, rec, ids[marked].astype(np.int64),
@@ -313,7 +319,7 @@ def _sorted_head(par, t, e, lp, cut, tol):
     return head[np.lexsort((e[head], t[head], *par[head].T[::-1], -lp[head]))]
 
 
-def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, max_work, tol):
+def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol):
     n_g, n = model.n_g, model.n
     structures = support_structures(model)
     parts_s = ungrouped_structures(structures, clause_bits, full, model)
@@ -399,8 +405,9 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
     n_hyp = count_hypotheses(PRIORS[model.prior], n_g, n)
     log_keep = math.log(tol / n_hyp) if tol > 0 else -np.inf
     engine = _grouped if grouped else _ungrouped
+    budget = _Budget(max_work)
     log_z, structures, t_masks, e_masks, keep_lp, marg, mass_v = engine(
-        clause_bits, full, labels, model, log_keep, max_kept, max_work, tol)
+        clause_bits, full, labels, model, log_keep, max_kept, budget, tol)
     # Smallest prefix of the sorted kept hypotheses that covers 1 - tol.
     cum = np.cumsum(np.exp(keep_lp))
     if tol > 0:
@@ -418,4 +425,5 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
         log_evidence=log_z,
         n_hypotheses=n_hyp,
         violation_mass=mass_v,
+        work=budget.spent if grouped else None,
     )
