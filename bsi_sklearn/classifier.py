@@ -14,6 +14,7 @@ from bsi_sklearn._compile_progress import compile_progress
 from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.inference.diagnostics import disagreement_problems
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
+from bsi_sklearn.inference.auto_budget import auto_work_budget
 from bsi_sklearn.inference.mcmc import sample_posterior
 from bsi_sklearn.inferred_roles import infer_roles, warn_all_roles
 from bsi_sklearn.likelihood import LIKELIHOODS, flip_rate_posterior, is_flip_prior
@@ -33,9 +34,6 @@ from bsi_sklearn.traces import check_consistent_traces, check_labels, check_trac
 __all__ = ["BSIClassifier"]
 
 _INFERENCE = ("auto", "exact", "mcmc")
-#: Work budget of inference="auto" for exact enumeration (exact.exact_posterior's max_work):
-#: about a second on this project's 2-core reference machine.
-_AUTO_EXACT_WORK = 1.5e8
 
 
 class BSIClassifier(ClassifierMixin, BaseEstimator):
@@ -88,9 +86,11 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         is integrated out (``docs/likelihoods.md``; e.g. ``(1, 9)``: keep ``b > a``).
     inference : {"auto", "exact", "mcmc"}, default="auto"
         ``"auto"`` enumerates the posterior exactly when the enumeration needs at most about a
-        second of work on a 2020s CPU core, however large the support, and samples with MCMC
-        otherwise. The work is counted, not timed: the count depends on the data only, so the
-        choice is the same on every machine and for every ``n_jobs``. A peaked posterior over
+        second of work on a 2020s CPU core or, if more, what the MCMC it would fall back to
+        costs (chains x sweeps x rungs x moves x demonstrations; ``docs/auto-budget.md``),
+        however large the support, and samples with MCMC otherwise. The work is counted, not
+        timed: the count depends on the data and the parameters only, so the choice is the
+        same on every machine and for every ``n_jobs``. A peaked posterior over
         1e19 hypotheses can be cheap and a nearly flat one over 1e8 (e.g. a ``"ci"``
         likelihood with a large ``epsilon``) expensive. ``inference_`` says which it did.
     n_samples : int, default=10_000
@@ -349,7 +349,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         if inference == "auto":
             # The exact engine's own work count decides, whatever the support's size.
             inference = "mcmc" if over_cap else "exact"
-            work = _AUTO_EXACT_WORK
+            work = auto_work_budget(truth, y01, model, n_chains=int(self.n_chains),
+                                    n_samples=int(self.n_samples), burn_in=int(self.burn_in),
+                                    n_temperatures=self.n_temperatures)
         elif inference == "exact" and over_cap:
             raise ValueError(
                 f"inference='exact' needs {n_hyp:,} hypotheses ({n_g} global candidates, {n} "

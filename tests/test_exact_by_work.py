@@ -12,7 +12,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_exact_grouped import _assert_same_posterior
 
-import bsi_sklearn.classifier as classifier
+import bsi_sklearn.inference.auto_budget as auto_budget
 import bsi_sklearn.inference.exact as exact
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.clauses import clause_truth
@@ -138,11 +138,12 @@ def test_default_classifier_without_roles_is_exact_on_a_huge_support(monkeypatch
     assert forced.map_specification_ == fits[0].map_specification_
     # The choice is a function of the counted work only: the same count every time, exact
     # at a budget of exactly that count, sampled one unit below it.
-    assert 0 < spent.total / 3 <= classifier._AUTO_EXACT_WORK
+    assert 0 < spent.total / 3 <= auto_budget.AUTO_EXACT_WORK
     work = spent.total / 3
-    monkeypatch.setattr(classifier, "_AUTO_EXACT_WORK", work)
+    monkeypatch.setattr(auto_budget, "SAMPLING_TO_EXACT", 0.0)
+    monkeypatch.setattr(auto_budget, "AUTO_EXACT_WORK", work)
     assert BSIClassifier(roles="all").fit(X, y).inference_ == "exact"
-    monkeypatch.setattr(classifier, "_AUTO_EXACT_WORK", work - 1)
+    monkeypatch.setattr(auto_budget, "AUTO_EXACT_WORK", work - 1)
     assert BSIClassifier(roles="all", n_samples=50, random_state=0).fit(X, y).inference_ == "mcmc"
 
 
@@ -173,10 +174,13 @@ def test_over_budget_falls_back_to_mcmc_deterministically():
     assert np.array_equal(fits[0].posterior_.probabilities, fits[1].posterior_.probabilities)
     model = make_model(prior="sets_of_chains", likelihood="ci", n_globals=11, n_subtasks=11)
     truth = clause_truth(check_traces(X), resolve_roles(None, None, None, 11, None))
+    budget = auto_budget.auto_work_budget(truth, y, model, n_chains=4, n_samples=200,
+                                          burn_in=100)
+    assert budget > auto_budget.AUTO_EXACT_WORK  # the fallback's cost, not the floor
     messages = set()
     for _ in range(2):
         with pytest.raises(ExactWorkExceeded, match="work budget") as err:
-            exact_posterior(truth, y, model, max_work=classifier._AUTO_EXACT_WORK)
+            exact_posterior(truth, y, model, max_work=budget)
         messages.add(str(err.value))
     assert len(messages) == 1
 

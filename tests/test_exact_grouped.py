@@ -235,11 +235,12 @@ def test_auto_enumerates_the_dinner_table_exactly_and_n_jobs_does_not_matter():
 
 
 def test_auto_samples_when_the_enumeration_is_over_its_budget(monkeypatch):
-    import bsi_sklearn.classifier as classifier
+    import bsi_sklearn.inference.auto_budget as auto_budget
     from bsi_sklearn import BSIClassifier
 
     truth_x = [np.array([[1, 0, 1], [1, 1, 1]]), np.array([[1, 0, 0], [1, 1, 1]])]
-    monkeypatch.setattr(classifier, "_AUTO_EXACT_WORK", 1.0)
+    monkeypatch.setattr(auto_budget, "AUTO_EXACT_WORK", 1.0)
+    monkeypatch.setattr(auto_budget, "SAMPLING_TO_EXACT", 0.0)
     clf = BSIClassifier(global_candidates=[0], subtasks=[1, 2], n_samples=50,
                         random_state=0).fit(truth_x)
     assert clf.inference_ == "mcmc"

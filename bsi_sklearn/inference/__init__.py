@@ -8,6 +8,8 @@ Two engines, each returning a result bundle that :class:`bsi_sklearn.BSIClassifi
   tested against);
 - :mod:`bsi_sklearn.inference.mcmc`: tempered Gibbs chains in numba, for what exact cannot
   finish (:func:`~bsi_sklearn.inference.mcmc.sample_posterior`);
+- :mod:`bsi_sklearn.inference.auto_budget`: how much exact work ``inference="auto"`` allows
+  before it samples (at least about a second; as much as the sampling would cost);
 - :mod:`bsi_sklearn.inference.diagnostics`: split-R-hat, the mass each chain missed, total
   variation, the thresholds of the convergence warnings.
 

@@ -35,7 +35,7 @@ from bsi_sklearn.priors import draw_hypothesis, next_structure
 
 __all__ = ["Demos", "ChainResult", "MCMCResult", "run_chain", "deduplicate_demos",
            "score_states", "unique_states", "temperature_ladder", "deterministic_optimum",
-           "sample_posterior"]
+           "sampling_count", "sample_posterior"]
 
 #: Ratio of adjacent inverse temperatures of the default ladder.
 LADDER_RATIO = 0.5
@@ -241,6 +241,27 @@ def _complete(uniq, scores, demos, model):
                 max(1, int(COMPLETE_WORK // cost)), COMPLETE_SOURCES, len(order))
     sources = np.ascontiguousarray(uniq[order[:n_src]], dtype=np.int64)
     return neighbourhood(sources, demos, model, scores.max() - COMPLETE_FLOOR)
+
+
+def sampling_count(truth, y01, model, *, n_chains, n_samples, burn_in, n_temperatures="auto"):
+    """How much work :func:`sample_posterior` does at least: candidate evaluations x rows.
+
+    Every sweep of every replica of every chain weighs the ``n_g + n`` inclusion bits and, for
+    each of the ``n`` subtasks, its ``n + 1`` places (:mod:`bsi_sklearn.inference._gibbs_moves`),
+    each candidate over every unique demonstration row; ``burn_in + n_samples`` sweeps at least
+    (a chain that has not reached the optimum's neighbourhood runs longer). A count of the data
+    and the parameters only, never of timing: ``inference="auto"`` compares it with the exact
+    engine's work count (``BSIClassifier``).
+
+    Returns
+    -------
+    count : float
+    """
+    demos = deduplicate_demos(truth, y01)
+    rungs = len(temperature_ladder(demos, model, n_temperatures))
+    n_g, n = model.n_g, model.n
+    per_sweep = (n_g + n + n * (n + 1)) * demos.truth_t.shape[1]
+    return float(n_chains) * (int(n_samples) + int(burn_in)) * rungs * per_sweep
 
 
 def sample_posterior(truth, y01, model, seeds, *, n_samples=10_000, burn_in=100,

@@ -1,0 +1,93 @@
+"""Calibrate ``inference="auto"``'s exact budget against its MCMC fallback's cost.
+
+For every fit of the study's extended-set cells of one repeat (the training sets of
+``bsi-lfe study``, each objective, the inner search's grid of prior x epsilon), times the exact
+engine without a budget (and records its work count, ``ExactResult.work``) and the classifier's
+default MCMC (and records :func:`bsi_sklearn.inference.mcmc.sampling_count`). Prints, per fit,
+both times, the nanoseconds per unit of each count, and the ratio of the medians: the factor
+by which a unit of the sampler's count outweighs a unit of the exact engine's
+(``bsi_sklearn.classifier._SAMPLING_TO_EXACT``). One process, one thread; CPU seconds.
+
+    python scripts/calibrate_auto_budget.py --sizes 6 12 36 72 --out /tmp/cal.csv
+"""
+
+import argparse
+import time
+
+import numpy as np
+import pandas as pd
+
+from bsi_sklearn import BSIClassifier
+from bsi_sklearn.clauses import clause_truth
+from bsi_sklearn.inference.exact import exact_posterior
+from bsi_sklearn.inference.mcmc import sampling_count
+from bsi_sklearn.inferred_roles import infer_roles
+from bsi_sklearn.model import make_model
+from bsi_sklearn.traces import check_traces
+from lfe._study_cells import (draw_training_set, repeat_seeds, search_grid,
+                              simulate_repeat)
+from lfe.study import derive_seed
+
+
+def _problem(clf, X, y):
+    traces = check_traces(X)
+    roles = infer_roles(traces, y, clf.global_candidates, clf.subtasks, clf.conditions)
+    model = make_model(prior=clf.prior, likelihood=clf.likelihood, n_globals=roles.n_globals,
+                       n_subtasks=roles.n_subtasks, p_global=clf.p_global,
+                       p_eventual=clf.p_eventual, p_part=clf.p_part, n_new=clf.n_new,
+                       epsilon=clf.epsilon, flip_prior=clf.flip_prior)
+    return clause_truth(traces, roles), model
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[6, 12, 18, 36, 72])
+    ap.add_argument("--noise", type=float, default=0.04)
+    ap.add_argument("--repeat", type=int, default=0)
+    ap.add_argument("--propositions", default="extended")
+    ap.add_argument("--out", default="calibrate_auto_budget.csv")
+    args = ap.parse_args(argv)
+    seeds = repeat_seeds(0, args.repeat)
+    data = simulate_repeat(n_pool=max(args.sizes), test_size=1, noises=[args.noise],
+                           propositions=[args.propositions], **seeds)
+    props, roles = data["props"][args.propositions], data["roles"][args.propositions]
+    grid = search_grid(False)
+    rows = []
+    for n_train in args.sizes:
+        train = draw_training_set(data["clean"], data["n_pool"], n_train,
+                                  derive_seed(0, args.repeat, 2, n_train))
+        X = [props[i] for i in train]
+        for k in range(3):
+            y = data["labels"][args.noise][train, k]
+            if not y.any():
+                continue
+            for prior in grid["prior"]:
+                for eps in grid["epsilon"]:
+                    clf = BSIClassifier(prior=prior, epsilon=eps, **roles)
+                    truth, model = _problem(clf, X, y)
+                    t0 = time.process_time()
+                    res = exact_posterior(truth, y, model, tol=clf.tol)
+                    t_exact = time.process_time() - t0
+                    count = sampling_count(truth, y, model, n_chains=clf.n_chains,
+                                           n_samples=clf.n_samples, burn_in=clf.burn_in)
+                    t0 = time.process_time()
+                    BSIClassifier(prior=prior, epsilon=eps, inference="mcmc", random_state=0,
+                                  n_jobs=1, **roles).fit(X, y)
+                    t_mcmc = time.process_time() - t0
+                    rows.append(dict(n_train=n_train, objective=k, prior=prior, epsilon=eps,
+                                     exact_s=t_exact, exact_work=res.work, mcmc_s=t_mcmc,
+                                     mcmc_count=count, kept=len(res.log_prob)))
+                    print(rows[-1], flush=True)
+    df = pd.DataFrame(rows)
+    df.to_csv(args.out, index=False)
+    ns_exact = 1e9 * df.exact_s / df.exact_work
+    ns_mcmc = 1e9 * df.mcmc_s / df.mcmc_count
+    print(f"ns per exact unit: median {ns_exact.median():.3g} "
+          f"[{ns_exact.min():.3g}, {ns_exact.max():.3g}]")
+    print(f"ns per sampling unit: median {ns_mcmc.median():.3g} "
+          f"[{ns_mcmc.min():.3g}, {ns_mcmc.max():.3g}]")
+    print(f"ratio of medians: {ns_mcmc.median() / ns_exact.median():.3g}")
+
+
+if __name__ == "__main__":
+    main()
