@@ -19,7 +19,8 @@ import pandas as pd
 
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.clauses import clause_truth
-from bsi_sklearn.inference.exact import exact_posterior
+from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
+from bsi_sklearn.inference.auto_budget import AUTO_EXACT_WORK
 from bsi_sklearn.inference.mcmc import sampling_count
 from bsi_sklearn.inferred_roles import infer_roles
 from bsi_sklearn.model import make_model
@@ -46,6 +47,8 @@ def main(argv=None):
     ap.add_argument("--repeat", type=int, default=0)
     ap.add_argument("--propositions", default="extended")
     ap.add_argument("--out", default="calibrate_auto_budget.csv")
+    ap.add_argument("--max-factor", type=float, default=300.0,
+                    help="stop the exact engine beyond this many times the sampling count")
     args = ap.parse_args(argv)
     seeds = repeat_seeds(0, args.repeat)
     data = simulate_repeat(n_pool=max(args.sizes), test_size=1, noises=[args.noise],
@@ -65,28 +68,41 @@ def main(argv=None):
                 for eps in grid["epsilon"]:
                     clf = BSIClassifier(prior=prior, epsilon=eps, **roles)
                     truth, model = _problem(clf, X, y)
-                    t0 = time.process_time()
-                    res = exact_posterior(truth, y, model, tol=clf.tol)
-                    t_exact = time.process_time() - t0
                     count = sampling_count(truth, y, model, n_chains=clf.n_chains,
                                            n_samples=clf.n_samples, burn_in=clf.burn_in)
+                    t0 = time.process_time()
+                    try:  # far beyond any factor considered: what it costs to find that out
+                        work = exact_posterior(truth, y, model, tol=clf.tol,
+                                               max_work=args.max_factor * count).work
+                    except ExactWorkExceeded:
+                        work = np.nan
+                    t_exact = time.process_time() - t0
                     t0 = time.process_time()
                     BSIClassifier(prior=prior, epsilon=eps, inference="mcmc", random_state=0,
                                   n_jobs=1, **roles).fit(X, y)
                     t_mcmc = time.process_time() - t0
                     rows.append(dict(n_train=n_train, objective=k, prior=prior, epsilon=eps,
-                                     exact_s=t_exact, exact_work=res.work, mcmc_s=t_mcmc,
-                                     mcmc_count=count, kept=len(res.log_prob)))
+                                     exact_s=t_exact, exact_work=work, mcmc_s=t_mcmc,
+                                     mcmc_count=count))
                     print(rows[-1], flush=True)
     df = pd.DataFrame(rows)
     df.to_csv(args.out, index=False)
-    ns_exact = 1e9 * df.exact_s / df.exact_work
+    done = df[df.exact_work.notna()]
+    ns_exact = 1e9 * done.exact_s / done.exact_work
     ns_mcmc = 1e9 * df.mcmc_s / df.mcmc_count
     print(f"ns per exact unit: median {ns_exact.median():.3g} "
           f"[{ns_exact.min():.3g}, {ns_exact.max():.3g}]")
     print(f"ns per sampling unit: median {ns_mcmc.median():.3g} "
           f"[{ns_mcmc.min():.3g}, {ns_mcmc.max():.3g}]")
     print(f"ratio of medians: {ns_mcmc.median() / ns_exact.median():.3g}")
+    # What auto would spend with each factor: exact where it fits, else the failed attempt
+    # (stopped at the budget; measured only up to --max-factor) and the sampling.
+    for factor in (0, 3, 6, 12, 24, 48, 96, 200):
+        budget = np.maximum(AUTO_EXACT_WORK, factor * df.mcmc_count)
+        exact = df.exact_work.notna() & (df.exact_work <= budget)
+        total = np.where(exact, df.exact_s, df.mcmc_s).sum()
+        print(f"factor {factor:>3}: {int(exact.sum())}/{len(df)} exact, exact or sampled "
+              f"{total:.1f} s (all sampled {df.mcmc_s.sum():.1f} s)")
 
 
 if __name__ == "__main__":
