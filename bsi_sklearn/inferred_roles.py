@@ -197,7 +197,7 @@ def warn_all_roles(n_props, n_hyp, above_cap):
     """
     reason = ("is above max_exact_hypotheses" if above_cap
               else "needs more than inference='auto''s work budget to enumerate exactly "
-                   "(about a second)")
+                   "(about a second, or what sampling would cost)")
     warnings.warn(
         f"With roles='all' all {n_props} propositions are global candidates and "
         f"subtasks: the support ({n_hyp:.3g} hypotheses) {reason}, so MCMC samples it. "
