@@ -1,0 +1,114 @@
+"""The tables of ``benchmarks/RESULTS_study.md`` and the README, from a ``bsi-lfe study`` folder.
+
+Reads ``study.csv`` and ``study_paired.csv`` (what the study wrote) and prints Markdown: the
+headline counts (significantly better / worse than the best network and than the best of all
+baselines, per proposition set and per BSI row) and, per noise rate and proposition set, one
+row per objective and size with every BSI row's paired differences. Nothing is computed anew:
+the means and intervals are the study's own.
+
+    python benchmarks/study_tables.py benchmarks/study > /tmp/tables.md
+"""
+
+import argparse
+from pathlib import Path
+
+import pandas as pd
+
+__all__ = ["headline", "cell_table", "main"]
+
+
+def _signed(mean, low, high, significant):
+    return f"{mean:+.3f} [{low:+.3f}, {high:+.3f}]" + (" *" if significant else "")
+
+
+def _interval(mean, low, high):
+    return f"{mean:.3f} [{low:.3f}, {high:.3f}]"
+
+
+def _counts(frame):
+    better_n = int((frame.significant & (frame["mean"] > 0)).sum())
+    worse_n = int((frame.significant & (frame["mean"] < 0)).sum())
+    better_b = int((frame.baseline_significant & (frame.baseline_mean > 0)).sum())
+    worse_b = int((frame.baseline_significant & (frame.baseline_mean < 0)).sum())
+    return better_n, worse_n, better_b, worse_b
+
+
+def headline(paired):
+    """Markdown lines: per proposition set and per BSI row, better / worse counts.
+
+    Parameters
+    ----------
+    paired : DataFrame
+        ``study_paired.csv``.
+
+    Returns
+    -------
+    lines : list of str
+    """
+    paired = paired[paired.metric == "f1"]
+    lines = ["| propositions | BSI row | comparisons | better / worse than the best network | "
+             "better / worse than the best baseline |", "|---|---|---|---|---|"]
+    for props, group in [("all", paired), *paired.groupby("propositions", sort=False)]:
+        rows = [("every row", group), *group.groupby("bsi", sort=False)]
+        for name, frame in rows:
+            bn, wn, bb, wb = _counts(frame)
+            lines.append(f"| {props} | {name} | {len(frame)} | {bn} / {wn} | {bb} / {wb} |")
+    return lines
+
+
+def cell_table(study, paired, noise, propositions):
+    """Markdown lines: per objective and size, the best network and baseline and each BSI row.
+
+    Parameters
+    ----------
+    study, paired : DataFrame
+        ``study.csv`` and ``study_paired.csv``.
+    noise : float
+    propositions : str
+
+    Returns
+    -------
+    lines : list of str
+    """
+    p = paired[(paired.metric == "f1") & (paired.noise == noise)
+               & (paired.propositions == propositions)]
+    s = study[(study.metric == "f1") & (study.noise == noise)
+              & (study.propositions == propositions)].set_index(["classifier", "objective",
+                                                                 "n_train"])
+    bsi_rows = list(dict.fromkeys(p.bsi))
+    head = ["objective", "missions", "best network, F1", "best baseline, F1",
+            *[f"{b} − best network / − best baseline" for b in bsi_rows]]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for (objective, n_train), cell in p.groupby(["objective", "n_train"], sort=True):
+        first = cell.iloc[0]
+        net = s.loc[(first.best_network, objective, n_train)]
+        base = s.loc[(first.best_baseline, objective, n_train)]
+        parts = [objective, str(n_train),
+                 f"{first.best_network}: {_interval(net['mean'], net.ci_low, net.ci_high)}",
+                 f"{first.best_baseline}: {_interval(base['mean'], base.ci_low, base.ci_high)}"]
+        by_row = cell.set_index("bsi")
+        for b in bsi_rows:
+            r = by_row.loc[b]
+            parts.append(_signed(r["mean"], r.ci_low, r.ci_high, r.significant) + " / "
+                         + _signed(r.baseline_mean, r.baseline_ci_low, r.baseline_ci_high,
+                                   r.baseline_significant))
+        lines.append("| " + " | ".join(parts) + " |")
+    return lines
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("folder", type=Path, help="a bsi-lfe study --out folder")
+    args = ap.parse_args(argv)
+    study = pd.read_csv(args.folder / "study.csv")
+    paired = pd.read_csv(args.folder / "study_paired.csv")
+    out = ["## Headline", "", *headline(paired)]
+    for props in dict.fromkeys(paired.propositions):
+        for noise in sorted(set(paired.noise), reverse=True):
+            out += ["", f"### Noise {noise:g}, {props} propositions", "",
+                    *cell_table(study, paired, noise, props)]
+    print("\n".join(out))
+
+
+if __name__ == "__main__":
+    main()

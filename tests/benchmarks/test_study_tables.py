@@ -1,0 +1,52 @@
+"""benchmarks/study_tables.py: the counts and cells against a hand-made study."""
+
+import importlib.util
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+SCRIPT = ROOT / "benchmarks" / "study_tables.py"
+pytestmark = pytest.mark.skipif(not SCRIPT.is_file(), reason="benchmarks/ is not in this checkout")
+
+
+def _load():
+    spec = importlib.util.spec_from_file_location("_study_tables", SCRIPT)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _paired():
+    rows = []
+    # (bsi, n_train, mean, significant, baseline_mean, baseline_significant)
+    for bsi, n, m, sig, bm, bsig in [("A", 6, -0.1, True, -0.2, True),
+                                     ("A", 12, 0.05, True, -0.01, False),
+                                     ("B", 6, 0.02, False, 0.01, False),
+                                     ("B", 12, 0.04, True, 0.03, True)]:
+        rows.append(dict(bsi=bsi, best_network="LSTM", objective="MO1", n_train=n, noise=0.0,
+                         propositions="paper", metric="f1", mean=m, ci_low=m - 0.01,
+                         ci_high=m + 0.01, n_runs=10, significant=sig, best_baseline="LR",
+                         baseline_mean=bm, baseline_ci_low=bm - 0.01,
+                         baseline_ci_high=bm + 0.01, baseline_significant=bsig))
+    return pd.DataFrame(rows)
+
+
+def test_headline_counts_each_direction_per_row():
+    lines = _load().headline(_paired())
+    assert "| all | every row | 4 | 2 / 1 | 1 / 1 |" in lines
+    assert "| paper | A | 2 | 1 / 1 | 0 / 1 |" in lines
+    assert "| paper | B | 2 | 1 / 0 | 1 / 0 |" in lines
+
+
+def test_cell_table_quotes_the_study_and_marks_significance():
+    study = pd.DataFrame([dict(classifier=c, objective="MO1", n_train=n, noise=0.0,
+                               propositions="paper", metric="f1", mean=v, ci_low=v - 0.1,
+                               ci_high=v + 0.1, n_runs=10)
+                          for c, v in (("LSTM", 0.8), ("LR", 0.9)) for n in (6, 12)])
+    lines = _load().cell_table(study, _paired(), 0.0, "paper")
+    assert len(lines) == 4  # head, rule, two sizes
+    assert lines[2] == ("| MO1 | 6 | LSTM: 0.800 [0.700, 0.900] | LR: 0.900 [0.800, 1.000] | "
+                        "-0.100 [-0.110, -0.090] * / -0.200 [-0.210, -0.190] * | "
+                        "+0.020 [+0.010, +0.030] / +0.010 [+0.000, +0.020] |")
