@@ -153,6 +153,10 @@ def add_arguments(parser):
                              "complexity-independent (ci) likelihood, or the size principle "
                              "calibrated on the demonstrations (calibrated) "
                              "(default: %(default)s)")
+    parser.add_argument("--flip-prior", nargs=2, type=float, default=None, metavar=("A", "B"),
+                        help="with --likelihood ci: the rate at which labels are wrong is "
+                             "unknown, Beta(A, B) distributed and integrated out (B > A: "
+                             "mostly right labels); prints its posterior mean and interval")
     parser.add_argument("--inference", choices=["auto", "exact", "mcmc"], default="auto",
                         help="exact enumeration, MCMC, or auto: exact when the support is "
                              "small enough (default: %(default)s)")
@@ -284,8 +288,9 @@ def run(args):
             raise ValueError(f"{path}: --pos-label {args.pos_label!r} is given, but the file "
                              "has no labels (every demonstration is acceptable)")
         pos_label = _pos_label(args.pos_label, y)
+        flip = None if args.flip_prior is None else tuple(args.flip_prior)
         clf = BSIClassifier(prior=args.prior, likelihood=args.likelihood, roles=args.roles,
-                            inference=args.inference, n_samples=args.n_samples,
+                            flip_prior=flip, inference=args.inference, n_samples=args.n_samples,
                             random_state=args.seed, pos_label=pos_label,
                             **_roles(args, names, path))
         y = np.ones(len(X), dtype=int) if y is None else np.asarray(y)
@@ -293,6 +298,8 @@ def run(args):
             clf.fit(X, y)
         except ValueError as exc:
             message = re.sub(r"\bpos_label\b", "--pos-label", str(exc))
+            message = re.sub(r"\bflip_prior\b", "--flip-prior", message)
+            message = re.sub(r"\blikelihood='(\w+)'", r"--likelihood \1", message)
             raise ValueError(f"{path}: {message}") from None
         n_good = int((y == clf.classes_[1]).sum())
         print(f"== {path}: {len(X)} demonstrations ({n_good} acceptable), "
@@ -310,6 +317,10 @@ def run(args):
         if spec.readable(clf.vacuous_clauses_) != spec.to_ltl():
             print(f"full MAP   : {spec.to_ltl()}")
         print(f"accuracy   : {clf.score(X, y):.3f} (training set)")
+        if flip is not None:
+            low, high = clf.flip_rate_interval_
+            print(f"flip rate  : {clf.flip_rate_:.3f} [{low:.3f}, {high:.3f}] (posterior mean, "
+                  "95 % interval)")
         frame = clf.posterior_.to_frame(k=args.top)[["probability", "readable"]]
         width = int(frame["readable"].str.len().max())
         print(frame.to_string(justify="left", formatters={

@@ -103,3 +103,33 @@ def test_roles_option_and_the_roles_line(tmp_path):
     assert "roles      : globals x0 x1 x2; subtasks x0 x1 x2; conditions -" in every.stdout
     bad = subprocess.run([*run, "--roles", "some"], capture_output=True, text=True)
     assert bad.returncode == 2 and "--roles" in bad.stderr
+
+
+def test_flip_prior_prints_the_flip_rate_of_the_classifier(csv_file, capsys):
+    from bsi_sklearn import BSIClassifier
+    from bsi_sklearn.io import read_traces_csv
+
+    argv = ["fit", str(csv_file), "--globals", "safe", "--subtasks", "picked", "placed",
+            "--likelihood", "ci", "--flip-prior", "1", "9"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    X, y = read_traces_csv(csv_file)[:2]
+    clf = BSIClassifier(global_candidates=["safe"], subtasks=["picked", "placed"],
+                        likelihood="ci", flip_prior=(1.0, 9.0), random_state=0).fit(X, y)
+    low, high = clf.flip_rate_interval_
+    assert (f"flip rate  : {clf.flip_rate_:.3f} [{low:.3f}, {high:.3f}] (posterior mean, "
+            "95 % interval)") in out
+    assert main(["fit", str(csv_file), "--likelihood", "ci"]) == 0
+    assert "flip rate" not in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--flip-prior", "1", "9"], "--flip-prior applies to --likelihood ci only, got "
+                                 "--likelihood cb"),
+    (["--likelihood", "ci", "--flip-prior", "0", "9"], "--flip-prior"),
+    (["--likelihood", "ci", "--flip-prior", "nan", "9"], "--flip-prior"),
+])
+def test_bad_flip_priors_exit_2_naming_the_option(csv_file, argv, message, capsys):
+    assert main(["fit", str(csv_file), *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"bsi fit: error: {csv_file}: ") and message in err
