@@ -1,21 +1,22 @@
 """benchmarks/study_tables.py: the counts and cells against a hand-made study."""
 
-import importlib.util
+import sys
 from pathlib import Path
 
 import pandas as pd
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "benchmarks" / "study_tables.py"
-pytestmark = pytest.mark.skipif(not SCRIPT.is_file(), reason="benchmarks/ is not in this checkout")
+BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
+pytestmark = pytest.mark.skipif(not (BENCH / "study_tables.py").is_file(),
+                                reason="benchmarks/ is not in this checkout")
+if str(BENCH) not in sys.path:
+    sys.path.insert(0, str(BENCH))
 
 
 def _load():
-    spec = importlib.util.spec_from_file_location("_study_tables", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    import study_tables
+
+    return study_tables
 
 
 def _paired():
