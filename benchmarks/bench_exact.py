@@ -53,8 +53,9 @@ def run(cfg):
         data["hypotheses_per_s"] = rate
         sec.add(f"From 100,000 hypotheses up: about {fmt_n(rate)} hypotheses per second "
                 "(median effective rate). `inference='auto'` enumerates whenever the work "
-                "fits a budget of about a second, whatever the support's size, and samples "
-                "beyond it; see the exact_limit and exact_noroles sections.")
+                "fits a budget of about a second, or of what its MCMC fallback would cost "
+                "where that is more (docs/auto-budget.md), whatever the support's size, and "
+                "samples beyond it; see the exact_limit and exact_noroles sections.")
     fig, ax = plt.subplots(figsize=(6, 4))
     for prior, marker in (("linear_chain", "^"), ("sets_of_chains", "o"), ("forest", "s")):
         pts = sorted((r["hypotheses"], r["wall_s"]) for r in data["runs"] if r["prior"] == prior)
