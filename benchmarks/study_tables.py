@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pandas as pd
 
-__all__ = ["headline", "cell_table", "main"]
+__all__ = ["headline", "cell_table", "readme_table", "main"]
 
 
 def _signed(mean, low, high, significant):
@@ -96,12 +96,56 @@ def cell_table(study, paired, noise, propositions):
     return lines
 
 
+def readme_table(study, paired, noise, propositions):
+    """Markdown lines of the README's compact table: BSI (Prior 2) and three differences.
+
+    Per objective and size: the best network and baseline, BSI (Prior 2)'s F1, Prior 2, Prior
+    2 with CI and BSI without roles minus the best network, and Prior 2 minus the best
+    baseline (``*``: the paired interval excludes 0).
+    """
+    p = paired[(paired.metric == "f1") & (paired.noise == noise)
+               & (paired.propositions == propositions)].set_index(["bsi", "objective",
+                                                                   "n_train"])
+    s = study[(study.metric == "f1") & (study.noise == noise)
+              & (study.propositions == propositions)].set_index(["classifier", "objective",
+                                                                 "n_train"])
+    head = ["objective", "training missions", "best network, F1", "best baseline, F1",
+            "BSI (Prior 2), F1", "Prior 2 − best network", "Prior 2, CI − best network",
+            "no roles − best network", "Prior 2 − best baseline"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for objective, n_train in sorted({k[1:] for k in p.index}):
+        first = p.loc[("BSI (Prior 2)", objective, n_train)]
+        net = s.loc[(first.best_network, objective, n_train)]
+        base = s.loc[(first.best_baseline, objective, n_train)]
+        bsi = s.loc[("BSI (Prior 2)", objective, n_train)]
+        parts = [objective, str(n_train),
+                 f"{first.best_network}: {_interval(net['mean'], net.ci_low, net.ci_high)}",
+                 f"{first.best_baseline}: {_interval(base['mean'], base.ci_low, base.ci_high)}",
+                 _interval(bsi["mean"], bsi.ci_low, bsi.ci_high)]
+        for row in ("BSI (Prior 2)", "BSI (Prior 2, CI)", "BSI (no roles)"):
+            r = p.loc[(row, objective, n_train)]
+            parts.append(_signed(r["mean"], r.ci_low, r.ci_high, r.significant))
+        parts.append(_signed(first.baseline_mean, first.baseline_ci_low,
+                             first.baseline_ci_high, first.baseline_significant))
+        lines.append("| " + " | ".join(parts) + " |")
+    return lines
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("folder", type=Path, help="a bsi-lfe study --out folder")
+    ap.add_argument("--readme", action="store_true",
+                    help="the README's compact tables instead (noise 0.04, per proposition set)")
     args = ap.parse_args(argv)
     study = pd.read_csv(args.folder / "study.csv")
     paired = pd.read_csv(args.folder / "study_paired.csv")
+    if args.readme:
+        out = []
+        for props in dict.fromkeys(paired.propositions):
+            out += [f"### Noise 0.04, {props} propositions", "",
+                    *readme_table(study, paired, 0.04, props), ""]
+        print("\n".join(out))
+        return
     out = ["## Headline", "", *headline(paired)]
     for props in dict.fromkeys(paired.propositions):
         for noise in sorted(set(paired.noise), reverse=True):

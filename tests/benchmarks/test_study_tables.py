@@ -51,3 +51,22 @@ def test_cell_table_quotes_the_study_and_marks_significance():
     assert lines[2] == ("| MO1 | 6 | LSTM: 0.800 [0.700, 0.900] | LR: 0.900 [0.800, 1.000] | "
                         "-0.100 [-0.110, -0.090] * / -0.200 [-0.210, -0.190] * | "
                         "+0.020 [+0.010, +0.030] / +0.010 [+0.000, +0.020] |")
+
+
+def test_readme_table_takes_prior_2_and_its_differences():
+    rows = []
+    for bsi, m in (("BSI (Prior 2)", 0.05), ("BSI (Prior 2, CI)", 0.07), ("BSI (no roles)", 0.0)):
+        rows.append(dict(bsi=bsi, best_network="LSTM", objective="MO2", n_train=18, noise=0.04,
+                         propositions="paper", metric="f1", mean=m, ci_low=m - 0.02,
+                         ci_high=m + 0.02, n_runs=10, significant=m > 0.02,
+                         best_baseline="LR", baseline_mean=-0.01, baseline_ci_low=-0.03,
+                         baseline_ci_high=0.01, baseline_significant=False))
+    study = pd.DataFrame([dict(classifier=c, objective="MO2", n_train=18, noise=0.04,
+                               propositions="paper", metric="f1", mean=v, ci_low=v - 0.1,
+                               ci_high=v + 0.1, n_runs=10)
+                          for c, v in (("LSTM", 0.8), ("LR", 0.86), ("BSI (Prior 2)", 0.85))])
+    lines = _load().readme_table(study, pd.DataFrame(rows), 0.04, "paper")
+    assert lines[2] == ("| MO2 | 18 | LSTM: 0.800 [0.700, 0.900] | LR: 0.860 [0.760, 0.960] | "
+                        "0.850 [0.750, 0.950] | +0.050 [+0.030, +0.070] * | "
+                        "+0.070 [+0.050, +0.090] * | +0.000 [-0.020, +0.020] | "
+                        "-0.010 [-0.030, +0.010] |")
