@@ -132,6 +132,7 @@ def readme_table(study, paired, noise, propositions):
 
 
 def main(argv=None):
+    """Print the tables of a study folder (the README's with --readme)."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("folder", type=Path, help="a bsi-lfe study --out folder")
     ap.add_argument("--readme", action="store_true",

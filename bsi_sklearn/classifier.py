@@ -12,9 +12,9 @@ from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn._compile_progress import compile_progress
 from bsi_sklearn.clauses import clause_truth
+from bsi_sklearn.inference.auto_budget import auto_work_budget
 from bsi_sklearn.inference.diagnostics import disagreement_problems
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
-from bsi_sklearn.inference.auto_budget import auto_work_budget
 from bsi_sklearn.inference.mcmc import sample_posterior
 from bsi_sklearn.inferred_roles import infer_roles, warn_all_roles
 from bsi_sklearn.likelihood import LIKELIHOODS, flip_rate_posterior, is_flip_prior

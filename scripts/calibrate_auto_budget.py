@@ -6,9 +6,13 @@ engine without a budget (and records its work count, ``ExactResult.work``) and t
 default MCMC (and records :func:`bsi_sklearn.inference.mcmc.sampling_count`). Prints, per fit,
 both times, the nanoseconds per unit of each count, and the ratio of the medians: the factor
 by which a unit of the sampler's count outweighs a unit of the exact engine's
-(``bsi_sklearn.classifier._SAMPLING_TO_EXACT``). One process, one thread; CPU seconds.
+(``bsi_sklearn.inference.auto_budget.SAMPLING_TO_EXACT``), and the total CPU time auto would
+spend for several factors. ``--attempts`` then times the exact attempts that fail their budget
+(what auto spends before it samples). One process, one thread; CPU seconds.
 
-    python scripts/calibrate_auto_budget.py --sizes 6 12 36 72 --out /tmp/cal.csv
+    python scripts/calibrate_auto_budget.py --sizes 6 12 18 36 72 --out cal.csv
+    python scripts/calibrate_auto_budget.py --sizes 6 12 18 36 72 --out cal.csv \
+        --attempts failed_attempts.csv
 """
 
 import argparse
@@ -19,14 +23,13 @@ import pandas as pd
 
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.clauses import clause_truth
-from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.inference.auto_budget import AUTO_EXACT_WORK
+from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.inference.mcmc import sampling_count
 from bsi_sklearn.inferred_roles import infer_roles
 from bsi_sklearn.model import make_model
 from bsi_sklearn.traces import check_traces
-from lfe._study_cells import (draw_training_set, repeat_seeds, search_grid,
-                              simulate_repeat)
+from lfe._study_cells import draw_training_set, repeat_seeds, search_grid, simulate_repeat
 from lfe.study import derive_seed
 
 
@@ -40,7 +43,53 @@ def _problem(clf, X, y):
     return clause_truth(traces, roles), model
 
 
+def _training_sets(args):
+    seeds = repeat_seeds(0, args.repeat)
+    data = simulate_repeat(n_pool=max(args.sizes), test_size=1, noises=[args.noise],
+                           propositions=[args.propositions], **seeds)
+    props, roles = data["props"][args.propositions], data["roles"][args.propositions]
+
+    def training(n_train, k):
+        train = draw_training_set(data["clean"], data["n_pool"], n_train,
+                                  derive_seed(0, args.repeat, 2, n_train))
+        return [props[i] for i in train], data["labels"][args.noise][train, k]
+
+    return training, roles
+
+
+def failed_attempts(args, factors=(0.0, 24.0)):
+    """CPU seconds of every exact attempt that fails its budget, per factor (--attempts).
+
+    Reads the fits of ``--out`` (a calibration already run with the same sizes) and, for
+    each factor, times the budgeted attempt of every fit whose recorded exact work is over
+    ``max(AUTO_EXACT_WORK, factor x sampling count)``: what auto spends before it samples.
+    """
+    df = pd.read_csv(args.out)
+    training, roles = _training_sets(args)
+    rows = []
+    for r in df.itertuples():
+        eps = None if pd.isna(r.epsilon) else float(r.epsilon)
+        for factor in factors:
+            budget = max(AUTO_EXACT_WORK, factor * r.mcmc_count)
+            if not (pd.isna(r.exact_work) or r.exact_work > budget):
+                continue
+            X, y = training(r.n_train, r.objective)
+            truth, model = _problem(BSIClassifier(prior=r.prior, epsilon=eps, **roles), X, y)
+            t0 = time.process_time()
+            try:
+                exact_posterior(truth, y, model, tol=1e-9, max_work=budget)
+            except ExactWorkExceeded:
+                pass
+            else:
+                raise AssertionError(f"{r}: the exact work recorded was over {budget:.3g}")
+            rows.append(dict(n_train=r.n_train, objective=r.objective, prior=r.prior,
+                             epsilon=eps, factor=factor, attempt_s=time.process_time() - t0))
+            print(rows[-1], flush=True)
+    return pd.DataFrame(rows)
+
+
 def main(argv=None):
+    """Run the calibration (or, with --attempts, time the failed attempts)."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[6, 12, 18, 36, 72])
     ap.add_argument("--noise", type=float, default=0.04)
@@ -49,19 +98,19 @@ def main(argv=None):
     ap.add_argument("--out", default="calibrate_auto_budget.csv")
     ap.add_argument("--max-factor", type=float, default=300.0,
                     help="stop the exact engine beyond this many times the sampling count")
+    ap.add_argument("--attempts", default=None, metavar="CSV",
+                    help="instead: time the failed exact attempts of the fits in --out "
+                         "(factors 0 and 24) and write them to CSV")
     args = ap.parse_args(argv)
-    seeds = repeat_seeds(0, args.repeat)
-    data = simulate_repeat(n_pool=max(args.sizes), test_size=1, noises=[args.noise],
-                           propositions=[args.propositions], **seeds)
-    props, roles = data["props"][args.propositions], data["roles"][args.propositions]
+    if args.attempts is not None:
+        failed_attempts(args).to_csv(args.attempts, index=False)
+        return
+    training, roles = _training_sets(args)
     grid = search_grid(False)
     rows = []
     for n_train in args.sizes:
-        train = draw_training_set(data["clean"], data["n_pool"], n_train,
-                                  derive_seed(0, args.repeat, 2, n_train))
-        X = [props[i] for i in train]
         for k in range(3):
-            y = data["labels"][args.noise][train, k]
+            X, y = training(n_train, k)
             if not y.any():
                 continue
             for prior in grid["prior"]:

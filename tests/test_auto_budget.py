@@ -16,7 +16,7 @@ from bsi_sklearn.traces import check_traces
 def _problem():
     rng = np.random.default_rng(3)
     X = []
-    for i in range(24):
+    for _ in range(24):
         tr = np.zeros((6, 5), dtype=np.uint8)
         for p in rng.permutation(4)[:3]:
             tr[int(rng.integers(1, 6)):, p] = 1
