@@ -48,7 +48,9 @@ def headline(paired):
     paired = paired[paired.metric == "f1"]
     lines = ["| propositions | BSI row | comparisons | better / worse than the best network | "
              "better / worse than the best baseline |", "|---|---|---|---|---|"]
-    for props, group in [("all", paired), *paired.groupby("propositions", sort=False)]:
+    # the paper's propositions first, then the other sets by name
+    sets = sorted(set(paired.propositions), key=lambda s: (s != "paper", s))
+    for props, group in [("all", paired), *[(s, paired[paired.propositions == s]) for s in sets]]:
         rows = [("every row", group), *group.groupby("bsi", sort=False)]
         for name, frame in rows:
             bn, wn, bb, wb = _counts(frame)
@@ -142,13 +144,13 @@ def main(argv=None):
     paired = pd.read_csv(args.folder / "study_paired.csv")
     if args.readme:
         out = []
-        for props in dict.fromkeys(paired.propositions):
+        for props in sorted(set(paired.propositions), key=lambda s: (s != "paper", s)):
             out += [f"### Noise 0.04, {props} propositions", "",
                     *readme_table(study, paired, 0.04, props), ""]
         print("\n".join(out))
         return
     out = ["## Headline", "", *headline(paired)]
-    for props in dict.fromkeys(paired.propositions):
+    for props in sorted(set(paired.propositions), key=lambda s: (s != "paper", s)):
         for noise in sorted(set(paired.noise), reverse=True):
             out += ["", f"### Noise {noise:g}, {props} propositions", "",
                     *cell_table(study, paired, noise, props)]
