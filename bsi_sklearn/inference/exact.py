@@ -176,7 +176,7 @@ def _evidence(clause_bits, full, labels, model, thr, cut, hs, lik, margin, budge
     budget.spend(len(sg.size) * len(hs.lw),
                  f"{len(sg.size):,} x {len(hs.lw):,} pairs of groups")
     ss, rank = _structure_side(sg, labels.pos)
-    found = _Found(tables, sg, members, gid, ss, rank, -np.inf, 0.0, work)
+    found = _Found(tables, sg, members, gid, ss, rank, -np.inf, 0.0)
     if not ss.weight.sum() > 0.0:
         return found
     prior_total = math.log(ss.weight.sum()) + np.logaddexp.reduce(hs.lw)
@@ -194,7 +194,6 @@ class _Found(NamedTuple):
     rank: np.ndarray     # table order -> sorted position
     log_z_rel: float
     offset: float
-    work: int            # of the tables (the walk down them costs as much: charged twice)
 
 
 def _pair_lls(lik, k, ps, ns):
