@@ -12,9 +12,9 @@ from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn._compile_progress import compile_progress
 from bsi_sklearn.clauses import clause_truth
-from bsi_sklearn.inference.auto_budget import auto_work_budget
+from bsi_sklearn.inference.auto_budget import AUTO_EXACT_BYTES, auto_work_budget
 from bsi_sklearn.inference.diagnostics import disagreement_problems
-from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
+from bsi_sklearn.inference.exact import MAX_BYTES, ExactWorkExceeded, exact_posterior
 from bsi_sklearn.inference.mcmc import sample_posterior
 from bsi_sklearn.inferred_roles import infer_roles, warn_all_roles
 from bsi_sklearn.likelihood import LIKELIHOODS, flip_rate_posterior, is_flip_prior
@@ -27,7 +27,7 @@ from bsi_sklearn.param_validation import (
     validate_params,
 )
 from bsi_sklearn.posterior import Posterior
-from bsi_sklearn.priors import PRIORS, count_hypotheses
+from bsi_sklearn.priors import PRIORS, count_hypotheses, format_count
 from bsi_sklearn.roles import resolve_roles
 from bsi_sklearn.traces import check_consistent_traces, check_labels, check_traces
 
@@ -88,7 +88,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         ``"auto"`` enumerates the posterior exactly when the enumeration needs at most about a
         second of work on a 2020s CPU core or, if more, what the MCMC it would fall back to
         costs (chains x sweeps x rungs x moves x demonstrations; ``docs/auto-budget.md``),
-        however large the support, and samples with MCMC otherwise. The work is counted, not
+        however large the support, within a cap (about a minute's work at most, and 1 GiB of
+        tables), and samples with MCMC otherwise. ``"exact"`` has no work budget but a
+        memory limit (4 GiB of tables, counted before anything is allocated): beyond it,
+        a ``ValueError`` says how large the problem is and what to do. The work is counted, not
         timed: the count depends on the data and the parameters only, so the choice is the
         same on every machine and for every ``n_jobs``. A peaked posterior over
         1e19 hypotheses can be cheap and a nearly flat one over 1e8 (e.g. a ``"ci"``
@@ -360,13 +363,21 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
             )
         if inference == "exact":
             try:
-                self.posterior_, self.mcmc_diagnostics_ = self._fit_exact(truth, y01, roles,
-                                                                          model, work)
-            except ExactWorkExceeded:  # only "auto" sets a budget: sample instead
-                inference = "mcmc"
+                self.posterior_, self.mcmc_diagnostics_ = self._fit_exact(
+                    truth, y01, roles, model, work,
+                    AUTO_EXACT_BYTES if self.inference == "auto" else MAX_BYTES)
+            except ExactWorkExceeded as exc:
+                if self.inference == "exact":  # only the memory limit stops it: say so
+                    raise ValueError(
+                        f"inference='exact' cannot enumerate this posterior ({n_g} global "
+                        f"candidates, {n} subtasks, {format_count(n_hyp)} hypotheses, prior="
+                        f"{self.prior!r}): {exc}. Use inference='auto' or 'mcmc', or "
+                        "restrict the roles (global_candidates=, subtasks=) to fewer "
+                        "propositions") from exc
+                inference = "mcmc"  # "auto": its budget or its memory is spent, sample
         if inference == "mcmc":
             if self.inference == "auto" and self.roles == "all" and given == (None,) * 3:
-                warn_all_roles(traces.n_props, n_hyp, over_cap)
+                warn_all_roles(traces.n_props, format_count(n_hyp), over_cap)
             rng = check_random_state(self.random_state)
             seeds = rng.randint(np.iinfo(np.int32).max, size=self.n_chains)
             self.posterior_, self.mcmc_diagnostics_ = self._fit_mcmc(
@@ -393,12 +404,13 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         diag = self.mcmc_diagnostics_
         advice = (f"Increase n_samples (now {self.n_samples:,}) or n_chains (now "
                   f"{self.n_chains}), or restrict the roles (global_candidates, subtasks, "
-                  f"conditions) to shrink the support ({n_hyp:.3g} hypotheses).")
+                  f"conditions) to shrink the support ({format_count(n_hyp)} hypotheses).")
         for message in disagreement_problems(diag):
             warnings.warn(f"{message} {advice}", ConvergenceWarning, stacklevel=4)
 
-    def _fit_exact(self, truth, y01, roles, model, max_work):
-        res = exact_posterior(truth, y01, model, tol=float(self.tol), max_work=max_work)
+    def _fit_exact(self, truth, y01, roles, model, max_work, max_bytes):
+        res = exact_posterior(truth, y01, model, tol=float(self.tol), max_work=max_work,
+                              max_bytes=max_bytes)
         self.flip_rate_, self.flip_rate_interval_ = flip_rate_posterior(
             np.arange(len(res.violation_mass)), res.violation_mass, len(y01), self.flip_prior)
         probs = np.exp(res.log_prob)

@@ -190,17 +190,19 @@ def warn_all_roles(n_props, n_hyp, above_cap):
     ----------
     n_props : int
         Number of propositions.
-    n_hyp : int
-        Size of the prior's support.
+    n_hyp : str
+        Size of the prior's support, written (``priors.format_count``: it may pass a
+        float's range).
     above_cap : bool
         Whether the support is above ``max_exact_hypotheses`` (else the work budget was).
     """
     reason = ("is above max_exact_hypotheses" if above_cap
               else "needs more than inference='auto''s work budget to enumerate exactly "
-                   "(about a second, or what sampling would cost)")
+                   "(about a second, or what sampling would cost, within a cap)")
     warnings.warn(
         f"With roles='all' all {n_props} propositions are global candidates and "
-        f"subtasks: the support ({n_hyp:.3g} hypotheses) {reason}, so MCMC samples it. "
+        f"subtasks: the support ({n_hyp} hypotheses) {reason}, so MCMC samples "
+        "it. "
         "Say which propositions play which role with global_candidates=, subtasks= and "
         "conditions= (a dataset's Bunch has them: BSIClassifier(**data.roles)), or infer "
         "them from the data with roles='infer' (the default), to make the posterior smaller "

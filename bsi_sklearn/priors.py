@@ -17,6 +17,7 @@ from numba import njit
 
 __all__ = [
     "PRIORS",
+    "format_count",
     "prior_code",
     "sample_order_structure",
     "sample_hypothesis",
@@ -328,6 +329,21 @@ def count_hypotheses(prior, n_globals, n_subtasks):
     513024
     """
     return count_structures(prior, n_subtasks) * 2**n_globals * 2**n_subtasks
+
+
+def format_count(count):
+    """A count of hypotheses for a message: three digits, also beyond a float's range.
+
+    Examples
+    --------
+    >>> format_count(513024), format_count(10**400 * 3)
+    ('5.13e+05', '3.00e+400')
+    """
+    count = int(count)
+    if count < 10**300:
+        return f"{float(count):.3g}"
+    digits = str(count)
+    return f"{digits[0]}.{digits[1:3]}e+{len(digits) - 1}"
 
 
 @njit(cache=True, nogil=True)

@@ -77,15 +77,20 @@ def _members(gid, n_groups):
     return np.cumsum(start), order.astype(np.int64)
 
 
-def group_subsets(clause_bits, full, model, spend=None):
+def group_subsets(clause_bits, full, model, spend=None, allocate=None):
     """Group the global subsets, the eventual subsets, then pairs of their groups.
 
     ``spend(work, what)``, when given, is called before each table is allocated (work in the
-    units of :data:`ROW_COST`, :data:`PAIR_COST`); it raises to stop.
+    units of :data:`ROW_COST`, :data:`PAIR_COST`), and ``allocate(nbytes, what)`` with its
+    memory; either raises to stop.
     """
     n_g, n = model.n_g, model.n
+    n_words = clause_bits.shape[1]
+    what = f"the subset tables (2**{n_g} + 2**{n} rows)"
     if spend is not None:
-        spend(ROW_COST * (2.0**n_g + 2.0**n), f"the subset tables (2**{n_g} + 2**{n} rows)")
+        spend(ROW_COST * (2.0**n_g + 2.0**n), what)
+    if allocate is not None:  # a row, and as much twice again while it is grouped
+        allocate(3.0 * (8 * n_words + 24) * (2.0**n_g + 2.0**n), what)
     t_tab = subset_table(clause_bits, 0, n_g, model.p_global, full)
     e_tab = subset_table(clause_bits, n_g, n, model.p_eventual, full)
     t_gid, tg = group_rows(t_tab.bits, t_tab.size, t_tab.lp)
@@ -93,9 +98,11 @@ def group_subsets(clause_bits, full, model, spend=None):
     t_start, t_items = _members(t_gid, len(tg.size))
     e_start, e_items = _members(e_gid, len(eg.size))
     # Pairs of groups: every (global group, eventual group), then grouped again.
+    what = f"{len(tg.size):,} x {len(eg.size):,} pairs of subset groups"
     if spend is not None:
-        spend(PAIR_COST * float(len(tg.size)) * len(eg.size),
-              f"{len(tg.size):,} x {len(eg.size):,} pairs of subset groups")
+        spend(PAIR_COST * float(len(tg.size)) * len(eg.size), what)
+    if allocate is not None:
+        allocate(2.0 * (8 * n_words + 48) * len(tg.size) * len(eg.size), what)
     a, b = np.divmod(np.arange(len(tg.size) * len(eg.size)), len(eg.size))
     with np.errstate(divide="ignore"):
         lw = np.log(tg.weight)[a] + tg.ref + np.log(eg.weight)[b] + eg.ref

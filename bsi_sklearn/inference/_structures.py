@@ -33,7 +33,7 @@ from bsi_sklearn.clauses import popcount
 
 __all__ = ["StructureTables", "structure_tables", "whole_kind", "problem", "n_bits", "and_pop",
            "find", "local_table", "candidates", "first_subtasks", "BLOCK", "PART", "COMBO_COST",
-           "STEP_COST", "ENTRY_COST"]
+           "STEP_COST", "ENTRY_COST", "SUBSET_BYTES", "entry_bytes"]
 
 #: The two kinds of table entries: blocks (one chain, one tree) and whole structures.
 BLOCK = 0
@@ -387,7 +387,7 @@ def _close(weight, start, stop, ref_s):
 
 
 @njit(cache=True, nogil=True)
-def _inside(pb, max_work):
+def _inside(pb, max_work, max_entries):
     n = pb.n
     n_sets = 1 << n
     n_words = pb.full.shape[0]
@@ -426,6 +426,8 @@ def _inside(pb, max_work):
             stop = _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits)
             if stop >= 0:
                 break
+            if stop == -2 and 2 * st.weight.shape[0] > max_entries:
+                return False, st, idx, lists, work  # the store would pass its memory
             st, ht = _more_room(st, ht, stop)
         lo[BLOCK, s], hi[BLOCK, s] = n_e, stop
         ref[BLOCK, s] = _close(st.weight, n_e, stop, ref_s)
@@ -451,6 +453,8 @@ def _inside(pb, max_work):
             stop = _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits)
             if stop >= 0:
                 break
+            if stop == -2 and 2 * st.weight.shape[0] > max_entries:
+                return False, st, idx, lists, work
             st, ht = _more_room(st, ht, stop)
         lo[PART, s], hi[PART, s] = n_e, stop
         ref[PART, s] = _close(st.weight, n_e, stop, ref_s)
@@ -461,7 +465,18 @@ def _inside(pb, max_work):
     return work <= max_work, st, idx, lists, work
 
 
-def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf):
+def entry_bytes(n_words):
+    """Bytes of one entry of the structure tables (its store row and its share of the hash)."""
+    return 8 * n_words + 5 * 8 + 2 * 8
+
+
+#: Bytes per subset of subtasks of the arrays over all ``2**n`` subsets (``lo``, ``hi``,
+#: ``ref`` of both kinds, ``lists``, the candidates' scratch, and the walk's own scratch).
+SUBSET_BYTES = 2 * 3 * 8 + 8 + 4 + 4
+
+
+def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf,
+                     max_entries=2**62):
     """Group every order structure of the model's prior by (bitset, orders, chains).
 
     Parameters
@@ -477,16 +492,20 @@ def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf):
         :data:`STEP_COST`, :data:`ENTRY_COST`; it depends on the data only). A step's
         combinations are counted before it runs, its new entries after (so the memory passes
         the budget by one step's entries at most).
+    max_entries : int
+        Most entries the store may hold (its memory: :func:`entry_bytes` each); a store that
+        would grow past it stops the tables as the work budget does.
 
     Returns
     -------
     tables : StructureTables or None
-        None when the work would exceed ``max_work``.
+        None when the work would exceed ``max_work`` or the store ``max_entries``.
     work : int
         The work counted (done, or that would have been done up to the step that stopped).
     """
     ok, st, idx, lists, work = _inside(problem(clause_bits, full, pos, thr, model),
-                                       int(min(max_work, 2**62)))
+                                       int(min(max_work, 2**62)),
+                                       int(min(max_entries, 2**62)))
     if not ok:
         return None, int(work)
     return StructureTables(*[a.copy() for a in st], *idx, lists), int(work)

@@ -47,13 +47,23 @@ from bsi_sklearn.inference._exact_ungrouped import LabelMasks, ungrouped_kernel
 from bsi_sklearn.inference._exact_ungrouped import structure_tables as ungrouped_structures
 from bsi_sklearn.inference._grouping import Groups
 from bsi_sklearn.inference._structure_walk import descend
-from bsi_sklearn.inference._structures import STEP_COST, StructureTables, structure_tables
+from bsi_sklearn.inference._structures import (
+    STEP_COST,
+    SUBSET_BYTES,
+    StructureTables,
+    entry_bytes,
+    structure_tables,
+)
 from bsi_sklearn.priors import PRIORS, count_hypotheses, support_structures
 
-__all__ = ["exact_posterior", "ExactResult", "ExactWorkExceeded", "MAX_KEPT"]
+__all__ = ["exact_posterior", "ExactResult", "ExactWorkExceeded", "ExactMemoryExceeded",
+           "MAX_KEPT", "MAX_BYTES"]
 
 #: Default most hypotheses an exact posterior lists (about 100 bytes each).
 MAX_KEPT = 1_000_000
+#: Default memory limit of the enumeration's tables: every large array is charged against it
+#: before it is allocated (:class:`ExactMemoryExceeded`), whatever the work budget.
+MAX_BYTES = 4 * 2**30
 
 #: Pairs of groups whose total mass is bounded below exp(_MARGIN) of the evidence are skipped
 #: (and never when ``tol`` is 0).
@@ -141,6 +151,21 @@ class ExactWorkExceeded(RuntimeError):
     """The enumeration would take more work than the budget it was given (``max_work``)."""
 
 
+class ExactMemoryExceeded(ExactWorkExceeded):
+    """The enumeration would allocate more than its memory limit (``max_bytes``).
+
+    Raised before the allocation, whatever ``max_work`` is: an exact posterior asked for
+    explicitly stops with this rather than with a ``MemoryError``.
+    """
+
+
+def _size(nbytes):
+    for unit, scale in (("TiB", 2.0**40), ("GiB", 2.0**30), ("MiB", 2.0**20)):
+        if nbytes >= scale:
+            return f"{nbytes / scale:,.1f} {unit}"
+    return f"{nbytes:,.0f} bytes"
+
+
 class _Budget:
     # Work in units of one pair-of-groups evaluation (about 5-10 ns here): a combination of two
     # entries of the structure tables costs _structures.COMBO_COST of them, a structure the
@@ -148,9 +173,26 @@ class _Budget:
     # _EMIT_COST and one it may list _KEPT_COST more (counted as if every one were listed:
     # the heap, the sort, the result's arrays). Every amount is spent before the work (or the
     # allocation) it pays for, and depends on the data only, never on timing.
-    def __init__(self, max_work):
+    # Memory is counted apart, in bytes, and always (also without a work budget): every large
+    # array is charged before it is made, and the charges only add up (a freed table is not
+    # given back), so the limit bounds the peak.
+    def __init__(self, max_work, max_bytes=None):
         self.left = np.inf if max_work is None else float(max_work)
         self.spent = 0.0
+        self.max_bytes = np.inf if max_bytes is None else float(max_bytes)
+        self.allocated = 0.0
+
+    def allocate(self, nbytes, what):
+        if self.allocated + nbytes > self.max_bytes:
+            raise ExactMemoryExceeded(
+                f"exact enumeration stopped: {what} would take {_size(nbytes)} (with "
+                f"{_size(self.allocated)} already held), beyond its memory limit of "
+                f"{_size(self.max_bytes)}")
+        self.allocated += nbytes
+
+    def entries_left(self, entry_bytes):
+        # How many entries of this size the memory still allows (the structure tables' store).
+        return (self.max_bytes - self.allocated) / entry_bytes
 
     def spend(self, work, what):
         self.left -= work
@@ -167,11 +209,21 @@ def _evidence(clause_bits, full, labels, model, thr, cut, hs, lik, margin, budge
     n = model.n
     # Before its arrays over the 2**n subsets (about 60 bytes each) are allocated.
     budget.spend(STEP_COST * 8 * 2.0**n, f"the tables of 2**{n} subsets of subtasks")
+    budget.allocate(SUBSET_BYTES * 2.0**n, f"the tables of 2**{n} subsets of subtasks")
     times = 2.0 if walked else 1.0
+    # The store's entries: held, copied once when the tables are returned, then grouped.
+    per_entry = 3 * entry_bytes(clause_bits.shape[1])
+    max_entries = budget.entries_left(per_entry)
     tables, work = structure_tables(clause_bits, full, labels.pos, thr, model,
-                                    max(budget.left, 0.0) / times)
+                                    max(budget.left, 0.0) / times, max(max_entries, 0.0))
+    if tables is None and budget.left >= times * work:  # stopped by the memory, not the work
+        raise ExactMemoryExceeded(
+            f"exact enumeration stopped: the order structures' tables over {n} subtasks need "
+            f"more than {max(max_entries, 0.0):,.0f} entries ({_size(per_entry)} each), beyond "
+            f"its memory limit of {_size(budget.max_bytes)}")
     budget.spend(times * work if tables is not None else np.inf,
                  "grouping the order structures" + (" and the walk down them" if walked else ""))
+    budget.allocate(per_entry * len(tables.weight), "the order structures' tables")
     sg, members, gid = structure_groups(tables, model)
     budget.spend(len(sg.size) * len(hs.lw),
                  f"{len(sg.size):,} x {len(hs.lw):,} pairs of groups")
@@ -212,6 +264,7 @@ def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
     ss, n = found.ss, found.tables.lo.shape[1].bit_length() - 1
     flagged = np.flatnonzero(flag)
     budget.spend(len(flagged) * len(hs.lw), "the pairs of the flagged groups")
+    budget.allocate(16.0 * len(flagged) * len(hs.lw), "the pairs of the flagged groups")
     n_in = np.diff(subsets.t_start).astype(float)[subsets.pair_t] * \
         np.diff(subsets.e_start).astype(float)[subsets.pair_e]
     items = np.add.reduceat(n_in, subsets.pair_start[:-1]) if len(n_in) else n_in
@@ -241,7 +294,7 @@ def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
 
 
 def _grouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol):
-    subsets = group_subsets(clause_bits, full, model, budget.spend)
+    subsets = group_subsets(clause_bits, full, model, budget.spend, budget.allocate)
     hs, h_order = _subset_side(subsets.groups, labels)
     max_conj = model.n_g + model.n + model.n * (model.n - 1) // 2
     lik = likelihood_tables(int(labels.n_pos), int(labels.n_neg), max_conj, model)
@@ -288,6 +341,7 @@ def _grouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol):
     # Room for every hypothesis that may be listed (n_list bounds them), or the max_kept most
     # probable (a min-heap keeps those).
     room = int(max(1, min(n_list, max_kept)))
+    budget.allocate(room * (2.0 * model.n + 24), f"the listing of {room:,} hypotheses")
     par = np.empty((room, model.n), dtype=np.int16 if model.n < 2**15 else np.int64)
     idx, lp = np.empty((room, 2), dtype=np.int64), np.empty(room)
     n_out = min(list_hypotheses(model, hs, subsets, ls, par, idx, lp), room)
@@ -347,7 +401,7 @@ def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol
 
 
 def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT,
-                    max_work=None):
+                    max_work=None, max_bytes=MAX_BYTES):
     """Enumerate the support and return the posterior.
 
     Parameters
@@ -376,11 +430,19 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
         its memory allocated. The count depends on the data only, never on the support's
         size or on timing, so the outcome is the same on every machine. ``None``: no limit.
         The ungrouped reference ignores it.
+    max_bytes : float or None, default=MAX_BYTES
+        Memory limit of the enumeration's large arrays (the tables over subsets of subtasks
+        and of candidates, the order structures' store, the pairs of groups, the listing):
+        each is charged before it is allocated and :class:`ExactMemoryExceeded` raised
+        instead, also without a work budget. ``None``: no limit. The ungrouped reference
+        ignores it.
 
     Raises
     ------
     ExactWorkExceeded
         When ``max_work`` is exceeded.
+    ExactMemoryExceeded
+        (a subclass of ``ExactWorkExceeded``) when ``max_bytes`` would be exceeded.
 
     Returns
     -------
@@ -402,9 +464,9 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
         n_pos=float((y01 == 1).sum()), n_neg=float((y01 == 0).sum()),
     )
     n_hyp = count_hypotheses(PRIORS[model.prior], n_g, n)
-    log_keep = math.log(tol / n_hyp) if tol > 0 else -np.inf
+    log_keep = math.log(tol) - math.log(n_hyp) if tol > 0 else -np.inf  # n_hyp may pass 1e308
     engine = _grouped if grouped else _ungrouped
-    budget = _Budget(max_work)
+    budget = _Budget(max_work, max_bytes)
     log_z, structures, t_masks, e_masks, keep_lp, marg, mass_v = engine(
         clause_bits, full, labels, model, log_keep, max_kept, budget, tol)
     # Smallest prefix of the sorted kept hypotheses that covers 1 - tol.
