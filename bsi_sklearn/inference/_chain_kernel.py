@@ -40,13 +40,21 @@ __all__ = ["Demos", "ChainState", "ChainBuffers", "make_buffers", "chain_kernel"
 
 
 class Demos(NamedTuple):
-    """Deduplicated clause truth, clause-major, with the labels as weights."""
+    """Deduplicated clause truth, clause-major, with the labels as weights.
 
-    truth_t: np.ndarray   # (n_clauses, n_unique) uint8
-    w_pos: np.ndarray     # (n_unique,) float64: acceptable demonstrations behind each row
-    w_neg: np.ndarray     # (n_unique,) float64: unacceptable ones
-    n_pos: float          # w_pos.sum()
-    n_neg: float          # w_neg.sum()
+    Also packed, for the structure moves' bitsets: row ``d`` is bit ``d & 63`` of word
+    ``d >> 6``; the weights as bit-planes (plane ``k`` holds bit ``k`` of every row's weight),
+    so that a weighted count is a sum of popcounts. Built by ``mcmc.deduplicate_demos``.
+    """
+
+    truth_t: np.ndarray     # (n_clauses, n_unique) uint8
+    w_pos: np.ndarray       # (n_unique,) float64: acceptable demonstrations behind each row
+    w_neg: np.ndarray       # (n_unique,) float64: unacceptable ones
+    n_pos: float            # w_pos.sum()
+    n_neg: float            # w_neg.sum()
+    bits: np.ndarray        # (n_clauses, n_words) uint64: truth_t packed
+    pos_planes: np.ndarray  # (n_planes, n_words) uint64: w_pos by bit-plane
+    neg_planes: np.ndarray  # (n_planes, n_words) uint64: w_neg by bit-plane
 
 
 class ChainState(NamedTuple):
@@ -62,7 +70,6 @@ class ChainBuffers(NamedTuple):
 
     ubuf: np.ndarray      # uniforms, refilled in bulk
     viol: np.ndarray      # (R, D) int32: clauses of each replica's hypothesis each row violates
-    cur: np.ndarray       # (D,) int32: the same for a candidate
     lw: np.ndarray        # candidate log weights (prior + beta x likelihood)
     cand_lp: np.ndarray   # candidate log priors of the structure
     cand_ll: np.ndarray   # candidate log-likelihoods
@@ -71,24 +78,35 @@ class ChainBuffers(NamedTuple):
     cand_ew: np.ndarray   # exponentiated weights
     child: np.ndarray     # (n,) chain successor (Priors 1, 2)
     in_s: np.ndarray      # (n,) membership of the pruned subtree (Prior 3)
-    cost: np.ndarray      # (n, D) violations added by an ancestor of the subtree (Prior 3)
     size: np.ndarray      # (n,) subtree sizes (Prior 3)
     old_parent: np.ndarray
+    zmask: np.ndarray     # (1, W) uint64: the rows a structure move weighs its candidates over
+    suf: np.ndarray       # (n + 1, W) uint64: zmask AND a chain's suffix of (v -> u) clauses
+    acc: np.ndarray       # (1, W) uint64: a running AND
+    ones: np.ndarray      # (1, W) uint64: every bit set
+    anc: np.ndarray       # (n, W) uint64: rows an ancestor keeps satisfied (Prior 3)
+    members: np.ndarray   # (n,) int64: one chain's subtasks in order
 
 
 def make_buffers(n_g, n, n_rows, n_rungs):
     """Scratch buffers of a chain with ``n_rungs`` replicas over ``n_rows`` unique rows."""
     k = 2 * (2 * n + 2)  # the most candidates of one structure move (places x eventual bit)
     need = n_g + 2 * n + n_rungs
+    n_words = (n_rows + 63) // 64
     return ChainBuffers(
         ubuf=np.empty(max(1024, 2 * need)),
-        viol=np.zeros((n_rungs, n_rows), dtype=np.int32), cur=np.empty(n_rows, dtype=np.int32),
+        viol=np.zeros((n_rungs, n_rows), dtype=np.int32),
         lw=np.empty(k), cand_lp=np.empty(k), cand_ll=np.empty(k),
         cand_head=np.empty(k, dtype=np.int64), cand_pos=np.empty(k, dtype=np.int64),
         cand_ew=np.empty(k),
         child=np.empty(n, dtype=np.int64), in_s=np.zeros(n, dtype=np.int64),
-        cost=np.zeros((n, n_rows), dtype=np.int32),
         size=np.empty(n, dtype=np.int64), old_parent=np.empty(n, dtype=np.int64),
+        zmask=np.zeros((1, n_words), dtype=np.uint64),
+        suf=np.zeros((n + 1, n_words), dtype=np.uint64),
+        acc=np.zeros((1, n_words), dtype=np.uint64),
+        ones=np.full((1, n_words), np.iinfo(np.uint64).max, dtype=np.uint64),
+        anc=np.zeros((max(n, 1), n_words), dtype=np.uint64),
+        members=np.empty(max(n, 1), dtype=np.int64),
     )
 
 
@@ -118,17 +136,19 @@ def _unmanaged_bundles(state, demos, model, bufs):
     # The same bundles made of unmanaged views (see _unmanaged).
     state = ChainState(_unmanaged(state.tau), _unmanaged(state.w1), _unmanaged(state.parent))
     demos = Demos(_unmanaged(demos.truth_t), _unmanaged(demos.w_pos), _unmanaged(demos.w_neg),
-                  demos.n_pos, demos.n_neg)
+                  demos.n_pos, demos.n_neg, _unmanaged(demos.bits),
+                  _unmanaged(demos.pos_planes), _unmanaged(demos.neg_planes))
     model = Model(model.n_g, model.n, model.prior, model.forest, model.p_global,
                   model.p_eventual, model.p_part, model.n_new, model.log_eps, model.likelihood,
                   _unmanaged(model.lp_chains), _unmanaged(model.forest_g), model.forest_const,
                   model.flip_a, model.flip_b)
-    bufs = ChainBuffers(_unmanaged(bufs.ubuf), _unmanaged(bufs.viol), _unmanaged(bufs.cur),
+    bufs = ChainBuffers(_unmanaged(bufs.ubuf), _unmanaged(bufs.viol),
                         _unmanaged(bufs.lw), _unmanaged(bufs.cand_lp), _unmanaged(bufs.cand_ll),
                         _unmanaged(bufs.cand_head), _unmanaged(bufs.cand_pos),
                         _unmanaged(bufs.cand_ew), _unmanaged(bufs.child), _unmanaged(bufs.in_s),
-                        _unmanaged(bufs.cost), _unmanaged(bufs.size),
-                        _unmanaged(bufs.old_parent))
+                        _unmanaged(bufs.size), _unmanaged(bufs.old_parent),
+                        _unmanaged(bufs.zmask), _unmanaged(bufs.suf), _unmanaged(bufs.acc),
+                        _unmanaged(bufs.ones), _unmanaged(bufs.anc), _unmanaged(bufs.members))
     return state, demos, model, bufs
 
 

@@ -27,11 +27,12 @@ import math
 import numpy as np
 from numba import njit
 
-from bsi_sklearn.clauses import clause_index_eventual, clause_index_order
+from bsi_sklearn.clauses import clause_index_eventual, clause_index_order, popcount
 from bsi_sklearn.likelihood import log_likelihood
 from bsi_sklearn.priors import log_inclusion
 
-__all__ = ["add_pair", "draw", "sat_counts", "flip_move", "chain_move", "forest_move"]
+__all__ = ["add_pair", "draw", "sat_counts", "zero_mask", "bit_sums", "flip_move",
+           "chain_move", "forest_move"]
 
 
 # The weights are whole numbers (demonstration counts), so their sums are exact in any order:
@@ -70,6 +71,55 @@ def flip_sums(viol, truth_t, c, inc, w_pos, w_neg):
     return ps_out, ns_out, ps_in, ns_in
 
 
+@njit(cache=True, nogil=True, inline="always")
+def zero_mask(viol, zmask):
+    """The rows that violate no clause, as a bitset into ``zmask[0]``.
+
+    A structure move only adds clauses to the hypothesis left once its subtask is taken out,
+    so only these rows can satisfy a candidate: the candidates are weighed over them alone,
+    as bitsets (``Demos.bits``) and weighted popcounts (``Demos.pos_planes``, ``neg_planes``).
+    """
+    for w in range(zmask.shape[1]):
+        zmask[0, w] = 0
+    for d in range(viol.shape[0]):
+        if viol[d] == 0:
+            zmask[0, d >> 6] |= np.uint64(1) << np.uint64(d & 63)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _weighted(word, planes, w):
+    # The weight of the rows of one word: bit-plane k of the weights counts 2**k.
+    total = 0
+    for k in range(planes.shape[0]):
+        total += popcount(word & planes[k, w]) << k
+    return total
+
+
+@njit(cache=True, nogil=True, inline="always")
+def bit_sums(a, ia, b, ib, c, ic, demos):
+    """:func:`flip_sums`' four sums (bit out) over the rows of ``a[ia] & b[ib]``, the bit's
+    clause ``c[ic]``.
+
+    Weighted counts of the acceptable / unacceptable rows in ``a[ia] & b[ib]``, then in
+    ``a[ia] & b[ib] & c[ic]``; whole numbers, so equal to the row-by-row sums. Rows of 2-D
+    arrays, never slices: a view passed to a call costs reference counting (``_unmanaged``).
+    """
+    ps_out = 0
+    ns_out = 0
+    ps_in = 0
+    ns_in = 0
+    for w in range(a.shape[1]):
+        out = a[ia, w] & b[ib, w]
+        if out == 0:
+            continue
+        inn = out & c[ic, w]
+        ps_out += _weighted(out, demos.pos_planes, w)
+        ns_out += _weighted(out, demos.neg_planes, w)
+        ps_in += _weighted(inn, demos.pos_planes, w)
+        ns_in += _weighted(inn, demos.neg_planes, w)
+    return float(ps_out), float(ns_out), float(ps_in), float(ns_in)
+
+
 @njit(cache=True, nogil=True)
 def draw(lw, k, u, ew):
     """Index ``i < k`` drawn with probability proportional to ``exp(lw[i])``."""
@@ -81,7 +131,10 @@ def draw(lw, k, u, ew):
             mx = lw[i]
     total = 0.0
     for i in range(k):
-        ew[i] = math.exp(lw[i] - mx)
+        # exp of anything below -746 is 0.0: skip the call (most candidates of a peaked
+        # posterior), the same numbers either way.
+        x = lw[i] - mx
+        ew[i] = math.exp(x) if x > -746.0 else 0.0
         total += ew[i]
     u = u * total
     acc = 0.0
@@ -160,13 +213,12 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     # Priors 1 / 2: take v (and F(v)) out and redraw its place among every position of every
     # remaining chain and a new chain (a candidate only where the prior has such structures),
     # each with F(v) left out or put in.
-    truth_t, w_pos, w_neg = demos.truth_t, demos.w_pos, demos.w_neg
+    truth_t = demos.truth_t
     n = model.n
     cv = clause_index_eventual(v, model.n_g)
     lp_chains = model.lp_chains
-    cur, lw, cand_lp, cand_ew = bufs.cur, bufs.lw, bufs.cand_lp, bufs.cand_ew
+    lw, cand_lp, cand_ew = bufs.lw, bufs.cand_lp, bufs.cand_ew
     cand_head, cand_pos, child = bufs.cand_head, bufs.cand_pos, bufs.child
-    D = viol.shape[0]
     if w1[v]:
         add_pair(viol, truth_t, cv, -1)
         n_conj -= 1
@@ -191,7 +243,14 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
         child[parent[v]] = child[v]
     parent[v] = -1
     child[v] = -1
-    # Candidates: every position of every remaining chain, plus a new chain; two each.
+    # Candidates: every position of every remaining chain, plus a new chain; two each, weighed
+    # over the rows that violate nothing without v (zmask), as bitsets: at position p of a
+    # chain u_1 .. u_L, v follows u_1 .. u_p (acc: AND of their (u -> v) clauses) and
+    # precedes the rest (suf[p]: zmask AND their (v -> u) clauses).
+    bits, zmask, suf, acc, ones = demos.bits, bufs.zmask, bufs.suf, bufs.acc, bufs.ones
+    n_words = bits.shape[1]
+    zero_mask(viol, zmask)
+    members = bufs.members
     k = 0
     m_rem = 0
     for h in range(n):
@@ -203,31 +262,31 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
             continue
         L = 0
         u = h
-        for d in range(D):
-            cur[d] = viol[d]
         while u >= 0:
-            c = clause_index_order(v, u, model.n_g, n)
-            for d in range(D):
-                cur[d] += 1 if truth_t[c, d] == 0 else 0
+            members[L] = u
             L += 1
             u = child[u]
+        for w in range(n_words):
+            suf[L, w] = zmask[0, w]
+            acc[0, w] = ones[0, w]
+        for i in range(L - 1, -1, -1):
+            c = clause_index_order(v, members[i], model.n_g, n)
+            for w in range(n_words):
+                suf[i, w] = suf[i + 1, w] & bits[c, w]
         lp = lp_chains[m_rem]
-        u = h
         for p in range(L + 1):
-            sums = flip_sums(cur, truth_t, cv, 0, w_pos, w_neg)
+            sums = bit_sums(suf, p, acc, 0, bits, cv, demos)
             _push_pair(bufs, k, lp, sums, n_conj + L, demos, model, beta)
             for i in range(2):
                 cand_head[k + i] = h
                 cand_pos[k + i] = p
             k += 2
-            if u >= 0:
-                ca = clause_index_order(u, v, model.n_g, n)
-                cb = clause_index_order(v, u, model.n_g, n)
-                for d in range(D):
-                    cur[d] += (truth_t[cb, d] != 0) - (truth_t[ca, d] != 0)
-                u = child[u]
+            if p < L:
+                c = clause_index_order(members[p], v, model.n_g, n)
+                for w in range(n_words):
+                    acc[0, w] &= bits[c, w]
     if lp_chains[m_rem + 1] > -np.inf or k == 0:
-        sums = flip_sums(viol, truth_t, cv, 0, w_pos, w_neg)
+        sums = bit_sums(zmask, 0, ones, 0, bits, cv, demos)
         _push_pair(bufs, k, lp_chains[m_rem + 1], sums, n_conj, demos, model, beta)
         for i in range(2):
             cand_head[k + i] = -1
@@ -272,13 +331,12 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     """
     # Prior 3: prune the subtree rooted at v and regraft it anywhere outside it, with F(v)
     # left out or put in.
-    truth_t, w_pos, w_neg = demos.truth_t, demos.w_pos, demos.w_neg
+    truth_t = demos.truth_t
     n = model.n
     cv = clause_index_eventual(v, model.n_g)
     g, g_const = model.forest_g, model.forest_const
-    cur, lw, cand_ew = bufs.cur, bufs.lw, bufs.cand_ew
-    cand_head, in_s, cost, size = bufs.cand_head, bufs.in_s, bufs.cost, bufs.size
-    D = viol.shape[0]
+    lw, cand_ew = bufs.lw, bufs.cand_ew
+    cand_head, in_s, size = bufs.cand_head, bufs.in_s, bufs.size
     if w1[v]:
         add_pair(viol, truth_t, cv, -1)
         n_conj -= 1
@@ -298,17 +356,22 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
                 n_conj -= 1
         a = parent[a]
     parent[v] = -1
-    # cost[a, d]: violations added by making a an ancestor of the whole subtree.
+    # anc[a]: the rows that satisfy every (a -> s) clause, s in the subtree, i.e. those a
+    # keeps satisfied as an ancestor of the whole subtree; candidates are weighed over the
+    # rows that violate nothing once it is pruned (zmask), as bitsets.
+    bits, zmask, anc, acc, ones = demos.bits, bufs.zmask, bufs.anc, bufs.acc, bufs.ones
+    n_words = bits.shape[1]
+    zero_mask(viol, zmask)
     for a in range(n):
         if in_s[a]:
             continue
-        for d in range(D):
-            cost[a, d] = 0
+        for w in range(n_words):
+            anc[a, w] = ones[0, w]
         for s in range(n):
             if in_s[s]:
                 c = clause_index_order(a, s, model.n_g, n)
-                for d in range(D):
-                    cost[a, d] += 1 if truth_t[c, d] == 0 else 0
+                for w in range(n_words):
+                    anc[a, w] &= bits[c, w]
     # Subtree sizes with S cut off (S's own sizes do not change when it is regrafted), and
     # the log prior of that forest: regrafting S under u adds size_s to u and its ancestors.
     for u in range(n):
@@ -325,18 +388,18 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     for u in range(-1, n):
         if u >= 0 and in_s[u]:
             continue
-        for d in range(D):
-            cur[d] = viol[d]
+        for w in range(n_words):
+            acc[0, w] = zmask[0, w]
         depth = 0
         lp = lp_cut
         a = u
         while a >= 0:
-            for d in range(D):
-                cur[d] += cost[a, d]
+            for w in range(n_words):
+                acc[0, w] &= anc[a, w]
             lp += g[size[a] + size_s] - g[size[a]]
             depth += 1
             a = parent[a]
-        sums = flip_sums(cur, truth_t, cv, 0, w_pos, w_neg)
+        sums = bit_sums(acc, 0, ones, 0, bits, cv, demos)
         _push_pair(bufs, k, lp, sums, n_conj + depth * size_s, demos, model, beta)
         cand_head[k] = u
         cand_head[k + 1] = u
@@ -351,8 +414,9 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     parent[v] = u
     a = u
     while a >= 0:
-        for d in range(D):
-            viol[d] += cost[a, d]
+        for s in range(n):
+            if in_s[s]:
+                add_pair(viol, truth_t, clause_index_order(a, s, model.n_g, n), 1)
         n_conj += size_s
         a = parent[a]
     return n_conj, bufs.cand_lp[j], bufs.cand_ll[j]

@@ -116,10 +116,27 @@ def deduplicate_demos(truth, y01):
     inverse = inverse.ravel()
     w_pos = np.bincount(inverse, weights=(y01 == 1).astype(float), minlength=len(rows))
     w_neg = np.bincount(inverse, weights=(y01 == 0).astype(float), minlength=len(rows))
+    truth_t = np.ascontiguousarray(rows.T)
     # Whole-number weights: their sums are exact in any order.
-    return Demos(np.ascontiguousarray(rows.T), np.ascontiguousarray(w_pos, dtype=np.float64),
+    return Demos(truth_t, np.ascontiguousarray(w_pos, dtype=np.float64),
                  np.ascontiguousarray(w_neg, dtype=np.float64), float(w_pos.sum()),
-                 float(w_neg.sum()))
+                 float(w_neg.sum()), _pack(truth_t), _planes(w_pos), _planes(w_neg))
+
+
+def _pack(bits):
+    # Rows of a 0/1 matrix as uint64 words, column d at bit d & 63 of word d >> 6.
+    n_rows, n_cols = bits.shape
+    padded = np.zeros((n_rows, 64 * ((n_cols + 63) // 64)), dtype=np.uint8)
+    padded[:, :n_cols] = bits != 0
+    return np.ascontiguousarray(
+        np.packbits(padded, axis=1, bitorder="little").view("<u8").astype(np.uint64))
+
+
+def _planes(weights):
+    # Bit-plane k of whole-number weights, packed: a weighted count is a sum of popcounts.
+    w = weights.astype(np.int64)
+    n_planes = max(1, int(w.max(initial=0)).bit_length())
+    return _pack(((w[None, :] >> np.arange(n_planes)[:, None]) & 1).astype(np.uint8))
 
 
 def score_states(states, demos, model):
@@ -145,7 +162,7 @@ def temperature_ladder(demos, model, n_temperatures="auto"):
     >>> from bsi_sklearn.model import make_model
     >>> import numpy as np
     >>> m = make_model(prior="sets_of_chains", likelihood="cb", n_globals=2, n_subtasks=2)
-    >>> d = Demos(np.ones((8, 3), np.uint8), np.ones(3), np.zeros(3), 3.0, 0.0)
+    >>> d = deduplicate_demos(np.eye(3, 8, dtype=np.uint8), np.ones(3))
     >>> temperature_ladder(d, m).round(4).tolist()   # |log eps| = 4 log(2) 5 = 13.9
     [1.0, 0.5, 0.25, 0.125, 0.0721]
     >>> temperature_ladder(d, m, 1).tolist()
