@@ -97,8 +97,7 @@ def _weighted(word, planes, w):
 
 @njit(cache=True, nogil=True, inline="always")
 def bit_sums(a, ia, b, ib, c, ic, demos):
-    """:func:`flip_sums`' four sums (bit out) over the rows of ``a[ia] & b[ib]``, the bit's
-    clause ``c[ic]``.
+    """:func:`flip_sums`' four sums (bit out) over ``a[ia] & b[ib]``, its clause ``c[ic]``.
 
     Weighted counts of the acceptable / unacceptable rows in ``a[ia] & b[ib]``, then in
     ``a[ia] & b[ib] & c[ic]``; whole numbers, so equal to the row-by-row sums. Rows of 2-D
