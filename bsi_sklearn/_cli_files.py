@@ -11,8 +11,8 @@ import re
 from pathlib import Path
 
 __all__ = ["FORMATS", "EVENT_LOG_CASE_ID", "add_format_argument", "input_format",
-           "check_input", "check_output_dir", "check_output_file", "file_safe", "load_demonstrations", "unique_names",
-           "unique_stems"]
+           "check_input", "check_output_dir", "check_output_file", "file_safe",
+           "load_demonstrations", "unique_names", "unique_stems"]
 
 #: File formats by extension (``.xes.gz`` too is an event log).
 FORMATS = {".csv": "csv", ".trace": "trace", ".xes": "event-log"}
