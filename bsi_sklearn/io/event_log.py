@@ -25,6 +25,7 @@ CASE_ID = "case:concept:name"
 ACTIVITY = "concept:name"
 TIMESTAMP = "time:timestamp"
 _CASE = "__case__"
+_EVENT = "__event__"  # an event's position in its case in the source (for messages)
 
 
 class EventLog(NamedTuple):
@@ -180,12 +181,12 @@ class _Where:
 
 
 def _listed(events):
-    return [c for c in events.columns if c != _CASE]
+    return [c for c in events.columns if c not in (_CASE, _EVENT)]
 
 
 # ---------------------------------------------------------------- sources
 def _from_xes(path, case_id, name):
-    cols = read_xes_columns(path)
+    cols = read_xes_columns(path, case_name="case")
     key = case_id.removeprefix("case:")
     ids = cols.traces.get(key)
     if ids is None:
@@ -254,12 +255,13 @@ def _from_frame(frame, case_id, name, first_line=None):
         if len(set(found)) > 1:
             raise ValueError(f"{name}: both {found[0]!r} and {found[1]!r} are columns; name "
                              "the label column exactly (label='case:...')")
-        return _case_constant(events[found[0]], starts, found[0], where), found[0]
+        source = events[_EVENT].to_numpy()
+        return _case_constant(events[found[0]], starts, found[0], where, source), found[0]
 
     return events, ids, case_table
 
 
-def _case_constant(column, starts, col, where):
+def _case_constant(column, starts, col, where, source):
     """One value per case from a column constant within each case (events grouped by case)."""
     values = column.to_numpy(dtype=object)
     codes, _ = pd.factorize(column, sort=False, use_na_sentinel=True)
@@ -269,13 +271,12 @@ def _case_constant(column, starts, col, where):
     missing = np.flatnonzero(codes < 0)
     if len(missing) and (not len(k) or missing[0] <= k[0]):
         e = missing[0]
-        raise ValueError(f"{where.event(case[e], e - starts[case[e]])} has no label "
-                         f"(column {col!r})")
+        raise ValueError(f"{where.event(case[e], source[e])} has no label (column {col!r})")
     if len(k):
         e = k[0]
         i = case[e]
-        raise ValueError(f"{where.event(i, e - starts[i])} has the label {values[e]!r} in "
-                         f"column {col!r}, but the case's first event has "
+        raise ValueError(f"{where.event(i, source[e])} has the label {values[e]!r} in column "
+                         f"{col!r}, but event {source[starts[i]]} of the case has "
                          f"{values[starts[i]]!r}: a label is constant within a case")
     return values[starts[:-1]]
 
@@ -368,7 +369,8 @@ def order_events(events, activity, timestamp, where):
     Returns
     -------
     events : DataFrame
-        Sorted by case, then time; the timestamp column parsed.
+        Sorted by case, then time; the timestamp column parsed; ``__event__`` the event's
+        position in its case in the source.
     starts : ndarray of shape (n_cases + 1,)
         Case ``i``'s events are rows ``starts[i]:starts[i + 1]``.
     """
@@ -383,6 +385,7 @@ def order_events(events, activity, timestamp, where):
     counts = np.bincount(codes)
     starts = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
     local = np.arange(len(codes)) - starts[codes]
+    events = events.assign(**{_EVENT: local})
     no_act = events[activity].isna().to_numpy()
     if no_act.any():
         e = int(np.argmax(no_act))
@@ -457,7 +460,7 @@ def case_frames(events, starts, activity, timestamp):
         rename[timestamp] = TIMESTAMP
     keep = [activity, *([timestamp] if timestamp is not None else [])]
     keep += [c for c in events.columns
-             if c not in keep and c != _CASE and not str(c).startswith("case:")]
+             if c not in keep and c not in (_CASE, _EVENT) and not str(c).startswith("case:")]
     clash = [c for c in keep[len(rename):] if c in rename.values()]
     if clash:
         raise ValueError(f"the event column {clash[0]!r} would clash with the renamed "

@@ -338,7 +338,8 @@ class _Events:
         where = _Where(ids, "X")
         timestamp = enc.timestamp if enc.timestamp in events.columns else None
         events, starts = order_events(events, enc.activity, timestamp, where)
-        frame = events.drop(columns="__case__").rename(columns={enc.activity: ACTIVITY})
+        frame = events.drop(columns=["__case__", "__event__"])
+        frame = frame.rename(columns={enc.activity: ACTIVITY})
         return cls._coded(events[enc.activity].to_numpy(dtype=object), starts,
                           frame if enc.attributes else None, ids)
 
