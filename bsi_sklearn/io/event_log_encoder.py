@@ -196,6 +196,9 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
     def _fit(self, events):
         names = events.names
         attrs = self._check_attributes()
+        if attrs and events.frame is None:
+            raise ValueError(f"EventLogEncoder: attributes[{next(iter(attrs))!r}] needs the "
+                             "cases as DataFrames of events, not sequences of activity names")
         clash = sorted(set(attrs) & set(names))
         if clash:
             raise ValueError(f"EventLogEncoder: the attribute proposition {clash[0]!r} has "
