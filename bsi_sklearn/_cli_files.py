@@ -10,21 +10,29 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-__all__ = ["FORMATS", "add_format_argument", "check_input", "check_output_dir",
-           "check_output_file", "file_safe", "load_demonstrations", "unique_names",
-           "unique_stems"]
+__all__ = ["FORMATS", "EVENT_LOG_CASE_ID", "add_format_argument", "input_format",
+           "check_input", "check_output_dir", "check_output_file", "file_safe",
+           "load_demonstrations", "unique_names", "unique_stems"]
 
-#: File formats by extension.
-FORMATS = {".csv": "csv", ".trace": "trace"}
+#: File formats by extension (``.xes.gz`` too is an event log).
+FORMATS = {".csv": "csv", ".trace": "trace", ".xes": "event-log"}
+#: pm4py's case id column: a ``.csv`` whose header has it is read as an event log.
+EVENT_LOG_CASE_ID = "case:concept:name"
 
 
-def add_format_argument(parser):
+def add_format_argument(parser, event_logs=False):
     """``--format``: how to read the FILEs (by default, from their extension)."""
-    parser.add_argument("--format", choices=["auto", *FORMATS.values()], default="auto",
+    choices = ["auto", *dict.fromkeys(FORMATS.values())]
+    if not event_logs:
+        choices.remove("event-log")
+    parser.add_argument("--format", choices=choices, default="auto",
                         help="how to read the FILEs: by extension (auto: .csv is long-format "
-                             "CSV, .trace the samples2LTL / Scarlet format; any other "
-                             "extension is an error), or all as csv or trace "
-                             "(default: %(default)s)")
+                             "CSV, .trace the samples2LTL / Scarlet format"
+                             + ("; .xes / .xes.gz an event log, and so is a .csv whose header "
+                                "has the case id column (--case-id)" if event_logs else "")
+                             + "; any other extension is an error), or all as "
+                             + ("csv, trace or event-log" if event_logs else "csv or trace")
+                             + " (default: %(default)s)")
 
 
 def check_input(path):
@@ -45,25 +53,62 @@ def check_input(path):
     return p
 
 
-def _format_of(path, fmt):
+def _format_of(path, fmt, case_id=None):
     if fmt != "auto":
         return fmt
     suffix = Path(path).suffix.lower()
-    if suffix not in FORMATS:
+    if case_id is not None and str(path).lower().endswith(".xes.gz"):
+        return "event-log"
+    if case_id is not None and suffix == ".csv" and _has_column(path, case_id):
+        return "event-log"
+    if suffix not in FORMATS or (case_id is None and FORMATS[suffix] == "event-log"):
         raise ValueError(f"{path}: the extension {suffix or '(none)'!r} does not say the "
                          "format; name the file .csv (long-format CSV) or .trace "
                          "(samples2LTL / Scarlet), or pass --format csv / --format trace")
     return FORMATS[suffix]
 
 
-def load_demonstrations(path, fmt="auto"):
+def input_format(path, fmt="auto", event_log=None):
+    """How ``path`` is read: ``"csv"``, ``"trace"`` or ``"event-log"``.
+
+    Parameters
+    ----------
+    path : str
+    fmt : {"auto", "csv", "trace", "event-log"}, default="auto"
+        ``auto`` decides by the extension; a ``.csv`` is an event log when ``event_log`` is
+        given and the header has its case id column.
+    event_log : dict, default=None
+        The event-log options (``case_id``); ``None``: event logs are not accepted.
+    """
+    case_id = None if event_log is None else event_log.get("case_id") or EVENT_LOG_CASE_ID
+    return _format_of(path, fmt, case_id)
+
+
+def _has_column(path, column):
+    """Whether the CSV file's header line names ``column``."""
+    import csv
+
+    try:
+        with open(path, newline="", encoding="utf-8") as fh:
+            header = next(csv.reader(fh), [])
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: cannot read ({exc})") from None
+    return column in header
+
+
+def load_demonstrations(path, fmt="auto", event_log=None):
     """Read one input file.
 
     Parameters
     ----------
     path : str
-    fmt : {"auto", "csv", "trace"}, default="auto"
-        ``auto`` decides by the extension (``.csv`` or ``.trace``).
+    fmt : {"auto", "csv", "trace", "event-log"}, default="auto"
+        ``auto`` decides by the extension (``.csv`` or ``.trace``; with ``event_log``,
+        ``.xes``, ``.xes.gz`` and a ``.csv`` with the case id column are event logs).
+    event_log : dict, default=None
+        Keyword arguments of :func:`bsi_sklearn.io.read_event_log` (``label``, ``pos_label``,
+        ``labels``, ``case_id``, ``activity``, ``timestamp``); ``None``: no event logs. An
+        event log is encoded by :class:`bsi_sklearn.io.EventLogEncoder` (its defaults).
 
     Returns
     -------
@@ -73,13 +118,20 @@ def load_demonstrations(path, fmt="auto"):
     target : LTL formula or None
         The target formula of a ``.trace`` file, when it has one.
     ids : list
-        The demonstrations' ids: the CSV's ``demo_id`` values, or the position (from 0) in a
-        ``.trace`` file (positives, then negatives).
+        The demonstrations' ids: the CSV's ``demo_id`` values, the position (from 0) in a
+        ``.trace`` file (positives, then negatives), or an event log's case ids.
     """
     from bsi_sklearn import io
 
     check_input(path)
-    if _format_of(path, fmt) == "csv":
+    fmt = input_format(path, fmt, event_log)
+    if fmt == "event-log":
+        if event_log is None:
+            raise ValueError(f"{path}: event logs are not read here (use bsi fit)")
+        cases, y, ids = io.read_event_log(path, **event_log)
+        X = io.EventLogEncoder().fit_transform(cases)
+        return X, y, None, list(ids)
+    if fmt == "csv":
         X, y, ids = io.read_traces_csv(path, return_ids=True)
         return X, y, None, list(ids)
     X, y, target = io.load_trace_file(path)

@@ -11,6 +11,7 @@ from numbers import Integral
 from bsi_sklearn._cli_files import (
     add_format_argument,
     check_output_file,
+    input_format,
     load_demonstrations,
     unique_stems,
 )
@@ -44,6 +45,21 @@ Input files:
              0,0,1,0,0,1
              0,1,1,1,0,1
              0,2,1,1,1,1
+  *.xes, *.xes.gz  an event log (XES, streamed): one case per trace, its events ordered by
+           time:timestamp, one proposition per activity (concept:name), true from the step
+           of its first occurrence on (step 0: nothing has happened yet), so F(a) reads
+           "a occurs" and (!b U a) "a occurs before any b". The label of a case is the
+           trace attribute named by --label (e.g. --label outcome --pos-label accepted), or
+           comes from a CSV table --labels FILE (case id, label); without one, every case
+           is acceptable.
+  event-log CSV  one row per event, pm4py's columns case:concept:name, concept:name,
+           time:timestamp (or name them with --case-id, --activity, --timestamp) and the
+           label column (case:<label> or <label>, constant within a case). A .csv is read
+           as an event log when its header has the case id column (or with --format
+           event-log), otherwise as the long format above. Example:
+             case:concept:name,concept:name,time:timestamp,case:ok
+             c1,order,2024-01-01T10:00:00,1
+             c1,ship,2024-01-02T09:00:00,1
 The extension decides the format (any other is an error); --format reads every FILE as one.
 
 Roles: by default every proposition is a global candidate and a subtask: the support is huge
@@ -55,8 +71,9 @@ their list with --). A bad file or option exits with status 2 and a message nami
 line or option."""
 
 _EXAMPLE = """\
-example:
-  bsi fit demos.csv --globals safe --subtasks picked placed --conditions placed=picked"""
+examples:
+  bsi fit demos.csv --globals safe --subtasks picked placed --conditions placed=picked
+  bsi fit log.xes --label outcome --pos-label accepted"""
 
 
 def parse_conditions(tokens):
@@ -169,7 +186,20 @@ def add_arguments(parser):
     parser.add_argument("--pos-label", default=None, metavar="LABEL",
                         help="the label of acceptable demonstrations, when the labels are "
                              "not 0/1 (e.g. --pos-label yes)")
-    add_format_argument(parser)
+    parser.add_argument("--label", default=None, metavar="ATTR",
+                        help="event logs: the trace attribute holding each case's label "
+                             "(XES case attribute; in CSV the column case:ATTR or ATTR)")
+    parser.add_argument("--labels", default=None, metavar="CSV",
+                        help="event logs: the labels as a CSV table (case id, label) instead "
+                             "of --label")
+    parser.add_argument("--case-id", default=None, metavar="COLUMN",
+                        help="event logs: the case id column (default: case:concept:name)")
+    parser.add_argument("--activity", default=None, metavar="COLUMN",
+                        help="event logs: the activity column (default: concept:name)")
+    parser.add_argument("--timestamp", default=None, metavar="COLUMN",
+                        help="event logs: the timestamp column (default: time:timestamp; "
+                             "without one, the file's order)")
+    add_format_argument(parser, event_logs=True)
     parser.add_argument("--save", default=None, metavar="JSON",
                         help="write the posterior as JSON (Posterior.to_json, written in one "
                              "step); with several FILEs, each one's name is added: "
@@ -270,6 +300,23 @@ def _roles(args, names, path):
     return roles
 
 
+def _event_log_options(args):
+    """``read_event_log``'s keyword arguments from the event-log options."""
+    return dict(label=args.label, labels=args.labels, pos_label=args.pos_label,
+                case_id=args.case_id, activity=args.activity, timestamp=args.timestamp)
+
+
+def _option_names(message):
+    """The reader's parameter names as the command's options."""
+    for param, option in ((r"\bpos_label=", "--pos-label "), (r"\bpos_label\b", "--pos-label"),
+                          (r"(?<![-\w])labels=", "--labels"),
+                          (r"(?<![-\w])label=", "--label"),
+                          (r"(?<![-\w])case_id=", "--case-id"),
+                          (r"(?<![-\w])activity=", "--activity")):
+        message = re.sub(param, option, message)
+    return message
+
+
 def run(args):
     """Fit on every file (one model per file) and print the results."""
     import numpy as np
@@ -281,13 +328,19 @@ def run(args):
     if args.conditions is not None:
         parse_conditions(args.conditions)
     outputs = _outputs(args)
+    event_log = _event_log_options(args)
     for path, out in zip(args.files, outputs):
-        X, y, target, _ = load_demonstrations(path, args.format)
+        try:
+            X, y, target, _ = load_demonstrations(path, args.format, event_log)
+        except ValueError as exc:
+            raise ValueError(_option_names(str(exc))) from None
+        is_log = input_format(path, args.format, event_log) == "event-log"
         names = [str(c) for c in X[0].columns]
         if args.pos_label is not None and y is None:
             raise ValueError(f"{path}: --pos-label {args.pos_label!r} is given, but the file "
                              "has no labels (every demonstration is acceptable)")
-        pos_label = _pos_label(args.pos_label, y)
+        # An event log's labels are already 0/1 (the reader applied --pos-label).
+        pos_label = None if is_log else _pos_label(args.pos_label, y)
         flip = None if args.flip_prior is None else tuple(args.flip_prior)
         clf = BSIClassifier(prior=args.prior, likelihood=args.likelihood, roles=args.roles,
                             flip_prior=flip, inference=args.inference, n_samples=args.n_samples,

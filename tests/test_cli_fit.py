@@ -133,3 +133,61 @@ def test_bad_flip_priors_exit_2_naming_the_option(csv_file, argv, message, capsy
     assert main(["fit", str(csv_file), *argv]) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"bsi fit: error: {csv_file}: ") and message in err
+
+
+# ------------------------------------------------------------------ event logs
+def _xes(path, cases):
+    body = "".join(
+        f'<trace><string key="concept:name" value="{cid}"/>'
+        f'<string key="outcome" value="{label}"/>'
+        + "".join(f'<event><string key="concept:name" value="{a}"/></event>' for a in acts)
+        + "</trace>\n" for cid, acts, label in cases)
+    path.write_text('<?xml version="1.0" encoding="UTF-8"?>\n<log xmlns="http://www.xes-'
+                    f'standard.org/">\n{body}</log>\n', encoding="utf-8")
+    return path
+
+
+LOG = [("c1", ["order", "pay", "ship"], "accepted"), ("c2", ["order", "ship", "pay"],
+                                                     "accepted"),
+       ("c3", ["ship", "order", "pay"], "rejected"), ("c4", ["pay", "ship"], "rejected")]
+
+
+def test_fit_an_xes_event_log_prints_the_map_in_activity_names(tmp_path, capsys):
+    path = _xes(tmp_path / "log.xes", LOG)
+    assert main(["fit", str(path), "--label", "outcome", "--pos-label", "accepted",
+                 "--subtasks", "order", "pay", "ship", "--globals"]) == 0
+    out = capsys.readouterr().out
+    assert "4 demonstrations (2 acceptable), 3 propositions" in out
+    assert "MAP        : F(order) & (!ship U order)" in out
+
+
+def test_fit_an_event_log_csv_told_by_its_case_column(tmp_path, capsys):
+    rows = ["case:concept:name,concept:name,time:timestamp,case:outcome"]
+    for cid, acts, label in LOG:
+        rows += [f"{cid},{a},2024-01-0{k + 1}T10:00:00,{label}" for k, a in enumerate(acts)]
+    path = tmp_path / "log.csv"
+    path.write_text("\n".join(rows) + "\n")
+    assert main(["fit", str(path), "--label", "outcome", "--pos-label", "accepted",
+                 "--subtasks", "order", "pay", "ship", "--globals"]) == 0
+    assert "MAP        : F(order) & (!ship U order)" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--label", "outcome", "--pos-label", "acepted"],
+     "--pos-label 'acepted' is not among the labels ['accepted', 'rejected']"),
+    (["--label", "outcome"], "case 'c1' has the label 'accepted'; labels must be 0/1"),
+    (["--pos-label", "accepted"], "--pos-label is given but no label: name the trace "
+                                  "attribute with --label"),
+])
+def test_event_log_errors_exit_2(tmp_path, argv, message, capsys):
+    path = _xes(tmp_path / "log.xes", LOG)
+    assert main(["fit", str(path), *argv]) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_help_documents_event_logs(capsys):
+    with pytest.raises(SystemExit):
+        main(["fit", "--help"])
+    text = capsys.readouterr().out
+    assert "*.xes, *.xes.gz" in text and "case:concept:name,concept:name" in text
+    assert "--format {auto,csv,trace,event-log}" in text.replace("\n", " ").replace("  ", " ")

@@ -1,7 +1,9 @@
-"""Reading and writing traces: ``.trace`` files (samples2LTL / Scarlet) and long-format CSV.
+"""Reading and writing traces: `.trace` files (samples2LTL / Scarlet), long-format CSV, event logs.
 
 ``bsi_sklearn.io.trace_file`` holds the ``.trace`` format, ``bsi_sklearn.io.long_format`` the
-long format (one row per time step) of DataFrames and CSV files; :func:`write_atomic` and
+long format (one row per time step) of DataFrames and CSV files, ``bsi_sklearn.io.event_log``
+the event logs (XES, CSV, event DataFrames) and ``bsi_sklearn.io.event_log_encoder`` their
+encoding as traces; :func:`write_atomic` and
 :func:`write_files_atomic` write files in one step (all or none). The names are imported on
 first use, so that the light parts (``bsi_sklearn.io._atomic``, the posterior file's
 constants) load without pandas.
@@ -20,6 +22,9 @@ __all__ = [
     "traces_to_frame",
     "write_atomic",
     "write_files_atomic",
+    "EventLog",
+    "read_event_log",
+    "EventLogEncoder",
 ]
 
 _MODULES = {
@@ -33,6 +38,9 @@ _MODULES = {
     "traces_to_frame": "bsi_sklearn.io.long_format",
     "write_atomic": "bsi_sklearn.io._atomic",
     "write_files_atomic": "bsi_sklearn.io._atomic",
+    "EventLog": "bsi_sklearn.io.event_log",
+    "read_event_log": "bsi_sklearn.io.event_log",
+    "EventLogEncoder": "bsi_sklearn.io.event_log_encoder",
 }
 
 
