@@ -11,7 +11,8 @@ import numbers
 import numpy as np
 from numba import njit
 
-__all__ = ["default_log_epsilon", "resolve_log_epsilon", "log_likelihood", "LIKELIHOODS",
+__all__ = ["default_log_epsilon", "resolve_log_epsilon", "log_likelihood", "log_likelihood_cb",
+           "cb_rejected", "LIKELIHOODS",
            "likelihood_code", "is_flip_prior", "resolve_flip_prior", "splits_by_label",
            "depends_on_conjuncts", "step_scale", "log_likelihood_reference",
            "flip_rate_posterior"]
@@ -147,6 +148,27 @@ def _log_beta(a, b):
 
 
 @njit(cache=True, nogil=True)
+def cb_rejected(n_conj):
+    """CB's log-likelihood of an unacceptable demonstration the formula violates.
+
+    ``log(2^N / (2^N - 1)) = -log(1 - 2^-N)``; a violated formula has ``N >= 1``. The MCMC's
+    moves keep it in a table by ``N`` (the same numbers, without a ``log1p`` per candidate).
+    """
+    return -_log1mexp(-n_conj * 0.6931471805599453)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def log_likelihood_cb(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, rejected):
+    """:func:`log_likelihood` of CB, given ``rejected = cb_rejected(n_conj)``."""
+    out = pos_sat * (n_conj * 0.6931471805599453) + (n_pos - pos_sat) * log_eps \
+        + neg_sat * log_eps
+    neg_viol = n_neg - neg_sat
+    if neg_viol > 0.0:
+        out += neg_viol * rejected
+    return out
+
+
+@njit(cache=True, nogil=True)
 def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code, flip_a, flip_b):
     """Log-likelihood of a dataset given a formula, from counts.
 
@@ -173,11 +195,8 @@ def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code, flip_a
     pos_viol = n_pos - pos_sat
     neg_viol = n_neg - neg_sat
     if code == 0:
-        out = pos_sat * (n_conj * 0.6931471805599453) + pos_viol * log_eps + neg_sat * log_eps
-        if neg_viol > 0.0:
-            # log(2^N / (2^N - 1)) = -log(1 - 2^-N); a violated formula has N >= 1.
-            out += neg_viol * (-_log1mexp(-n_conj * 0.6931471805599453))
-        return out
+        return log_likelihood_cb(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps,
+                                 cb_rejected(n_conj) if neg_viol > 0.0 else 0.0)
     if code == 1:
         log1m_eps = _log1mexp(log_eps)
         return (pos_sat + neg_viol) * log1m_eps + (pos_viol + neg_sat) * log_eps

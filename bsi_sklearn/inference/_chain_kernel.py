@@ -31,7 +31,7 @@ from bsi_sklearn.inference._gibbs_moves import (
     forest_move,
     sat_counts,
 )
-from bsi_sklearn.likelihood import log_likelihood
+from bsi_sklearn.likelihood import cb_rejected, log_likelihood
 from bsi_sklearn.model import Model
 from bsi_sklearn.priors import log_inclusion, log_prior, log_prior_structure, log_prior_subset
 
@@ -86,6 +86,7 @@ class ChainBuffers(NamedTuple):
     ones: np.ndarray      # (1, W) uint64: every bit set
     anc: np.ndarray       # (n, W) uint64: rows an ancestor keeps satisfied (Prior 3)
     members: np.ndarray   # (n,) int64: one chain's subtasks in order
+    cb_rejected: np.ndarray  # (max N + 2,) likelihood.cb_rejected(N), by number of conjuncts
 
 
 def make_buffers(n_g, n, n_rows, n_rungs):
@@ -107,6 +108,7 @@ def make_buffers(n_g, n, n_rows, n_rungs):
         ones=np.full((1, n_words), np.iinfo(np.uint64).max, dtype=np.uint64),
         anc=np.zeros((max(n, 1), n_words), dtype=np.uint64),
         members=np.empty(max(n, 1), dtype=np.int64),
+        cb_rejected=np.array([cb_rejected(k) for k in range(n_g + n + n * (n - 1) // 2 + 2)]),
     )
 
 
@@ -148,7 +150,8 @@ def _unmanaged_bundles(state, demos, model, bufs):
                         _unmanaged(bufs.cand_ew), _unmanaged(bufs.child), _unmanaged(bufs.in_s),
                         _unmanaged(bufs.size), _unmanaged(bufs.old_parent),
                         _unmanaged(bufs.zmask), _unmanaged(bufs.suf), _unmanaged(bufs.acc),
-                        _unmanaged(bufs.ones), _unmanaged(bufs.anc), _unmanaged(bufs.members))
+                        _unmanaged(bufs.ones), _unmanaged(bufs.anc), _unmanaged(bufs.members),
+                        _unmanaged(bufs.cb_rejected))
     return state, demos, model, bufs
 
 

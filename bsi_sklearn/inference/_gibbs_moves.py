@@ -28,7 +28,7 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn.clauses import clause_index_eventual, clause_index_order, popcount
-from bsi_sklearn.likelihood import log_likelihood
+from bsi_sklearn.likelihood import log_likelihood, log_likelihood_cb
 from bsi_sklearn.priors import log_inclusion
 
 __all__ = ["add_pair", "draw", "sat_counts", "zero_mask", "bit_sums", "flip_move",
@@ -187,14 +187,20 @@ def flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u, beta):
 
 
 @njit(cache=True, nogil=True)
-def _push_pair(bufs, k, lp, sums, n_conj, demos, model, beta):
+def _push_pair(bufs, k, lp, sums, n_conj, demos, model, beta, le_in, le_out):
     # Two candidates of a structure move at one place: k without F(v), k + 1 with it.
-    # sums = (ps_out, ns_out, ps_in, ns_in) from flip_sums; n_conj excludes F(v).
-    le_in, le_out = log_inclusion(model.p_eventual)
-    ll_out = log_likelihood(sums[0], sums[1], demos.n_pos, demos.n_neg, n_conj,
-                            model.log_eps, model.likelihood, model.flip_a, model.flip_b)
-    ll_in = log_likelihood(sums[2], sums[3], demos.n_pos, demos.n_neg, n_conj + 1,
-                           model.log_eps, model.likelihood, model.flip_a, model.flip_b)
+    # sums = (ps_out, ns_out, ps_in, ns_in) from flip_sums; n_conj excludes F(v);
+    # (le_in, le_out) = log_inclusion(p_eventual), computed once per move.
+    if model.likelihood == 0:  # CB, its log1p by number of conjuncts from the table
+        ll_out = log_likelihood_cb(sums[0], sums[1], demos.n_pos, demos.n_neg, n_conj,
+                                   model.log_eps, bufs.cb_rejected[n_conj])
+        ll_in = log_likelihood_cb(sums[2], sums[3], demos.n_pos, demos.n_neg, n_conj + 1,
+                                  model.log_eps, bufs.cb_rejected[n_conj + 1])
+    else:
+        ll_out = log_likelihood(sums[0], sums[1], demos.n_pos, demos.n_neg, n_conj,
+                                model.log_eps, model.likelihood, model.flip_a, model.flip_b)
+        ll_in = log_likelihood(sums[2], sums[3], demos.n_pos, demos.n_neg, n_conj + 1,
+                               model.log_eps, model.likelihood, model.flip_a, model.flip_b)
     bufs.cand_lp[k] = lp
     bufs.cand_lp[k + 1] = lp
     bufs.cand_ll[k] = ll_out
@@ -215,6 +221,7 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     truth_t = demos.truth_t
     n = model.n
     cv = clause_index_eventual(v, model.n_g)
+    le_in, le_out = log_inclusion(model.p_eventual)
     lp_chains = model.lp_chains
     lw, cand_lp, cand_ew = bufs.lw, bufs.cand_lp, bufs.cand_ew
     cand_head, cand_pos, child = bufs.cand_head, bufs.cand_pos, bufs.child
@@ -275,7 +282,7 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
         lp = lp_chains[m_rem]
         for p in range(L + 1):
             sums = bit_sums(suf, p, acc, 0, bits, cv, demos)
-            _push_pair(bufs, k, lp, sums, n_conj + L, demos, model, beta)
+            _push_pair(bufs, k, lp, sums, n_conj + L, demos, model, beta, le_in, le_out)
             for i in range(2):
                 cand_head[k + i] = h
                 cand_pos[k + i] = p
@@ -286,7 +293,8 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
                     acc[0, w] &= bits[c, w]
     if lp_chains[m_rem + 1] > -np.inf or k == 0:
         sums = bit_sums(zmask, 0, ones, 0, bits, cv, demos)
-        _push_pair(bufs, k, lp_chains[m_rem + 1], sums, n_conj, demos, model, beta)
+        _push_pair(bufs, k, lp_chains[m_rem + 1], sums, n_conj, demos, model, beta,
+                   le_in, le_out)
         for i in range(2):
             cand_head[k + i] = -1
             cand_pos[k + i] = 0
@@ -333,6 +341,7 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     truth_t = demos.truth_t
     n = model.n
     cv = clause_index_eventual(v, model.n_g)
+    le_in, le_out = log_inclusion(model.p_eventual)
     g, g_const = model.forest_g, model.forest_const
     lw, cand_ew = bufs.lw, bufs.cand_ew
     cand_head, in_s, size = bufs.cand_head, bufs.in_s, bufs.size
@@ -399,7 +408,8 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
             depth += 1
             a = parent[a]
         sums = bit_sums(acc, 0, ones, 0, bits, cv, demos)
-        _push_pair(bufs, k, lp, sums, n_conj + depth * size_s, demos, model, beta)
+        _push_pair(bufs, k, lp, sums, n_conj + depth * size_s, demos, model, beta, le_in,
+                   le_out)
         cand_head[k] = u
         cand_head[k + 1] = u
         k += 2
