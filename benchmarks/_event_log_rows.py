@@ -55,9 +55,10 @@ def split_log(log, spec):
 
 
 def occurred_traces(cases, activities, min_steps=1):
-    """The "occurred" encoding (DESIGN section 11) as arrays, for MiniRocket and Scarlet when
-    ``EventLogEncoder`` is not in this checkout: ``(k + 1, n)`` booleans, step 0 all false;
-    traces shorter than ``min_steps`` repeat their last state (the finite-trace reading)."""
+    """The "occurred" encoding as arrays, for MiniRocket and Scarlet when ``EventLogEncoder``
+    is not in this checkout: ``(k + 1, n)`` booleans, column a at step t true when a occurred
+    among the first t events (step 0 all false); traces shorter than ``min_steps`` repeat
+    their last state (the finite-trace reading)."""
     index = {a: j for j, a in enumerate(activities)}
     out = []
     for case in cases:

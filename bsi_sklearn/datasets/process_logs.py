@@ -1,7 +1,7 @@
 """Labelled event logs drawn from random process trees, each case judged by a hidden rule.
 
 :func:`make_process_log` builds the benchmark data of issue 27 (``benchmarks/bench_event_logs.py``,
-``docs/event-log-benchmark.md``): the event logs a process analyst has (DESIGN section 11), with
+``docs/event-log-benchmark.md``): the event logs a process analyst has (pm4py's columns), with
 a label per case, at any size.
 
 The process
