@@ -1,4 +1,4 @@
-"""Generators of the paper's domains, and of errand tasks built outside them, with known rules."""
+"""Generators of the paper's domains, of errand tasks and of event logs, with known rules."""
 
 from bsi_sklearn.datasets.dinner_table import (
     dinner_table_labels,
@@ -13,10 +13,12 @@ from bsi_sklearn.datasets.poi_threat import (
     poi_threat_labels,
     poi_threat_specification,
 )
+from bsi_sklearn.datasets.process_logs import ProcessLog, make_process_log
 from bsi_sklearn.datasets.tsr import TaskSpaceRegion, make_pose
 
 __all__ = [
     "ErrandTask",
+    "ProcessLog",
     "TaskSpaceRegion",
     "dinner_table_labels",
     "dinner_table_specification",
@@ -26,6 +28,7 @@ __all__ = [
     "make_errand_task",
     "make_pose",
     "make_poi_threat_demos",
+    "make_process_log",
     "plot_demos",
     "poi_threat_labels",
     "poi_threat_specification",

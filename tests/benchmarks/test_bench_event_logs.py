@@ -1,0 +1,137 @@
+"""benchmarks/bench_event_logs.py (issue 27): the rows on a tiny log, isolation, outputs."""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
+pytestmark = pytest.mark.skipif(not (BENCH / "bench_event_logs.py").is_file(),
+                                reason="benchmarks/ is not in this checkout")
+if str(BENCH) not in sys.path:
+    sys.path.insert(0, str(BENCH))
+
+
+@pytest.fixture(scope="module")
+def bench():
+    import bench_event_logs
+
+    return bench_event_logs
+
+
+@pytest.fixture(scope="module")
+def rows():
+    import _event_log_rows
+
+    return _event_log_rows
+
+
+@pytest.fixture(scope="module")
+def practitioner_frame(bench):
+    specs = bench.grid_specs(((10, 60),), ["logreg", "tree", "minirocket"], recovery=False)
+    return bench.run_grid(specs, isolate=False, verbose=0)
+
+
+def test_the_practitioner_rows_run_on_a_tiny_log(practitioner_frame):
+    df = practitioner_frame
+    assert len(df) == 2 * 3
+    assert (df["status"] == "ok").all(), df["status"].tolist()
+    assert df["accuracy"].between(0, 1).all() and df["f1_weighted"].between(0, 1).all()
+    assert (df["n_train"] == 42).all() and (df["n_test"] == 18).all()
+    assert (df["fit_s"] > 0).all()
+    assert set(df["rule"]) == {"template", "declare"}
+
+
+def test_the_scores_are_against_the_clean_test_labels(rows):
+    from bsi_sklearn.datasets import make_process_log
+
+    spec = dict(n_activities=10, n_cases=60, rule="template", noise=0.3, seed=0, method="tree")
+    row = rows.run_row(spec)
+    log = make_process_log(10, 60, rule="template", noise=0.3, random_state=0)
+    train, test = rows.split_log(log, spec)
+    assert len(set(train) & set(test)) == 0 and len(train) + len(test) == 60
+    assert row["test_positive"] == pytest.approx(log.clean_labels.loc[test].mean())
+
+
+def test_a_row_past_its_timeout_is_recorded_not_waited_for(bench):
+    spec = bench.grid_specs(((10, 60),), ["tree"], recovery=False)[0]
+    row = bench.run_isolated(spec, timeout=0.05, memory_limit_gb=8.0)
+    assert row["status"] == "timeout"
+
+
+def test_a_row_in_its_own_process_reports_its_peak_memory(bench):
+    spec = bench.grid_specs(((10, 60),), ["tree"], recovery=False)[0]
+    row = bench.run_isolated(spec, timeout=120, memory_limit_gb=8.0)
+    assert row["status"] == "ok" and row["peak_rss_mib"] > 10 and 0 <= row["accuracy"] <= 1
+
+
+def test_a_row_over_its_memory_limit_is_recorded(bench):
+    spec = bench.grid_specs(((10, 60),), ["tree"], recovery=False)[0]
+    row = bench.run_isolated(spec, timeout=120, memory_limit_gb=0.05)
+    assert row["status"] in ("memory", "ok") or row["status"].startswith("error")
+    assert row["status"] != "ok"
+
+
+def test_bsi_waits_for_the_encoder(rows):
+    if rows.encoder_available() is not None:
+        pytest.skip("EventLogEncoder is in this checkout")
+    row = rows.run_row(dict(n_activities=10, n_cases=40, rule="template", noise=0.0, seed=0,
+                            method="bsi"))
+    assert row["status"].startswith("encoder not available") and "accuracy" not in row
+
+
+def test_the_occurred_fallback_matches_the_encoder(rows):
+    encoder = rows.encoder_available()
+    if encoder is None:
+        pytest.skip("EventLogEncoder is not in this checkout yet")
+    cases = [["a01", "a02", "a01"], ["a02"]]
+    mine = rows.occurred_traces(cases, ["a01", "a02"])
+    theirs = encoder(encoding="occurred").fit_transform(cases)
+    for x, frame in zip(mine, theirs):
+        np.testing.assert_array_equal(x, frame[["a01", "a02"]].to_numpy(dtype=bool))
+
+
+def test_minirocket_traces_repeat_their_last_state(rows):
+    (x,) = rows.occurred_traces([["b", "a"]], ["a", "b"], min_steps=9)
+    assert x.shape == (9, 2)
+    assert x[:3].tolist() == [[False, False], [False, True], [True, True]]
+    assert (x[3:] == x[2]).all()
+
+
+def test_recovery_compares_normalised_clauses(rows):
+    from bsi_sklearn import Specification
+
+    norm = rows.normalised_clauses
+    assert norm(Specification(orders=[("a", "b")])) == norm(
+        Specification(eventuals=["a"], orders=[("a", "b")]))
+    assert norm(Specification(orders=[("a", "b"), ("b", "c")])) == norm(
+        Specification(eventuals=["a", "b"], orders=[("a", "b"), ("b", "c"), ("a", "c")]))
+    assert norm(Specification(eventuals=["a"])) != norm(Specification(eventuals=["b"]))
+    assert norm(Specification(eventuals=["a"], conditions={"a": "c"})) != norm(
+        Specification(eventuals=["a"]))
+
+
+def test_the_outputs_are_written(bench, practitioner_frame, tmp_path):
+    paths = bench.write_outputs(practitioner_frame, tmp_path, tmp_path / "RESULTS.md",
+                                "python benchmarks/bench_event_logs.py --test", 1.0,
+                                {"sizes": "10x60"})
+    assert all(p.is_file() for p in paths)
+    text = (tmp_path / "RESULTS.md").read_text()
+    assert "Commit:" in text and "Machine:" in text and "Decision tree" in text
+    assert len(pd.read_csv(tmp_path / "event_logs.csv")) == 6
+    scaling = pd.DataFrame([dict(task="scaling", n_activities=a, n_cases=c, rule="template",
+                                 method="bsi", method_label="BSI (defaults)", status=s,
+                                 fit_s=f, peak_rss_mib=m)
+                            for a, c, s, f, m in [(10, 100, "ok", 1.0, 200.0),
+                                                  (40, 100, "ok", 2.0, 250.0),
+                                                  (40, 1000, "timeout", None, None)]])
+    paths = bench.write_scaling(scaling, tmp_path / "s", "cmd", 1.0)
+    assert all(p.is_file() for p in paths)
+
+
+def test_sizes_are_parsed(bench):
+    assert bench.parse_sizes("10x100,40x1000") == ((10, 100), (40, 1000))
+    with pytest.raises(Exception, match="ACTIVITIESxCASES"):
+        bench.parse_sizes("10-100")
