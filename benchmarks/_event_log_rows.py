@@ -16,7 +16,7 @@ import numpy as np
 
 from bsi_sklearn.datasets import make_process_log
 
-__all__ = ["METHODS", "LABELS", "encoder_available", "occurred_traces", "split_log",
+__all__ = ["METHODS", "LABELS", "split_log",
            "normalised_clauses", "rule_recovered", "run_row", "SCARLET_DIR_ENV"]
 
 #: Row keys, in display order, and their names in the tables.
@@ -27,15 +27,6 @@ LABELS = {"bsi": "BSI (defaults)", "logreg": "Logistic regression (activity coun
 #: Environment variable naming Scarlet's private install directory (set by the parent).
 SCARLET_DIR_ENV = "BSI_EVENT_LOG_SCARLET_DIR"
 MINIROCKET_MIN_STEPS = 9
-
-
-def encoder_available():
-    """``bsi_sklearn.io.EventLogEncoder`` when this checkout has it, else None."""
-    try:
-        from bsi_sklearn.io import EventLogEncoder
-    except ImportError:
-        return None
-    return EventLogEncoder
 
 
 def split_log(log, spec):
@@ -54,31 +45,15 @@ def split_log(log, spec):
     return list(train), list(test)
 
 
-def occurred_traces(cases, activities, min_steps=1):
-    """The "occurred" encoding as arrays, for MiniRocket and Scarlet when ``EventLogEncoder``
-    is not in this checkout: ``(k + 1, n)`` booleans, column a at step t true when a occurred
-    among the first t events (step 0 all false); traces shorter than ``min_steps`` repeat
-    their last state (the finite-trace reading)."""
-    index = {a: j for j, a in enumerate(activities)}
-    out = []
-    for case in cases:
-        x = np.zeros((max(len(case) + 1, min_steps), len(activities)), dtype=bool)
-        for t, a in enumerate(case, start=1):
-            x[t:, index[a]] = True
-        out.append(x)
-    return out
-
-
 def _encoded(train_cases, test_cases, activities, min_steps=1):
-    """Encoded training and test traces (DataFrames), and which encoder made them."""
-    import pandas as pd
+    """Encoded training and test traces (``EventLogEncoder``'s DataFrames), and its name.
 
-    encoder = encoder_available()
-    if encoder is None:
-        tr, te = (occurred_traces(c, activities, min_steps) for c in (train_cases, test_cases))
-        return ([pd.DataFrame(x, columns=list(activities)) for x in tr],
-                [pd.DataFrame(x, columns=list(activities)) for x in te], "benchmark's own")
-    enc = encoder(encoding="occurred").fit(train_cases)
+    Traces shorter than ``min_steps`` repeat their last state (the finite-trace reading), for
+    MiniRocket's kernels of length 9.
+    """
+    from bsi_sklearn.io import EventLogEncoder
+
+    enc = EventLogEncoder(encoding="occurred").fit(train_cases)
     tr, te = enc.transform(train_cases), enc.transform(test_cases)
     if min_steps > 1:
         tr, te = ([_pad(x, min_steps) for x in xs] for xs in (tr, te))
@@ -185,9 +160,6 @@ def _row_practitioner(method, log, train, test, ytr, row):
 
 
 def _row_bsi(log, train, test, ytr, row):
-    if encoder_available() is None:
-        row["status"] = "encoder not available (bsi_sklearn.io.EventLogEncoder)"
-        return None
     from bsi_sklearn import BSIClassifier
 
     cases = dict(zip(log.labels.index, log.cases()))

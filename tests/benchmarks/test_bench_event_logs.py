@@ -3,7 +3,6 @@
 import sys
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 import pytest
 
@@ -74,30 +73,12 @@ def test_a_row_over_its_memory_limit_is_recorded(bench):
     assert row["status"] != "ok"
 
 
-def test_bsi_waits_for_the_encoder(rows):
-    if rows.encoder_available() is not None:
-        pytest.skip("EventLogEncoder is in this checkout")
-    row = rows.run_row(dict(n_activities=10, n_cases=40, rule="template", noise=0.0, seed=0,
-                            method="bsi"))
-    assert row["status"].startswith("encoder not available") and "accuracy" not in row
-
-
-def test_the_occurred_fallback_matches_the_encoder(rows):
-    encoder = rows.encoder_available()
-    if encoder is None:
-        pytest.skip("EventLogEncoder is not in this checkout yet")
-    cases = [["a01", "a02", "a01"], ["a02"]]
-    mine = rows.occurred_traces(cases, ["a01", "a02"])
-    theirs = encoder(encoding="occurred").fit_transform(cases)
-    for x, frame in zip(mine, theirs):
-        np.testing.assert_array_equal(x, frame[["a01", "a02"]].to_numpy(dtype=bool))
-
-
 def test_minirocket_traces_repeat_their_last_state(rows):
-    (x,) = rows.occurred_traces([["b", "a"]], ["a", "b"], min_steps=9)
-    assert x.shape == (9, 2)
-    assert x[:3].tolist() == [[False, False], [False, True], [True, True]]
-    assert (x[3:] == x[2]).all()
+    (x,), _, name = rows._encoded([["b", "a"]], [["a"]], ["a", "b"], min_steps=9)
+    assert name == "EventLogEncoder" and x.shape == (9, 2)
+    values = x[["a", "b"]].to_numpy(dtype=bool)
+    assert values[:3].tolist() == [[False, False], [False, True], [True, True]]
+    assert (values[3:] == values[2]).all()
 
 
 def test_recovery_compares_normalised_clauses(rows):
