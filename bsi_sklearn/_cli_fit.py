@@ -369,6 +369,12 @@ def run(args):
         print(f"MAP        : {spec.readable(clf.vacuous_clauses_)}")
         if spec.readable(clf.vacuous_clauses_) != spec.to_ltl():
             print(f"full MAP   : {spec.to_ltl()}")
+        if is_log:  # the MAP's clauses as Declare constraints on the cases
+            from bsi_sklearn.report.wording import describe_event_log_specification
+
+            for i, line in enumerate(describe_event_log_specification(
+                    spec, clf.vacuous_clauses_)):
+                print(f"{'reading    :' if i == 0 else '':<12} {line}")
         print(f"accuracy   : {clf.score(X, y):.3f} (training set)")
         if flip is not None:
             low, high = clf.flip_rate_interval_

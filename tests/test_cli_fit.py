@@ -159,6 +159,9 @@ def test_fit_an_xes_event_log_prints_the_map_in_activity_names(tmp_path, capsys)
     out = capsys.readouterr().out
     assert "4 demonstrations (2 acceptable), 3 propositions" in out
     assert "MAP        : F(order) & (!ship U order)" in out
+    # ... and as Declare constraints on the cases
+    assert ("reading    : existence(order): order occurs.\n             existence(order) and "
+            "precedence(order, ship): order occurs, and no ship before the first order.") in out
 
 
 def test_fit_an_event_log_csv_told_by_its_case_column(tmp_path, capsys):

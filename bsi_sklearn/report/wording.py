@@ -8,6 +8,8 @@ from bsi_sklearn.specification import Specification
 
 __all__ = [
     "clause_sentence",
+    "event_log_sentence",
+    "describe_event_log_specification",
     "clause_specification",
     "describe_specification",
     "ordered_clauses",
@@ -226,6 +228,74 @@ def clause_sentence(clause, conditions=None, descriptions=None):
     if a in cond and cond[a] is not None:
         return f"If {_phrase(cond[a], d)}, {_phrase(a, d)} before {_phrase(b, d)}."
     return f"{_capitalised(a, d)} before {_phrase(b, d)}."
+
+
+def event_log_sentence(clause, conditions=None):
+    """One sentence for a clause over event-log propositions, with its Declare name.
+
+    Under :class:`bsi_sklearn.io.EventLogEncoder`'s default encoding a proposition ``a`` reads
+    "activity a has occurred so far" (false at the first step), so the template's clauses are
+    Declare constraints on the case:
+
+    ==========================  =====================================================
+    clause                      sentence
+    ==========================  =====================================================
+    ``F(a)``                    ``existence(a): a occurs.``
+    ``!b U a``                  ``existence(a) and precedence(a, b): a occurs, and
+                                no b before the first a.``
+    ``G(p)``                    ``p has occurred from the start`` (never true of an
+                                encoded case: its first step is empty)
+    ==========================  =====================================================
+
+    A condition ``pi`` (read at the first step, where nothing has occurred yet) is said as
+    "if pi has occurred at the start".
+
+    Examples
+    --------
+    >>> event_log_sentence(("F", "pay"))
+    'existence(pay): pay occurs.'
+    >>> event_log_sentence(("U", "pay", "ship"))
+    'existence(pay) and precedence(pay, ship): pay occurs, and no ship before the first pay.'
+    """
+    kind = _check_clause(clause)
+    cond = dict(conditions) if conditions is not None else {}
+    if kind == "G":
+        text = f"{clause[1]} has occurred from the start."
+        subject = clause[1]
+    elif kind == "F":
+        subject = clause[1]
+        text = f"existence({subject}): {subject} occurs."
+    else:
+        subject, b = clause[1], clause[2]
+        text = (f"existence({subject}) and precedence({subject}, {b}): {subject} occurs, "
+                f"and no {b} before the first {subject}.")
+    if kind != "G" and cond.get(subject) is not None:
+        text = f"If {cond[subject]} has occurred at the start, {text}"
+    return text
+
+
+def describe_event_log_specification(specification, vacuous=(), *, chains=True):
+    """:func:`event_log_sentence` for every clause, in :func:`ordered_clauses` order.
+
+    Clauses in ``vacuous`` (``BSIClassifier.vacuous_clauses_``: untested by the data) are
+    left out; ``chains=True`` (the default) leaves out the orders the others imply.
+
+    Examples
+    --------
+    >>> from bsi_sklearn import Specification
+    >>> spec = Specification(eventuals=["order"], orders=[("order", "pay"), ("pay", "ship"),
+    ...                                                   ("order", "ship")])
+    >>> for line in describe_event_log_specification(spec):
+    ...     print(line)
+    existence(order): order occurs.
+    existence(order) and precedence(order, pay): order occurs, and no pay before the first order.
+    existence(pay) and precedence(pay, ship): pay occurs, and no ship before the first pay.
+    """
+    spec = _check_spec(specification)
+    skip = {("U", a, b) for a, b in spec.implied_orders()} if chains else set()
+    skip |= {tuple(c) for c in vacuous}
+    return [event_log_sentence(c, spec.conditions) for c in ordered_clauses(spec)
+            if c not in skip]
 
 
 def describe_specification(specification, descriptions=None, *, chains=False):
