@@ -27,6 +27,7 @@ from bsi_sklearn.clauses import clause_index_order
 from bsi_sklearn.inference._gibbs_moves import (
     add_pair,
     chain_move,
+    draw,
     flip_move,
     forest_move,
     sat_counts,
@@ -86,6 +87,12 @@ class ChainBuffers(NamedTuple):
     ones: np.ndarray      # (1, W) uint64: every bit set
     anc: np.ndarray       # (n, W) uint64: rows an ancestor keeps satisfied (Prior 3)
     members: np.ndarray   # (n,) int64: one chain's subtasks in order
+    lw_cache: np.ndarray  # (R, n, K) the last weights of each replica's moves (see _sweep)
+    cache_k: np.ndarray   # (R, n) int64: their number of candidates
+    cache_j: np.ndarray   # (R, n) int64: the candidate drawn (the subtask's place since)
+    cache_ver: np.ndarray  # (R, n) int64: the replica's version they were computed at
+    cache_beta: np.ndarray  # (R, n) float64: and its inverse temperature
+    version: np.ndarray   # (R,) int64: changes of each replica's state (moves and flips)
     cb_rejected: np.ndarray  # (max N + 2,) likelihood.cb_rejected(N), by number of conjuncts
 
 
@@ -108,6 +115,12 @@ def make_buffers(n_g, n, n_rows, n_rungs):
         ones=np.full((1, n_words), np.iinfo(np.uint64).max, dtype=np.uint64),
         anc=np.zeros((max(n, 1), n_words), dtype=np.uint64),
         members=np.empty(max(n, 1), dtype=np.int64),
+        lw_cache=np.empty((n_rungs, max(n, 1), k)),
+        cache_k=np.zeros((n_rungs, max(n, 1)), dtype=np.int64),
+        cache_j=np.zeros((n_rungs, max(n, 1)), dtype=np.int64),
+        cache_ver=np.full((n_rungs, max(n, 1)), -1, dtype=np.int64),
+        cache_beta=np.zeros((n_rungs, max(n, 1))),
+        version=np.zeros(n_rungs, dtype=np.int64),
         cb_rejected=np.array([cb_rejected(k) for k in range(n_g + n + n * (n - 1) // 2 + 2)]),
     )
 
@@ -151,6 +164,9 @@ def _unmanaged_bundles(state, demos, model, bufs):
                         _unmanaged(bufs.size), _unmanaged(bufs.old_parent),
                         _unmanaged(bufs.zmask), _unmanaged(bufs.suf), _unmanaged(bufs.acc),
                         _unmanaged(bufs.ones), _unmanaged(bufs.anc), _unmanaged(bufs.members),
+                        _unmanaged(bufs.lw_cache), _unmanaged(bufs.cache_k),
+                        _unmanaged(bufs.cache_j), _unmanaged(bufs.cache_ver),
+                        _unmanaged(bufs.cache_beta), _unmanaged(bufs.version),
                         _unmanaged(bufs.cb_rejected))
     return state, demos, model, bufs
 
@@ -249,6 +265,7 @@ def _sweep(r, beta, state, demos, model, bufs, cache, u0):
             lp_sub[r] += (lg_in - lg_out) if new else (lg_out - lg_in)
             tau[j] = new
             moved += 1
+            bufs.version[r] += 1
     if n <= 1:
         for w in range(n):
             new, ll[r], used = flip_move(n_g + w, w1[w], le_in, le_out, viol, n_conj[r], demos,
@@ -260,15 +277,26 @@ def _sweep(r, beta, state, demos, model, bufs, cache, u0):
                 w1[w] = new
                 moved += 1
         return upos - u0, moved
+    lw_cache, cache_k, cache_j = bufs.lw_cache, bufs.cache_k, bufs.cache_j
+    cache_ver, cache_beta, version = bufs.cache_ver, bufs.cache_beta, bufs.version
     for v in range(n):
+        # A move's candidates depend on the rest of the replica's state and on beta only: when
+        # neither changed since v's last move, its weights are the ones kept then, and a draw
+        # that lands on v's present place (the one drawn then) moves nothing. Any other draw
+        # redoes the move, which computes the same weights and draws the same candidate.
+        if cache_ver[r, v] == version[r] and cache_beta[r, v] == beta:
+            if draw(lw_cache[r, v], cache_k[r, v], ubuf[upos],
+                    bufs.cand_ew) == cache_j[r, v]:
+                upos += 1
+                continue
         old_parent[:] = parent
         old_w = w1[v]
         if model.forest:
-            n_conj[r], lp_struct[r], ll[r] = forest_move(v, parent, w1, viol, n_conj[r], demos,
-                                                         model, bufs, ubuf[upos], beta)
+            n_conj[r], lp_struct[r], ll[r], n_cand, j = forest_move(
+                v, parent, w1, viol, n_conj[r], demos, model, bufs, ubuf[upos], beta)
         else:
-            n_conj[r], lp_struct[r], ll[r] = chain_move(v, parent, w1, viol, n_conj[r], demos,
-                                                        model, bufs, ubuf[upos], beta)
+            n_conj[r], lp_struct[r], ll[r], n_cand, j = chain_move(
+                v, parent, w1, viol, n_conj[r], demos, model, bufs, ubuf[upos], beta)
         upos += 1  # a structure move always draws
         changed = w1[v] != old_w
         if changed:
@@ -277,8 +305,28 @@ def _sweep(r, beta, state, demos, model, bufs, cache, u0):
             if parent[u] != old_parent[u]:
                 changed = True
                 break
-        moved += 1 if changed else 0
+        if changed:
+            moved += 1
+            version[r] += 1
+        for i in range(n_cand):
+            lw_cache[r, v, i] = bufs.lw[i]
+        cache_k[r, v] = n_cand
+        cache_j[r, v] = j
+        cache_ver[r, v] = version[r]
+        cache_beta[r, v] = beta
     return upos - u0, moved
+
+
+@njit(cache=True, nogil=True)
+def _same_state(state, i, j):
+    # Whether replicas i and j hold the same hypothesis.
+    for a in range(state.tau.shape[1]):
+        if state.tau[i, a] != state.tau[j, a]:
+            return False
+    for a in range(state.w1.shape[1]):
+        if state.w1[i, a] != state.w1[j, a] or state.parent[i, a] != state.parent[j, a]:
+            return False
+    return True
 
 
 @njit(cache=True, nogil=True)
@@ -380,7 +428,11 @@ def chain_kernel(state, demos, model, bufs, betas, rng, n_samples, burn_in, targ
             i, j = slot[t], slot[t + 1]
             log_a = (betas[t] - betas[t + 1]) * (ll[j] - ll[i])
             if log_a >= 0.0 or ubuf[upos] < math.exp(log_a):
-                slot[t], slot[t + 1] = j, i
+                # Replicas in the same state (the cold rungs of a peaked posterior) keep
+                # their rungs: exchanging them changes nothing but would make their kept
+                # move weights (_sweep) useless.
+                if not _same_state(state, i, j):
+                    slot[t], slot[t + 1] = j, i
                 swaps[t] += 1
             upos += 1
         r = slot[0]

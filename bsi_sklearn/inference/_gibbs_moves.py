@@ -213,7 +213,8 @@ def _push_pair(bufs, k, lp, sums, n_conj, demos, model, beta, le_in, le_out):
 def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     """Gibbs re-insertion of subtask ``v`` with its bit ``w1[v]`` (Priors 1, 2).
 
-    Returns ``(N, log prior of the structure, log-likelihood)``; ``w1[v]`` is updated in place.
+    Returns ``(N, log prior of the structure, log-likelihood, candidates, the one drawn)``;
+    ``w1[v]`` is updated in place; ``bufs.lw[:candidates]`` holds the candidates' weights.
     """
     # Priors 1 / 2: take v (and F(v)) out and redraw its place among every position of every
     # remaining chain and a new chain (a candidate only where the prior has such structures),
@@ -307,7 +308,7 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
         n_conj += 1
     h = cand_head[j]
     if h < 0:
-        return n_conj, cand_lp[j], bufs.cand_ll[j]
+        return n_conj, cand_lp[j], bufs.cand_ll[j], k, j
     p = cand_pos[j]
     u = h
     prev = -1
@@ -327,14 +328,15 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     parent[v] = prev
     if nxt >= 0:
         parent[nxt] = v
-    return n_conj, cand_lp[j], bufs.cand_ll[j]
+    return n_conj, cand_lp[j], bufs.cand_ll[j], k, j
 
 
 @njit(cache=True, nogil=True, inline="always")
 def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     """Gibbs prune-and-regraft of subtask ``v`` with its bit ``w1[v]`` (Prior 3).
 
-    Returns ``(N, log prior of the structure, log-likelihood)``; ``w1[v]`` is updated in place.
+    Returns ``(N, log prior of the structure, log-likelihood, candidates, the one drawn)``;
+    ``w1[v]`` is updated in place; ``bufs.lw[:candidates]`` holds the candidates' weights.
     """
     # Prior 3: prune the subtree rooted at v and regraft it anywhere outside it, with F(v)
     # left out or put in.
@@ -428,4 +430,4 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
                 add_pair(viol, truth_t, clause_index_order(a, s, model.n_g, n), 1)
         n_conj += size_s
         a = parent[a]
-    return n_conj, bufs.cand_lp[j], bufs.cand_ll[j]
+    return n_conj, bufs.cand_lp[j], bufs.cand_ll[j], k, j
