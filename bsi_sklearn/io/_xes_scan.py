@@ -44,11 +44,12 @@ def _lut(chars):
 
 
 _WS = b" \t\r\n"
-_TERM = _lut(b" \t\r\n/>")
-_NAME_START = _lut(b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_:")
-_NAME_CHAR = _lut(b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_:0123456789.-")
 _BAD = _lut(bytes([*range(0, 9), 11, 12, *range(14, 32)]))
 _NAME = rb"[A-Za-z_:][A-Za-z0-9_:.-]*"
+_NAME_RE = re.compile(_NAME + rb"\Z")
+_NAME_END = re.compile(rb"[^ \t\r\n/>]*")
+_KEY_WORD = int.from_bytes(b' key="', "little")
+_VALUE_WORD = int.from_bytes(b'" value=', "little")
 _ATTRS = re.compile(rb"(?:[ \t\r\n]+" + _NAME + rb"[ \t\r\n]*=[ \t\r\n]*"
                     rb"(?:\"[^\"<]*\"|'[^'<]*'))*[ \t\r\n]*\Z")
 _ATTR = re.compile(rb"(" + _NAME + rb")[ \t\r\n]*=[ \t\r\n]*(?:\"([^\"<]*)\"|'([^'<]*)')")
@@ -102,6 +103,15 @@ def _attributes(rest):
     return out
 
 
+def _low_bytes(k):
+    """uint64 masks keeping the ``k`` (0..8) low bytes."""
+    k = np.asarray(k, dtype=np.uint64)
+    full = k >= 8
+    mask = (np.uint64(1) << (np.uint64(8) * np.where(full, 0, k).astype(np.uint64))) \
+        - np.uint64(1)
+    return np.where(full, np.uint64(0xFFFFFFFFFFFFFFFF), mask)
+
+
 def _ident(names):
     """The (n, 2) uint64 identity of names of up to 15 bytes, as the scanner computes it."""
     win = np.zeros((len(names), _W), dtype=np.uint8)
@@ -113,21 +123,43 @@ def _ident(names):
 
 
 def _spans(a, starts, ends):
-    """The byte spans ``a[s:e]`` decoded from UTF-8, as a list of str."""
+    """The byte spans ``a[s:e]`` (disjoint, increasing) decoded from UTF-8: a list of str."""
     if not len(starts):
         return []
-    lens = ends - starts
-    step = lens + 1
+    step = ends - starts + 1  # each span and its closing byte (a quote)
     offs = np.cumsum(step) - step
-    buf = np.zeros(int(offs[-1] + step[-1]), dtype=np.uint8)  # zeros: the separators
-    owner = np.repeat(np.arange(len(starts)), lens)
-    pos_in = np.arange(len(owner)) - (np.cumsum(lens) - lens)[owner]
-    buf[offs[owner] + pos_in] = a[starts[owner] + pos_in]
+    idx = np.arange(int(offs[-1] + step[-1])) + np.repeat(starts - offs, step)
+    buf = a.copy()
+    buf[ends] = 0  # the closing quotes become the separators
     try:
-        text = buf[:-1].tobytes().decode("utf-8")
+        text = buf[idx].tobytes().decode("utf-8")
     except UnicodeDecodeError:
         raise Unsure from None
-    return text.split("\x00")
+    return text.split("\x00")[:-1]
+
+
+def _keys(a, words, starts, ends):
+    """The keys ``a[s:e]``: grouped by their bytes (up to 24), decoded once per key."""
+    lens = ends - starts
+    if not len(lens) or lens.max() > 24:
+        return _spans(a, starts, ends)
+    w = [words[starts + 8 * i] & _low_bytes(np.clip(lens - 8 * i, 0, 8)) for i in range(3)]
+    h = (w[0] * np.uint64(0x9E3779B97F4A7C15)) ^ (w[1] * np.uint64(0xC2B2AE3D27D4EB4F)) \
+        ^ (w[2] * np.uint64(0x165667B19E3779F9)) ^ lens.astype(np.uint64)
+    inverse, uniq = pd.factorize(h)
+    first = np.full(len(uniq), len(h))
+    np.minimum.at(first, inverse, np.arange(len(h)))
+    rep = first[inverse]
+    if not ((w[0] == w[0][rep]) & (w[1] == w[1][rep]) & (w[2] == w[2][rep])
+            & (lens == lens[rep])).all():
+        return _spans(a, starts, ends)  # pragma: no cover - a hash collision
+    try:
+        names = np.array([a[s:e].tobytes().decode("utf-8")
+                          for s, e in zip(starts[first].tolist(), ends[first].tolist())],
+                         dtype=object)
+    except UnicodeDecodeError:
+        raise Unsure from None
+    return names[inverse]
 
 
 class _Key:
@@ -152,8 +184,9 @@ class _Scanner:
     # ------------------------------------------------------------------ one chunk
     def piece(self, data):
         a = np.frombuffer(data, dtype=np.uint8)
-        if _BAD[a].any():
-            raise Unsure
+        ctrl = np.flatnonzero(a < 32)
+        if len(ctrl) and _BAD[a[ctrl]].any():
+            raise Unsure  # a control character: not XML
         if not data.isascii():
             try:
                 text = data.decode("utf-8")
@@ -186,52 +219,50 @@ class _Scanner:
                 return
         close = b1 == 47
         self_ = (a[gt - 1] == 47) & ~close
-        ns = lt + 1 + close
-        idx = ns[:, None] + np.arange(_W)
-        np.minimum(idx, len(a) - 1, out=idx)
-        win = a[idx]
-        term = _TERM[win]
-        if not term.any(axis=1).all():
-            raise Unsure  # a name of 16 bytes or more
-        nl = term.argmax(axis=1)
-        if not (nl > 0).all() or not _NAME_START[win[:, 0]].all():
-            raise Unsure
-        inside = np.arange(_W) < nl[:, None]
-        if not (_NAME_CHAR[win] | ~inside).all():
-            raise Unsure
-        win[~inside] = 0
-        ident = win.view("<u8")
-        ne = ns + nl  # where each name ends
+        n = len(lt)
+        ns = lt + 1 + close  # where each name starts
         rest_end = gt - self_
+        # tags with a tab, newline, carriage return or '&' inside are read one by one
+        odd = np.zeros(n, dtype=bool)
+        odd_pos = np.union1d(ctrl, np.flatnonzero(a == 38))
+        if len(odd_pos):
+            j = np.searchsorted(lt, odd_pos, side="right") - 1
+            ok = j >= 0
+            j, p = j[ok], odd_pos[ok]
+            odd[j[p < gt[j]]] = True
+        spaces = np.append(np.flatnonzero(a == 32), len(a))
+        ne = np.minimum(spaces[np.searchsorted(spaces, ns)], rest_end)  # where names end
+        for i in np.flatnonzero(odd):
+            ne[i] = _NAME_END.match(data, int(ns[i])).end()
+        nl = ne - ns
+        if not ((nl > 0) & (nl < _W)).all():
+            raise Unsure  # an empty name, or one of 16 bytes or more
+        pad = np.frombuffer(data + bytes(32), dtype=np.uint8)
+        words = np.ndarray((len(pad) - 7,), dtype="<u8", buffer=pad, strides=(1,))
+        ident = np.empty((n, 2), dtype=np.uint64)
+        ident[:, 0] = words[ns] & _low_bytes(np.minimum(nl, 8))
+        ident[:, 1] = words[ns + 8] & _low_bytes(np.maximum(nl - 8, 0))
         self._names(ident)
         code = self._code(ident)
-        n = len(lt)
+        self._check_names(data, ident, code, ns, nl)
 
         # tags of the plain shape <name key="K" value="V"/>; every other tag with attributes
         # is read by _attributes, one by one
         has_rest = rest_end > ne
-        odd = np.zeros(n, dtype=bool)
-        special_pos = np.flatnonzero((a == 9) | (a == 10) | (a == 13) | (a == 38))
-        if len(special_pos):
-            j = np.searchsorted(lt, special_pos, side="right") - 1
-            ok = j >= 0
-            j, p = j[ok], special_pos[ok]
-            odd[j[p < gt[j]]] = True
-        q = np.flatnonzero(a == 34)
-        qs = np.searchsorted(q, lt)
-        nq = np.searchsorted(q, gt) - qs
-        plain = has_rest & ~close & ~odd & (nq == 4)
+        plain = has_rest & ~close & ~odd
         cand = np.flatnonzero(plain)
+        q = np.flatnonzero(a == 34)
+        qs = np.zeros(n, dtype=np.int64)
         if len(cand):
-            q0 = q[qs[cand]]
-            q1 = q[qs[cand] + 1]
-            q2 = q[qs[cand] + 2]
-            q3 = q[qs[cand] + 3]
-            good = (q0 == ne[cand] + 5) & (q2 == q1 + 8) & (q3 + 1 == rest_end[cand])
-            for k, byte in enumerate(b' key="'):
-                good &= a[np.minimum(ne[cand] + k, len(a) - 1)] == byte
-            for k, byte in enumerate(b'" value="'):
-                good &= a[np.minimum(q1 + k, len(a) - 1)] == byte
+            qs[cand] = np.searchsorted(q, lt[cand])
+            nq = np.searchsorted(q, gt[cand]) - qs[cand]
+            good = nq == 4
+            base = np.where(good, qs[cand], 0)
+            q0, q1 = q[base], q[np.minimum(base + 1, len(q) - 1)]
+            q2, q3 = q[np.minimum(base + 2, len(q) - 1)], q[np.minimum(base + 3, len(q) - 1)]
+            good &= (q0 == ne[cand] + 5) & (q2 == q1 + 8) & (q3 + 1 == rest_end[cand])
+            good &= words[ne[cand]] & _low_bytes(np.full(len(cand), 6)) == _KEY_WORD
+            good &= words[q1] == _VALUE_WORD  # '" value=' and then the '"' at q2
             plain[cand[~good]] = False
         slow = np.flatnonzero(has_rest & ~plain)
         slow_kv = {}
@@ -326,17 +357,20 @@ class _Scanner:
                                     (_IN_TRACE, n_tr_before, self.traces)):
             sel = at[table == where]
             if len(sel):
-                self._collect(a, sel, owners[sel], code[sel], plain, ne, q, qs, slow_kv, cols)
+                self._collect(a, words, sel, owners[sel], code[sel], plain, q, qs, slow_kv,
+                              cols)
 
-    def _collect(self, a, sel, owners, codes, plain, ne, q, qs, slow_kv, cols):
+    def _collect(self, a, words, sel, owners, codes, plain, q, qs, slow_kv, cols):
         fast = plain[sel]
         f = sel[fast]
-        keys = np.empty(len(sel), dtype=object)
-        values = np.empty(len(sel), dtype=object)
+        n = len(sel)
+        keys = np.empty(n, dtype=object)
+        values = np.empty(n, dtype=object)
         if len(f):
             base = qs[f]
-            keys[fast] = _spans(a, q[base] + 1, q[base + 1])
-            values[fast] = _spans(a, q[base + 2] + 1, q[base + 3])
+            k0, k1, v0, v1 = q[base] + 1, q[base + 1], q[base + 2] + 1, q[base + 3]
+            values[fast] = _spans(a, v0, v1)
+            keys[fast] = _keys(a, words, k0, k1)
         for k in np.flatnonzero(~fast):
             key, value = slow_kv[int(sel[k])]
             if key is None or value is None:
@@ -344,13 +378,17 @@ class _Scanner:
             keys[k], values[k] = key, value
         # keys in order of first appearance, as the expat reader adds them
         inverse, uniq = pd.factorize(keys)
-        for u, key in enumerate(uniq):
-            rows = np.flatnonzero(inverse == u)
-            kinds = np.unique(codes[rows])
+        if len(uniq) == 1:
+            groups = [np.arange(n)]
+        else:
+            order = np.argsort(inverse, kind="stable")
+            groups = np.split(order, np.cumsum(np.bincount(inverse))[:-1])
+        for key, rows in zip(uniq, groups):
+            kinds = codes[rows]
             col = cols.get(key)
             if col is None:
-                col = cols[key] = _Key(_TYPED[int(codes[rows[0]]) - 1])
-            if len(kinds) > 1 or _TYPED[int(kinds[0]) - 1] != col.kind:
+                col = cols[key] = _Key(_TYPED[int(kinds[0]) - 1])
+            if (kinds != kinds[0]).any() or _TYPED[int(kinds[0]) - 1] != col.kind:
                 col.mixed = True
             col.owners.append(owners[rows])
             col.values.extend(values[rows].tolist())
@@ -367,6 +405,16 @@ class _Scanner:
         vocab += [(prefix + b"event", _EVENT), (prefix + b"trace", _TRACE)]
         ids = _ident([v for v, _ in vocab])
         self.codes = [(int(x[0]), int(x[1]), c) for x, (_, c) in zip(ids, vocab)]
+
+    def _check_names(self, data, ident, code, ns, nl):
+        """Tags that are not XES's own: their names must be XML names (checked once each)."""
+        other = np.flatnonzero(code == _OTHER)
+        if not len(other):
+            return
+        _, first = np.unique(ident[other], axis=0, return_index=True)
+        for i in other[first]:
+            if not _NAME_RE.match(data, int(ns[i]), int(ns[i] + nl[i])):
+                raise Unsure
 
     def _code(self, ident):
         code = np.zeros(len(ident), dtype=np.int8)
