@@ -254,13 +254,16 @@ class _Scanner:
         q = np.flatnonzero(a == 34)
         qs = np.zeros(n, dtype=np.int64)
         if len(cand):
-            qs[cand] = np.searchsorted(q, lt[cand])
-            nq = np.searchsorted(q, gt[cand]) - qs[cand]
-            good = nq == 4
-            base = np.where(good, qs[cand], 0)
-            q0, q1 = q[base], q[np.minimum(base + 1, len(q) - 1)]
-            q2, q3 = q[np.minimum(base + 2, len(q) - 1)], q[np.minimum(base + 3, len(q) - 1)]
+            # the first quote after the name, and the three after it: names hold no quotes
+            qs[cand] = np.minimum(np.searchsorted(q, ne[cand]), max(len(q) - 4, 0))
+            base = qs[cand]
+            if len(q) < 4:
+                base = np.zeros(len(cand), dtype=np.int64)
+                q = np.full(4, -10, dtype=np.int64)
+            q0, q1, q2, q3 = q[base], q[base + 1], q[base + 2], q[base + 3]
+            good = np.ones(len(cand), dtype=bool)
             good &= (q0 == ne[cand] + 5) & (q2 == q1 + 8) & (q3 + 1 == rest_end[cand])
+            good &= q1 < q3  # q0 < q1 < q2 < q3 all inside the tag
             good &= words[ne[cand]] & _low_bytes(np.full(len(cand), 6)) == _KEY_WORD
             good &= words[q1] == _VALUE_WORD  # '" value=' and then the '"' at q2
             plain[cand[~good]] = False

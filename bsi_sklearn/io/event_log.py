@@ -467,5 +467,8 @@ def case_frames(events, starts, activity, timestamp):
                          f"activity / timestamp column")
     frame = events[keep].rename(columns=rename)
     codes = events[_CASE].to_numpy()
-    return [g.set_axis(pd.RangeIndex(len(g)))
-            for _, g in frame.groupby(codes, sort=False)]
+    cases = []
+    for _, g in frame.groupby(codes, sort=False):
+        g.index = pd.RangeIndex(len(g))  # in place: set_axis would copy every case's blocks
+        cases.append(g)
+    return cases
