@@ -138,28 +138,34 @@ def _spans(a, starts, ends):
     return text.split("\x00")[:-1]
 
 
+def _groups(inverse, n_groups):
+    """Row positions of each code (in order), and each code's first row."""
+    order = np.argsort(inverse, kind="stable")
+    ends = np.cumsum(np.bincount(inverse, minlength=n_groups))
+    return np.split(order, ends[:-1]), order[ends - np.diff(ends, prepend=0)]
+
+
 def _keys(a, words, starts, ends):
-    """The keys ``a[s:e]``: grouped by their bytes (up to 24), decoded once per key."""
+    """The keys ``a[s:e]`` as codes (order of first appearance) and their texts."""
     lens = ends - starts
-    if not len(lens) or lens.max() > 24:
-        return _spans(a, starts, ends)
+    if lens.max() > 24:
+        inverse, uniq = pd.factorize(np.array(_spans(a, starts, ends), dtype=object))
+        return inverse, list(uniq)
     w = [words[starts + 8 * i] & _low_bytes(np.clip(lens - 8 * i, 0, 8)) for i in range(3)]
     h = (w[0] * np.uint64(0x9E3779B97F4A7C15)) ^ (w[1] * np.uint64(0xC2B2AE3D27D4EB4F)) \
         ^ (w[2] * np.uint64(0x165667B19E3779F9)) ^ lens.astype(np.uint64)
     inverse, uniq = pd.factorize(h)
-    first = np.full(len(uniq), len(h))
-    np.minimum.at(first, inverse, np.arange(len(h)))
+    _, first = _groups(inverse, len(uniq))
     rep = first[inverse]
     if not ((w[0] == w[0][rep]) & (w[1] == w[1][rep]) & (w[2] == w[2][rep])
-            & (lens == lens[rep])).all():
-        return _spans(a, starts, ends)  # pragma: no cover - a hash collision
+            & (lens == lens[rep])).all():  # pragma: no cover - a hash collision
+        inverse, uniq = pd.factorize(np.array(_spans(a, starts, ends), dtype=object))
+        return inverse, list(uniq)
     try:
-        names = np.array([a[s:e].tobytes().decode("utf-8")
-                          for s, e in zip(starts[first].tolist(), ends[first].tolist())],
-                         dtype=object)
+        return inverse, [a[s:e].tobytes().decode("utf-8")
+                         for s, e in zip(starts[first].tolist(), ends[first].tolist())]
     except UnicodeDecodeError:
         raise Unsure from None
-    return names[inverse]
 
 
 class _Key:
@@ -365,28 +371,29 @@ class _Scanner:
 
     def _collect(self, a, words, sel, owners, codes, plain, q, qs, slow_kv, cols):
         fast = plain[sel]
-        f = sel[fast]
-        n = len(sel)
-        keys = np.empty(n, dtype=object)
-        values = np.empty(n, dtype=object)
-        if len(f):
-            base = qs[f]
-            k0, k1, v0, v1 = q[base] + 1, q[base + 1], q[base + 2] + 1, q[base + 3]
-            values[fast] = _spans(a, v0, v1)
-            keys[fast] = _keys(a, words, k0, k1)
-        for k in np.flatnonzero(~fast):
-            key, value = slow_kv[int(sel[k])]
-            if key is None or value is None:
-                raise Unsure  # the expat reader files it under the key None
-            keys[k], values[k] = key, value
-        # keys in order of first appearance, as the expat reader adds them
-        inverse, uniq = pd.factorize(keys)
-        if len(uniq) == 1:
-            groups = [np.arange(n)]
+        base = qs[sel]
+        f = np.flatnonzero(fast)
+        if len(f) == len(sel):
+            inverse, names = _keys(a, words, q[base] + 1, q[base + 1])
         else:
-            order = np.argsort(inverse, kind="stable")
-            groups = np.split(order, np.cumsum(np.bincount(inverse))[:-1])
-        for key, rows in zip(uniq, groups):
+            keys = np.empty(len(sel), dtype=object)
+            if len(f):
+                k_inv, k_names = _keys(a, words, q[base[f]] + 1, q[base[f] + 1])
+                keys[f] = np.array(k_names, dtype=object)[k_inv]
+            for k in np.flatnonzero(~fast):
+                key, value = slow_kv[int(sel[k])]
+                if key is None or value is None:
+                    raise Unsure  # the expat reader files it under the key None
+                keys[k] = key
+            inverse, uniq = pd.factorize(keys)
+            names = list(uniq)
+        groups, _ = _groups(inverse, len(names))
+        if len(q):  # where the values of the plain tags are (the others' are not used)
+            v0 = q[np.minimum(base + 2, len(q) - 1)] + 1
+            v1 = q[np.minimum(base + 3, len(q) - 1)]
+        else:
+            v0 = v1 = np.zeros(len(sel), dtype=np.int64)
+        for key, rows in zip(names, groups):  # keys in order of first appearance
             kinds = codes[rows]
             col = cols.get(key)
             if col is None:
@@ -394,7 +401,14 @@ class _Scanner:
             if (kinds != kinds[0]).any() or _TYPED[int(kinds[0]) - 1] != col.kind:
                 col.mixed = True
             col.owners.append(owners[rows])
-            col.values.extend(values[rows].tolist())
+            quick = fast[rows]
+            if quick.all():
+                col.values.extend(_spans(a, v0[rows], v1[rows]))
+                continue
+            values = np.empty(len(rows), dtype=object)
+            values[quick] = _spans(a, v0[rows[quick]], v1[rows[quick]])
+            values[~quick] = [slow_kv[int(sel[r])][1] for r in rows[~quick]]
+            col.values.extend(values.tolist())
 
     # ------------------------------------------------------------------ names
     def _names(self, ident):
