@@ -129,10 +129,10 @@ def _spans(a, starts, ends):
     step = ends - starts + 1  # each span and its closing byte (a quote)
     offs = np.cumsum(step) - step
     idx = np.arange(int(offs[-1] + step[-1])) + np.repeat(starts - offs, step)
-    buf = a.copy()
-    buf[ends] = 0  # the closing quotes become the separators
+    buf = a[idx]
+    buf[offs + step - 1] = 0  # the closing quotes become the separators
     try:
-        text = buf[idx].tobytes().decode("utf-8")
+        text = buf.tobytes().decode("utf-8")
     except UnicodeDecodeError:
         raise Unsure from None
     return text.split("\x00")[:-1]
@@ -230,7 +230,8 @@ class _Scanner:
         rest_end = gt - self_
         # tags with a tab, newline, carriage return or '&' inside are read one by one
         odd = np.zeros(n, dtype=bool)
-        odd_pos = np.union1d(ctrl, np.flatnonzero(a == 38))
+        amp = np.flatnonzero(a == 38)
+        odd_pos = np.sort(np.concatenate([ctrl, amp])) if len(amp) else ctrl
         if len(odd_pos):
             j = np.searchsorted(lt, odd_pos, side="right") - 1
             ok = j >= 0
