@@ -253,8 +253,8 @@ class _Scanner:
         code = self._code(ident)
         self._check_names(data, ident, code, ns, nl)
 
-        # tags of the plain shape <name key="K" value="V"/>; every other tag with attributes
-        # is read by _attributes, one by one
+        # tags of the plain shape <name key="K" value="V"/> (or " />"); every other tag with
+        # attributes is read by _attributes, one by one
         has_rest = rest_end > ne
         plain = has_rest & ~close & ~odd
         cand = np.flatnonzero(plain)
@@ -269,7 +269,9 @@ class _Scanner:
                 q = np.full(4, -10, dtype=np.int64)
             q0, q1, q2, q3 = q[base], q[base + 1], q[base + 2], q[base + 3]
             good = np.ones(len(cand), dtype=bool)
-            good &= (q0 == ne[cand] + 5) & (q2 == q1 + 8) & (q3 + 1 == rest_end[cand])
+            end = rest_end[cand]  # the closing quote, then '/>' or '>', or ' />' (pm4py)
+            good &= (q0 == ne[cand] + 5) & (q2 == q1 + 8) & (
+                (q3 + 1 == end) | ((q3 + 2 == end) & (a[np.minimum(q3 + 1, len(a) - 1)] == 32)))
             good &= q1 < q3  # q0 < q1 < q2 < q3 all inside the tag
             good &= words[ne[cand]] & _low_bytes(np.full(len(cand), 6)) == _KEY_WORD
             good &= words[q1] == _VALUE_WORD  # '" value=' and then the '"' at q2

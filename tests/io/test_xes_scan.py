@@ -59,6 +59,12 @@ DOCS = {
         '<event><string key="concept:name" value="b"/><string key="v" value="two"/></event>'
         '</trace><trace><string key="concept:name" value="c2"/><int key="v" value="5"/>'
         '<event><string key="concept:name" value="a"/></event></trace></log>'),
+    "pretty-printed, as pm4py and ProM write": DECL + LOG.replace(">", ">\n") + (
+        '\t<trace>\n\t\t<string key="concept:name" value="c1" />\n'
+        '\t\t<event>\n\t\t\t<string key="concept:name" value="a" />\n'
+        '\t\t\t<date key="time:timestamp" value="2024-01-01T00:00:00+00:00" />\n'
+        '\t\t</event>\n\t\t<event>\n\t\t\t<string key="concept:name" value="b"/>\n'
+        '\t\t\t<int key="n"  value="1" />\n\t\t</event>\n\t</trace>\n</log>\n'),
     "no declaration, prefixed tags": (
         '<xes:log xmlns:xes="http://www.xes-standard.org/">'
         '<xes:trace><xes:string key="concept:name" value="c1"/>'
