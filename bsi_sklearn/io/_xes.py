@@ -1,4 +1,7 @@
-"""XES event logs (IEEE 1849) streamed with the standard library's expat parser, into columns.
+"""XES event logs (IEEE 1849) streamed into columns: a vectorised scanner, else expat.
+
+The scanner (``_xes_scan.py``) reads the file in chunks with numpy and steps aside (for the
+whole file) on anything it cannot vouch for; the standard library's expat parser then reads it.
 
 The file is read once, as a stream of start and end tags: no element tree of the document (or
 of a trace) is ever built, so a log of millions of events costs its columns, not its XML.
