@@ -277,6 +277,8 @@ class _Scanner:
             good &= words[q1] == _VALUE_WORD  # '" value=' and then the '"' at q2
             plain[cand[~good]] = False
         slow = np.flatnonzero(has_rest & ~plain)
+        if len(slow) > 1000 and 5 * len(slow) > n:
+            raise Unsure  # mostly tags of other shapes: expat reads those quicker
         slow_kv = {}
         for i in slow:
             rest = data[int(ne[i]):int(rest_end[i])]

@@ -200,3 +200,19 @@ def test_scanner_on_a_larger_log_matches_expat(tmp_path):
     slow = read_xes_columns(path, fast=False)
     for chunk in (None, 100, 997):
         assert_same(read_xes_columns(path, chunk=chunk), slow)
+
+
+def unusual(n):
+    events = "".join(f"<event><string value='a{i}' key='concept:name'/></event>"
+                     for i in range(n))
+    return DECL + LOG + f'<trace><string key="concept:name" value="c"/>{events}</trace></log>'
+
+
+def test_a_log_of_mostly_unusual_tags_is_left_to_expat(tmp_path):
+    path = write(tmp_path, unusual(1200))
+    with open(path, "rb") as fh, pytest.raises(Unsure):
+        scan_xes(fh)
+    cols = read_xes_columns(path)
+    assert cols.events["concept:name"].tolist() == [f"a{i}" for i in range(1200)]
+    with open(write(tmp_path, unusual(200), "few.xes"), "rb") as fh:
+        scan_xes(fh)  # a few hundred such tags: the scanner reads them one by one
