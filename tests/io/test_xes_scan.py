@@ -216,3 +216,64 @@ def test_a_log_of_mostly_unusual_tags_is_left_to_expat(tmp_path):
     assert cols.events["concept:name"].tolist() == [f"a{i}" for i in range(1200)]
     with open(write(tmp_path, unusual(200), "few.xes"), "rb") as fh:
         scan_xes(fh)  # a few hundred such tags: the scanner reads them one by one
+
+
+VALUES = ["a", "b c", "x&amp;y", "&lt;t&gt;", "q&quot;", "ä€", "", "1", "&#65;", "tab\tx",
+          "l\nm", "it's"]
+
+
+KEYS = ["concept:name", "k1", "k2", "org:resource", "time:timestamp"]
+
+
+TAG_OF = {"concept:name": "string", "k1": "int", "k2": "boolean", "org:resource": "id",
+          "time:timestamp": "date"}
+
+
+def random_attribute(rnd, key, mix):
+    tag = rnd.choice(["string", "int", "float", "boolean", "date", "id"]) if mix \
+        else TAG_OF[key]
+    value = {"int": str(rnd.randint(-5, 5)), "float": f"{rnd.random():.2f}",
+             "boolean": rnd.choice(["true", "false"]),
+             "date": f"2024-01-0{rnd.randint(1, 9)}T00:00:00Z"}.get(tag, rnd.choice(VALUES))
+    q = '"' if "'" in value else rnd.choice(['"', '"', "'"])
+    ws = rnd.choice([" ", " ", "\n ", "\t"])
+    pair = [f"key={q}{key}{q}", f"value={q}{value}{q}"]
+    if rnd.random() < .2:
+        pair.reverse()
+    if rnd.random() < .1:
+        return f'<{tag}{ws}{ws.join(pair)}><string key="meta" value="m"/></{tag}>'
+    return f"<{tag} {ws.join(pair)}{rnd.choice(['/>', '/>', ' />'])}"
+
+
+def random_log(rnd):
+    parts, mix = [HEAD], rnd.random() < .3  # mix: keys of several types (read as strings)
+    for c in range(rnd.randint(1, 30)):
+        parts.append(f'<trace><string key="concept:name" value="c{c}"/>'
+                     + "".join(random_attribute(rnd, key, mix)
+                               for key in rnd.sample(KEYS[1:], rnd.randint(0, 2))))
+        for _ in range(rnd.randint(1, 5)):
+            parts.append("<event>" + "".join(random_attribute(rnd, key, mix)
+                                             for key in rnd.sample(KEYS, rnd.randint(0, 4)))
+                         + ("<!-- c -->" if rnd.random() < .1 else "") + "</event>\n")
+        parts.append("</trace>\n")
+    return "".join(parts) + "</log>"
+
+
+@pytest.mark.parametrize("seed", range(25))
+def test_random_logs_read_the_same_by_both(tmp_path, seed):
+    import random
+
+    rnd = random.Random(seed)
+    path = write(tmp_path, random_log(rnd))
+    with open(path, "rb") as fh:
+        scan_xes(fh, rnd.choice([5, 50, 1 << 20]))
+    results = []
+    for fast, chunk in ((True, rnd.choice([3, 17, None])), (False, None)):
+        try:
+            results.append(read_xes_columns(path, fast=fast, chunk=chunk))
+        except ValueError as exc:  # a key given twice in an event: the same message
+            results.append(str(exc))
+    if isinstance(results[0], str) or isinstance(results[1], str):
+        assert results[0] == results[1]
+    else:
+        assert_same(*results)
