@@ -260,13 +260,12 @@ class _Scanner:
         cand = np.flatnonzero(plain)
         q = np.flatnonzero(a == 34)
         qs = np.zeros(n, dtype=np.int64)
-        if len(cand):
+        if len(cand) and len(q) < 4:
+            plain[cand] = False
+        elif len(cand):
             # the first quote after the name, and the three after it: names hold no quotes
-            qs[cand] = np.minimum(np.searchsorted(q, ne[cand]), max(len(q) - 4, 0))
+            qs[cand] = np.minimum(np.searchsorted(q, ne[cand]), len(q) - 4)
             base = qs[cand]
-            if len(q) < 4:
-                base = np.zeros(len(cand), dtype=np.int64)
-                q = np.full(4, -10, dtype=np.int64)
             q0, q1, q2, q3 = q[base], q[base + 1], q[base + 2], q[base + 3]
             good = np.ones(len(cand), dtype=bool)
             end = rest_end[cand]  # the closing quote, then '/>' or '>', or ' />' (pm4py)
