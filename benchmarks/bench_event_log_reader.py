@@ -4,9 +4,8 @@
     python benchmarks/bench_event_log_reader.py --events 200000
 
 A synthetic XES file (each event: activity, timestamp, resource, an int) is written to a
-temporary folder, then timed: the file into columns (the numpy scanner, and expat alone;
-``io/_xes.py``'s private ``read_xes_columns``), ``read_event_log`` whole (the stream,
-ordering, labels, one DataFrame per case), and ``EventLogEncoder`` on 50,000 cases x 20 events x 40
+temporary folder, then timed: ``read_event_log`` whole (the stream, ordering, labels, one
+DataFrame per case), and ``EventLogEncoder`` on 50,000 cases x 20 events x 40
 activities (from sequences and from the reader's DataFrames). Each time is the fastest of
 ``--repeats`` runs (the least disturbed by other processes). Results: RESULTS_event_logs_reader.md.
 """
@@ -18,7 +17,6 @@ import time
 from pathlib import Path
 
 from bsi_sklearn.io import EventLogEncoder, read_event_log
-from bsi_sklearn.io._xes import read_xes_columns
 from bsi_sklearn.traces import check_traces
 
 
@@ -62,13 +60,8 @@ def main():
         path = Path(tmp) / "log.xes"
         write_xes(path, n_cases, args.events_per_case)
         size = path.stat().st_size / 2**20
-        scan, _ = best(lambda: read_xes_columns(path), args.repeats)
-        expat, _ = best(lambda: read_xes_columns(path, fast=False), args.repeats)
         whole, log = best(lambda: read_event_log(path, label="ok"), args.repeats)
     print(f"XES file: {args.events:,} events, {n_cases:,} cases, {size:.0f} MiB")
-    print(f"  into columns, scanner (io/_xes_scan.py): {args.events / scan:,.0f} events/s "
-          f"({scan:.2f} s)")
-    print(f"  into columns, expat only: {args.events / expat:,.0f} events/s ({expat:.2f} s)")
     print(f"  read_event_log (cases): {args.events / whole:,.0f} events/s ({whole:.2f} s)")
 
     # The encoder at DESIGN's largest sizes: 50,000 cases x 20 events x 40 activities.
