@@ -1,4 +1,7 @@
-"""XES event logs (IEEE 1849) streamed with the standard library's expat parser, into columns.
+"""XES event logs (IEEE 1849) streamed into columns: a vectorised scanner, else expat.
+
+The scanner (``_xes_scan.py``) reads the file in chunks with numpy and steps aside (for the
+whole file) on anything it cannot vouch for; the standard library's expat parser then reads it.
 
 The file is read once, as a stream of start and end tags: no element tree of the document (or
 of a trace) is ever built, so a log of millions of events costs its columns, not its XML.
@@ -18,6 +21,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from bsi_sklearn.io._xes_scan import Unsure, scan_xes
+
 __all__ = ["XesColumns", "read_xes_columns"]
 
 #: Attribute tags whose value is read, and how.
@@ -25,6 +30,7 @@ _TYPED = ("string", "id", "date", "int", "float", "boolean")
 #: Attribute tags whose children are other attributes (not read).
 _NESTING = ("list", "container", "values")
 _CHUNK = 1 << 20
+_FAST_CHUNK = 8 << 20
 _EVENT, _TRACE, _NEST = "event", "trace", "nested"
 
 
@@ -69,8 +75,15 @@ class _Columns:
         self.add_owner = self.owners.append
         self.add_value = self.values.append
 
+    @classmethod
+    def of(cls, owners, values, kind, mixed):
+        """A column the scanner read: owner positions (array) and values (list)."""
+        col = cls(kind)
+        col.owners, col.values, col.mixed = owners, values, mixed
+        return col
 
-def read_xes_columns(path, case_name="trace"):
+
+def read_xes_columns(path, case_name="trace", *, fast=True, chunk=None):
     """Stream an XES file (``.xes`` or gzip-compressed ``.xes.gz``) into columns.
 
     Parameters
@@ -79,6 +92,11 @@ def read_xes_columns(path, case_name="trace"):
         The file.
     case_name : str, default="trace"
         What a trace is called in messages.
+    fast : bool, default=True
+        Read with the vectorised scanner (``_xes_scan.py``) first; a file it cannot vouch
+        for is then read with expat, whole. ``False``: expat only.
+    chunk : int, default=None
+        Bytes read at a time (tests use tiny chunks so that tags cross chunk boundaries).
 
     Returns
     -------
@@ -91,6 +109,54 @@ def read_xes_columns(path, case_name="trace"):
         event and key of a value its type cannot read.
     """
     name = os.fspath(path)
+    scanned = None
+    if fast:
+        try:
+            with _open(name) as fh:
+                scanned = scan_xes(fh, chunk or _FAST_CHUNK)
+        except Unsure:
+            scanned = None
+        except (OSError, EOFError) as exc:
+            raise ValueError(f"{name}: cannot read ({exc})") from None
+    if scanned is None:
+        event_cols, trace_cols, counts, stray, n_ev, n_tr = _expat_scan(name, chunk or _CHUNK)
+    else:
+        events, traces, counts, stray, n_ev, n_tr = scanned
+        event_cols = {k: _Columns.of(*v) for k, v in events.items()}
+        trace_cols = {k: _Columns.of(*v) for k, v in traces.items()}
+    if stray:
+        raise ValueError(f"{name}: event {stray[0]} (counted over the file, from 0) is not "
+                         "directly inside a <trace>")
+    traces = {key: _typed(col, n_tr, f"{name}: {case_name} attribute {key!r}",
+                          lambda i: f"{case_name} {i}")
+              for key, col in trace_cols.items()}
+    ids = traces.get("concept:name")
+
+    def trace_of(i):
+        if ids is None or pd.isna(ids[i]):
+            return f"{case_name} {i} (counted from 0)"
+        return f"{case_name} {ids[i]!r}"
+
+    counts = np.asarray(counts, dtype=np.int64)
+    if (counts == 0).any():
+        i = int(np.argmin(counts))
+        raise ValueError(f"{name}: {trace_of(i)} has no events; every case needs at least "
+                         f"one ({int((counts == 0).sum())} empty {case_name}(s))")
+    owners = np.repeat(np.arange(n_tr, dtype=np.int64), counts)
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
+
+    def event_of(i):
+        case = int(owners[i])
+        return f"{trace_of(case)}, event {i - int(starts[case])}"
+
+    data = {"__case__": owners}
+    for key, col in event_cols.items():
+        data[key] = _typed(col, n_ev, f"{name}: event attribute {key!r}", event_of)
+    return XesColumns(pd.DataFrame(data), traces, n_tr)
+
+
+def _expat_scan(name, size):
+    """The expat reader: (event columns, trace columns, counts, strays, n_ev, n_tr)."""
     event_cols, trace_cols, outside = {}, {}, {}
     tags, counts, stray = {}, [], []
     # The hot path (an attribute of an event) reads only closure variables: the table the
@@ -157,7 +223,7 @@ def read_xes_columns(path, case_name="trace"):
     try:
         with _open(name) as fh:
             while True:
-                chunk = fh.read(_CHUNK)
+                chunk = fh.read(size)
                 parser.Parse(chunk, not chunk)
                 if not chunk:
                     break
@@ -167,35 +233,7 @@ def read_xes_columns(path, case_name="trace"):
                          ) from None
     except (OSError, EOFError) as exc:
         raise ValueError(f"{name}: cannot read ({exc})") from None
-    if stray:
-        raise ValueError(f"{name}: event {stray[0]} (counted over the file, from 0) is not "
-                         "directly inside a <trace>")
-    traces = {key: _typed(col, n_tr, f"{name}: {case_name} attribute {key!r}",
-                          lambda i: f"{case_name} {i}")
-              for key, col in trace_cols.items()}
-    ids = traces.get("concept:name")
-
-    def trace_of(i):
-        if ids is None or pd.isna(ids[i]):
-            return f"{case_name} {i} (counted from 0)"
-        return f"{case_name} {ids[i]!r}"
-
-    counts = np.asarray(counts, dtype=np.int64)
-    if (counts == 0).any():
-        i = int(np.argmin(counts))
-        raise ValueError(f"{name}: {trace_of(i)} has no events; every case needs at least "
-                         f"one ({int((counts == 0).sum())} empty {case_name}(s))")
-    owners = np.repeat(np.arange(n_tr, dtype=np.int64), counts)
-    starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
-
-    def event_of(i):
-        case = int(owners[i])
-        return f"{trace_of(case)}, event {i - int(starts[case])}"
-
-    data = {"__case__": owners}
-    for key, col in event_cols.items():
-        data[key] = _typed(col, n_ev, f"{name}: event attribute {key!r}", event_of)
-    return XesColumns(pd.DataFrame(data), traces, n_tr)
+    return event_cols, trace_cols, counts, stray, n_ev, n_tr
 
 
 def _first_bad(values, convert):

@@ -239,3 +239,21 @@ def test_labels_already_boolean_need_no_pos_label():
                        label="ok").y
     assert y.dtype.kind == "i" and y.tolist() == [1, 0, 1]
     np.testing.assert_array_equal(read_event_log(FRAME, label="case:ok").y, [1, 0, 1])
+
+
+def test_reading_restores_the_garbage_collector(tmp_path):
+    import gc
+
+    path = write_xes(tmp_path / "l.xes", [trace("c", [event("a")])])
+    assert gc.isenabled()
+    read_event_log(path)
+    assert gc.isenabled()
+    with pytest.raises(ValueError):
+        read_event_log(write_xes(tmp_path / "bad.xes", [trace("c", [])]))
+    assert gc.isenabled()
+    gc.disable()
+    try:
+        read_event_log(path)
+        assert not gc.isenabled()
+    finally:
+        gc.enable()
