@@ -15,6 +15,7 @@ from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.inference.auto_budget import AUTO_EXACT_BYTES, auto_work_budget
 from bsi_sklearn.inference.diagnostics import disagreement_problems
 from bsi_sklearn.inference.exact import MAX_BYTES, ExactWorkExceeded, exact_posterior
+from bsi_sklearn.inference.exact import exact_refusal as _exact_refusal
 from bsi_sklearn.inference.mcmc import sample_posterior
 from bsi_sklearn.inferred_roles import infer_roles, warn_all_roles
 from bsi_sklearn.likelihood import LIKELIHOODS, flip_rate_posterior, is_flip_prior
@@ -88,14 +89,12 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         ``"auto"`` enumerates the posterior exactly when the enumeration needs at most about a
         second of work on a 2020s CPU core or, if more, what the MCMC it would fall back to
         costs (chains x sweeps x rungs x moves x demonstrations; ``docs/auto-budget.md``),
-        however large the support, within a cap (about a minute's work at most, and 1 GiB of
-        tables), and samples with MCMC otherwise. ``"exact"`` has no work budget but a
-        memory limit (4 GiB of tables, counted before anything is allocated): beyond it,
-        a ``ValueError`` says how large the problem is and what to do. The work is counted, not
-        timed: the count depends on the data and the parameters only, so the choice is the
-        same on every machine and for every ``n_jobs``. A peaked posterior over
-        1e19 hypotheses can be cheap and a nearly flat one over 1e8 (e.g. a ``"ci"``
-        likelihood with a large ``epsilon``) expensive. ``inference_`` says which it did.
+        however large the support, within caps (1e10 work units, 1 GiB of tables), and
+        samples with MCMC otherwise; work is counted, not timed, so the choice is the same on
+        every machine and for every ``n_jobs``. A peaked posterior over 1e19 hypotheses can be
+        cheap and a nearly flat one over 1e8 (``"ci"`` with a large ``epsilon``) expensive.
+        ``"exact"`` has a memory limit only (4 GiB of tables, counted before allocation):
+        beyond it, a ``ValueError`` names the size and the cure. ``inference_`` says which.
     n_samples : int, default=10_000
         MCMC sweeps recorded per chain, after ``burn_in`` (a sweep redraws every coordinate).
     burn_in : int, default=100
@@ -368,12 +367,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
                     AUTO_EXACT_BYTES if self.inference == "auto" else MAX_BYTES)
             except ExactWorkExceeded as exc:
                 if self.inference == "exact":  # only the memory limit stops it: say so
-                    raise ValueError(
-                        f"inference='exact' cannot enumerate this posterior ({n_g} global "
-                        f"candidates, {n} subtasks, {format_count(n_hyp)} hypotheses, prior="
-                        f"{self.prior!r}): {exc}. Use inference='auto' or 'mcmc', or "
-                        "restrict the roles (global_candidates=, subtasks=) to fewer "
-                        "propositions") from exc
+                    raise _exact_refusal(exc, model, n_hyp, self.prior) from exc
                 inference = "mcmc"  # "auto": its budget or its memory is spent, sample
         if inference == "mcmc":
             if self.inference == "auto" and self.roles == "all" and given == (None,) * 3:

@@ -12,8 +12,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_exact_grouped import _assert_same_posterior
 
+import bsi_sklearn.inference._budget as _budget
 import bsi_sklearn.inference.auto_budget as auto_budget
-import bsi_sklearn.inference.exact as exact
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
@@ -116,13 +116,13 @@ class _Spent:
 
     def __init__(self, monkeypatch):
         self.total = 0.0
-        spend = exact._Budget.spend
+        spend = _budget.Budget.spend
 
         def recording(budget, work, what):
             self.total += work
             return spend(budget, work, what)
 
-        monkeypatch.setattr(exact._Budget, "spend", recording)
+        monkeypatch.setattr(_budget.Budget, "spend", recording)
 
 
 def test_default_classifier_without_roles_is_exact_on_a_huge_support(monkeypatch):

@@ -15,13 +15,9 @@ import textwrap
 import numpy as np
 import pytest
 
+from bsi_sklearn.inference._budget import Budget
 from bsi_sklearn.inference.auto_budget import AUTO_EXACT_BYTES, AUTO_MAX_WORK, auto_work_budget
-from bsi_sklearn.inference.exact import (
-    ExactMemoryExceeded,
-    ExactWorkExceeded,
-    _Budget,
-    exact_posterior,
-)
+from bsi_sklearn.inference.exact import ExactMemoryExceeded, ExactWorkExceeded, exact_posterior
 from bsi_sklearn.model import make_model
 
 _LIMIT = 3 * 2**30  # address space of the child: far below what the tables would ask for
@@ -87,7 +83,7 @@ def test_fits_of_many_propositions_never_allocate_past_the_limit():
 
 
 def test_the_budget_refuses_an_allocation_before_it_is_made():
-    budget = _Budget(None, max_bytes=1000)
+    budget = Budget(None, max_bytes=1000)
     budget.allocate(600, "a table")
     with pytest.raises(ExactMemoryExceeded, match=r"a second table would take 500 bytes "
                                                   r"\(with 600 bytes already held\)"):

@@ -33,7 +33,7 @@ from bsi_sklearn.clauses import popcount
 
 __all__ = ["StructureTables", "structure_tables", "whole_kind", "problem", "n_bits", "and_pop",
            "find", "local_table", "candidates", "first_subtasks", "BLOCK", "PART", "COMBO_COST",
-           "STEP_COST", "ENTRY_COST", "SUBSET_BYTES", "entry_bytes"]
+           "STEP_COST", "ENTRY_COST"]
 
 #: The two kinds of table entries: blocks (one chain, one tree) and whole structures.
 BLOCK = 0
@@ -465,18 +465,7 @@ def _inside(pb, max_work, max_entries):
     return work <= max_work, st, idx, lists, work
 
 
-def entry_bytes(n_words):
-    """Bytes of one entry of the structure tables (its store row and its share of the hash)."""
-    return 8 * n_words + 5 * 8 + 2 * 8
-
-
-#: Bytes per subset of subtasks of the arrays over all ``2**n`` subsets (``lo``, ``hi``,
-#: ``ref`` of both kinds, ``lists``, the candidates' scratch, and the walk's own scratch).
-SUBSET_BYTES = 2 * 3 * 8 + 8 + 4 + 4
-
-
-def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf,
-                     max_entries=2**62):
+def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf, max_entries=2**62):
     """Group every order structure of the model's prior by (bitset, orders, chains).
 
     Parameters
@@ -493,7 +482,7 @@ def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf,
         combinations are counted before it runs, its new entries after (so the memory passes
         the budget by one step's entries at most).
     max_entries : int
-        Most entries the store may hold (its memory: :func:`entry_bytes` each); a store that
+        Most entries the store may hold (``_budget.entry_bytes`` each); a store that
         would grow past it stops the tables as the work budget does.
 
     Returns

@@ -26,6 +26,14 @@ from typing import NamedTuple
 import numpy as np
 
 from bsi_sklearn.clauses import clause_index_order, n_clauses, pack_rows, popcounts
+from bsi_sklearn.inference._budget import (
+    SUBSET_BYTES,
+    Budget,
+    ExactMemoryExceeded,
+    ExactWorkExceeded,
+    describe_bytes,
+    entry_bytes,
+)
 from bsi_sklearn.inference._exact_kernels import (
     Listing,
     StructureSide,
@@ -47,16 +55,11 @@ from bsi_sklearn.inference._exact_ungrouped import LabelMasks, ungrouped_kernel
 from bsi_sklearn.inference._exact_ungrouped import structure_tables as ungrouped_structures
 from bsi_sklearn.inference._grouping import Groups
 from bsi_sklearn.inference._structure_walk import descend
-from bsi_sklearn.inference._structures import (
-    STEP_COST,
-    SUBSET_BYTES,
-    StructureTables,
-    entry_bytes,
-    structure_tables,
-)
-from bsi_sklearn.priors import PRIORS, count_hypotheses, support_structures
+from bsi_sklearn.inference._structures import STEP_COST, StructureTables, structure_tables
+from bsi_sklearn.priors import PRIORS, count_hypotheses, format_count, support_structures
 
-__all__ = ["exact_posterior", "ExactResult", "ExactWorkExceeded", "ExactMemoryExceeded",
+__all__ = ["exact_posterior", "exact_refusal", "ExactResult", "ExactWorkExceeded",
+           "ExactMemoryExceeded",
            "MAX_KEPT", "MAX_BYTES"]
 
 #: Default most hypotheses an exact posterior lists (about 100 bytes each).
@@ -147,60 +150,6 @@ def _subset_side(hg, labels):
     return side, order
 
 
-class ExactWorkExceeded(RuntimeError):
-    """The enumeration would take more work than the budget it was given (``max_work``)."""
-
-
-class ExactMemoryExceeded(ExactWorkExceeded):
-    """The enumeration would allocate more than its memory limit (``max_bytes``).
-
-    Raised before the allocation, whatever ``max_work`` is: an exact posterior asked for
-    explicitly stops with this rather than with a ``MemoryError``.
-    """
-
-
-def _size(nbytes):
-    for unit, scale in (("TiB", 2.0**40), ("GiB", 2.0**30), ("MiB", 2.0**20)):
-        if nbytes >= scale:
-            return f"{nbytes / scale:,.1f} {unit}"
-    return f"{nbytes:,.0f} bytes"
-
-
-class _Budget:
-    # Work in units of one pair-of-groups evaluation (about 5-10 ns here): a combination of two
-    # entries of the structure tables costs _structures.COMBO_COST of them, a structure the
-    # last walk rebuilds _LIST_COST per subtask, a (global, eventual) subset pair it looks at
-    # _EMIT_COST and one it may list _KEPT_COST more (counted as if every one were listed:
-    # the heap, the sort, the result's arrays). Every amount is spent before the work (or the
-    # allocation) it pays for, and depends on the data only, never on timing.
-    # Memory is counted apart, in bytes, and always (also without a work budget): every large
-    # array is charged before it is made, and the charges only add up (a freed table is not
-    # given back), so the limit bounds the peak.
-    def __init__(self, max_work, max_bytes=None):
-        self.left = np.inf if max_work is None else float(max_work)
-        self.spent = 0.0
-        self.max_bytes = np.inf if max_bytes is None else float(max_bytes)
-        self.allocated = 0.0
-
-    def allocate(self, nbytes, what):
-        if self.allocated + nbytes > self.max_bytes:
-            raise ExactMemoryExceeded(
-                f"exact enumeration stopped: {what} would take {_size(nbytes)} (with "
-                f"{_size(self.allocated)} already held), beyond its memory limit of "
-                f"{_size(self.max_bytes)}")
-        self.allocated += nbytes
-
-    def entries_left(self, entry_bytes):
-        # How many entries of this size the memory still allows (the structure tables' store).
-        return (self.max_bytes - self.allocated) / entry_bytes
-
-    def spend(self, work, what):
-        self.left -= work
-        self.spent += work
-        if self.left < 0:
-            raise ExactWorkExceeded(f"exact enumeration stopped: {what} exceeds its work budget")
-
-
 def _evidence(clause_bits, full, labels, model, thr, cut, hs, lik, margin, budget, walked):
     # Group the structures that satisfy at least thr acceptable demonstrations; log evidence
     # over them (relative to the groups' ref) and what the later passes need. Tables that the
@@ -219,8 +168,8 @@ def _evidence(clause_bits, full, labels, model, thr, cut, hs, lik, margin, budge
     if tables is None and budget.left >= times * work:  # stopped by the memory, not the work
         raise ExactMemoryExceeded(
             f"exact enumeration stopped: the order structures' tables over {n} subtasks need "
-            f"more than {max(max_entries, 0.0):,.0f} entries ({_size(per_entry)} each), beyond "
-            f"its memory limit of {_size(budget.max_bytes)}")
+            f"more than {max(max_entries, 0.0):,.0f} entries ({describe_bytes(per_entry)} "
+            f"each), beyond its memory limit of {describe_bytes(budget.max_bytes)}")
     budget.spend(times * work if tables is not None else np.inf,
                  "grouping the order structures" + (" and the walk down them" if walked else ""))
     budget.allocate(per_entry * len(tables.weight), "the order structures' tables")
@@ -400,6 +349,18 @@ def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol
             mass_v)
 
 
+def exact_refusal(exc, model, n_hypotheses, prior):
+    """The ``ValueError`` of ``inference="exact"`` stopped by ``exc`` (its memory limit).
+
+    It names the template's size, the table that did not fit and the way out.
+    """
+    return ValueError(
+        f"inference='exact' cannot enumerate this posterior ({model.n_g} global candidates, "
+        f"{model.n} subtasks, {format_count(n_hypotheses)} hypotheses, prior={prior!r}): "
+        f"{exc}. Use inference='auto' or 'mcmc', or restrict the roles (global_candidates=, "
+        "subtasks=) to fewer propositions")
+
+
 def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT,
                     max_work=None, max_bytes=MAX_BYTES):
     """Enumerate the support and return the posterior.
@@ -466,7 +427,7 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
     n_hyp = count_hypotheses(PRIORS[model.prior], n_g, n)
     log_keep = math.log(tol) - math.log(n_hyp) if tol > 0 else -np.inf  # n_hyp may pass 1e308
     engine = _grouped if grouped else _ungrouped
-    budget = _Budget(max_work, max_bytes)
+    budget = Budget(max_work, max_bytes)
     log_z, structures, t_masks, e_masks, keep_lp, marg, mass_v = engine(
         clause_bits, full, labels, model, log_keep, max_kept, budget, tol)
     # Smallest prefix of the sorted kept hypotheses that covers 1 - tol.
