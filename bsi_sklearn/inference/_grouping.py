@@ -152,24 +152,19 @@ _MIX = np.uint64(0x9E3779B97F4A7C15)
 
 
 def _unique_rows(key):
-    # np.unique(key, axis=0, return_index=True, return_inverse=True), by a hash of each row:
-    # sorting one uint64 a row is tens of times faster than sorting rows of several words. Equal
-    # hashes of different rows (checked, never assumed away) take np.unique's own way.
+    # The distinct rows of key, each row's first index and every row's distinct row (in no
+    # particular order: group_rows orders them by first appearance), by a hash of each row:
+    # sorting one uint64 a row is tens of times faster than np.unique(axis=0) on rows of
+    # several words. Equal hashes of different rows (checked, never assumed away) take
+    # np.unique's own way.
     h = np.zeros(len(key), dtype=np.uint64)
     for w in range(key.shape[1]):
         h = (h ^ key[:, w]) * _MIX
         h ^= h >> np.uint64(29)
     _, first, inverse = np.unique(h, return_index=True, return_inverse=True)
-    inverse = inverse.ravel()
-    if not np.array_equal(key[first][inverse], key):
-        first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)[1:]
-        inverse = inverse.ravel()
-    # np.unique sorts the rows lexicographically: the same order here.
-    rows = key[first]
-    lex = np.lexsort(rows.T[::-1])
-    rank = np.empty(len(lex), dtype=np.int64)
-    rank[lex] = np.arange(len(lex))
-    return rows[lex], first[lex], rank[inverse]
+    if not np.array_equal(key[first][inverse.ravel()], key):
+        _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    return key[first], first, inverse.ravel()
 
 
 def group_rows(bits, size, lp, top=None):

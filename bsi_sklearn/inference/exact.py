@@ -59,8 +59,7 @@ from bsi_sklearn.inference._structures import STEP_COST, StructureTables, struct
 from bsi_sklearn.priors import PRIORS, count_hypotheses, format_count, support_structures
 
 __all__ = ["exact_posterior", "exact_refusal", "ExactResult", "ExactWorkExceeded",
-           "ExactMemoryExceeded",
-           "MAX_KEPT", "MAX_BYTES"]
+           "ExactMemoryExceeded", "MAX_KEPT", "MAX_BYTES"]
 
 #: Default most hypotheses an exact posterior lists (about 100 bytes each).
 MAX_KEPT = 1_000_000

@@ -19,7 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from bsi_sklearn.clauses import n_clauses
+from bsi_sklearn.clauses import n_clauses, pack_rows
 from bsi_sklearn.inference._chain_kernel import (
     ChainState,
     Demos,
@@ -120,23 +120,14 @@ def deduplicate_demos(truth, y01):
     # Whole-number weights: their sums are exact in any order.
     return Demos(truth_t, np.ascontiguousarray(w_pos, dtype=np.float64),
                  np.ascontiguousarray(w_neg, dtype=np.float64), float(w_pos.sum()),
-                 float(w_neg.sum()), _pack(truth_t), _planes(w_pos), _planes(w_neg))
-
-
-def _pack(bits):
-    # Rows of a 0/1 matrix as uint64 words, column d at bit d & 63 of word d >> 6.
-    n_rows, n_cols = bits.shape
-    padded = np.zeros((n_rows, 64 * ((n_cols + 63) // 64)), dtype=np.uint8)
-    padded[:, :n_cols] = bits != 0
-    return np.ascontiguousarray(
-        np.packbits(padded, axis=1, bitorder="little").view("<u8").astype(np.uint64))
+                 float(w_neg.sum()), pack_rows(truth_t), _planes(w_pos), _planes(w_neg))
 
 
 def _planes(weights):
     # Bit-plane k of whole-number weights, packed: a weighted count is a sum of popcounts.
     w = weights.astype(np.int64)
     n_planes = max(1, int(w.max(initial=0)).bit_length())
-    return _pack(((w[None, :] >> np.arange(n_planes)[:, None]) & 1).astype(np.uint8))
+    return pack_rows(((w[None, :] >> np.arange(n_planes)[:, None]) & 1).astype(np.uint8))
 
 
 def score_states(states, demos, model):

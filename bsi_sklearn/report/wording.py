@@ -291,11 +291,17 @@ def describe_event_log_specification(specification, vacuous=(), *, chains=True):
     existence(order) and precedence(order, pay): order occurs, and no pay before the first order.
     existence(pay) and precedence(pay, ship): pay occurs, and no ship before the first pay.
     """
+    return _sentences(specification, event_log_sentence, chains, vacuous)
+
+
+def _sentences(specification, sentence, chains, skip=()):
+    # sentence(clause, conditions) of every clause in reading order, but those in skip and,
+    # with chains, the orders the others imply.
     spec = _check_spec(specification)
-    skip = {("U", a, b) for a, b in spec.implied_orders()} if chains else set()
-    skip |= {tuple(c) for c in vacuous}
-    return [event_log_sentence(c, spec.conditions) for c in ordered_clauses(spec)
-            if c not in skip]
+    leave = {tuple(c) for c in skip}
+    if chains:
+        leave |= {("U", a, b) for a, b in spec.implied_orders()}
+    return [sentence(c, spec.conditions) for c in ordered_clauses(spec) if c not in leave]
 
 
 def describe_specification(specification, descriptions=None, *, chains=False):
@@ -319,10 +325,9 @@ def describe_specification(specification, descriptions=None, *, chains=False):
     >>> describe_specification(chain, chains=True)
     ['a holds before b holds.', 'b holds before c holds.']
     """
-    spec = _check_spec(specification)
-    implied = {("U", a, b) for a, b in spec.implied_orders()} if chains else set()
-    return [clause_sentence(c, spec.conditions, descriptions) for c in ordered_clauses(spec)
-            if c not in implied]
+    return _sentences(specification,
+                      lambda clause, conditions: clause_sentence(clause, conditions, descriptions),
+                      chains)
 
 
 def violated_clauses(specification, trace, feature_names=None):
