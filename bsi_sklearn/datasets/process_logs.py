@@ -275,9 +275,13 @@ def _run(tree, u):
 
 
 def _timestamps(lengths, rng):
-    """UTC datetimes: cases start about 10 minutes apart, events about 30 minutes apart."""
-    starts = np.cumsum(np.floor(rng.exponential(600.0, len(lengths)))).astype(np.int64)
-    gaps = 1 + np.floor(rng.exponential(1800.0, int(lengths.sum()))).astype(np.int64)
+    """UTC datetimes: cases start 10 minutes apart on average, events 30 minutes apart.
+
+    Whole seconds drawn uniformly (integer draws only: numpy's exponential goes through libm's
+    ``log``, whose last bit may differ between machines, and the log's bytes must not).
+    """
+    starts = np.cumsum(rng.integers(0, 1201, len(lengths)))
+    gaps = 1 + rng.integers(0, 3600, int(lengths.sum()))
     within = np.cumsum(gaps)
     ends = np.cumsum(lengths)
     before = np.repeat(np.concatenate([[0], within[ends[:-1] - 1]]), lengths)
