@@ -177,8 +177,9 @@ def add_arguments(parser):
     parser.add_argument("--inference", choices=["auto", "exact", "mcmc"], default="auto",
                         help="exact enumeration, MCMC, or auto: exact when the support is "
                              "small enough (default: %(default)s)")
-    parser.add_argument("--n-samples", type=int, default=10_000,
-                        help="MCMC samples per chain (default: %(default)s)")
+    parser.add_argument("--n-samples", type=_n_samples, default="auto",
+                        help="MCMC samples per chain, or auto: until the chains agree, at "
+                             "most 10000 (default: %(default)s)")
     parser.add_argument("--top", type=int, default=5,
                         help="posterior entries to print (default: %(default)s)")
     parser.add_argument("--seed", type=int, default=0,
@@ -205,6 +206,11 @@ def add_arguments(parser):
                              "step); with several FILEs, each one's name is added: "
                              "posterior_<stem>.json (with the folder too when two FILEs "
                              "share a name)")
+
+
+def _n_samples(token):
+    """``--n-samples``: ``auto`` or an integer (its range is checked with the others)."""
+    return token if token == "auto" else int(token)
 
 
 def _option_constraints():

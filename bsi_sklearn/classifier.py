@@ -95,13 +95,16 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         cheap and a nearly flat one over 1e8 (``"ci"`` with a large ``epsilon``) expensive.
         ``"exact"`` has a memory limit only (4 GiB of tables, counted before allocation):
         beyond it, a ``ValueError`` names the size and the cure. ``inference_`` says which.
-    n_samples : int, default=10_000
+    n_samples : int or "auto", default="auto"
         MCMC sweeps recorded per chain, after ``burn_in`` (a sweep redraws every coordinate).
+        ``"auto"``: at most 10,000, in doubling rounds from 500 that stop once the chains
+        agree and no longer find states that carry mass (see Notes); ``mcmc_diagnostics_``
+        records the rounds.
     burn_in : int, default=100
         MCMC sweeps discarded at the start of every chain.
     n_chains : int, default=4
-        Independent MCMC chains, each a ladder of replicas started from the hypothesis without
-        clauses (see Notes).
+        Independent MCMC chains, each a ladder of replicas started from the deterministic
+        optimum (see Notes).
     n_temperatures : "auto" or int, default="auto"
         Replicas per chain for parallel tempering: rung ``k`` samples prior x likelihood^beta_k
         and adjacent rungs swap; only beta = 1 is recorded. ``"auto"``: beta halves from rung
@@ -196,9 +199,16 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     The MCMC sampler discovers the posterior's support; the probabilities it reports are the
     exact posterior restricted to that support, renormalised, which is far closer to the exact
     posterior than sample frequencies (kept in ``mcmc_diagnostics_``). Every chain runs a
-    ladder of tempered replicas (``n_temperatures``) from the hypothesis without clauses; its
-    burn-in lasts ``burn_in`` sweeps and then, for at most ``n_samples`` more, until it comes
-    within a factor 20 of the deterministic optimum. The support is what the chains recorded,
+    ladder of tempered replicas (``n_temperatures``) from the deterministic optimum (a beam
+    search finds the best basin, which single-coordinate moves from an empty hypothesis often
+    cannot reach on large problems; the hot replicas leave it at once); its burn-in lasts
+    ``burn_in`` sweeps and then, for at most ``n_samples`` more, until it comes within a
+    factor 20 of the optimum. With ``n_samples="auto"`` the chains record 500 sweeps, then
+    1,000, 2,000, ... up to 10,000, and stop after the first round where no chain missed more
+    than 0.5% of the mass they found together, the split-R-hat is at most 1.01 and the states
+    first found in the round's second half hold at most 0.1% of that mass
+    (:mod:`bsi_sklearn.inference.stopping`): a peaked posterior stops after 500 sweeps, a flat
+    one runs to 10,000 as before. The support is what the chains recorded,
     the optimum, and the one-block neighbours of the states holding 99% of the mass (in a flat
     posterior, states too improbable to be visited one by one add up).
 
@@ -232,7 +242,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     def __init__(self, *, prior="sets_of_chains", likelihood="cb", global_candidates=None,
                  subtasks=None, conditions=None, roles="infer", p_global=0.8, p_eventual=0.8,
                  p_part=0.3, n_new=5.0, epsilon=None, flip_prior=None, inference="auto",
-                 n_samples=10_000, burn_in=100, n_chains=4, n_temperatures="auto",
+                 n_samples="auto", burn_in=100, n_chains=4, n_temperatures="auto",
                  max_exact_hypotheses=None, tol=1e-9, binarize=None, pos_label=None,
                  n_jobs=None, random_state=None, verbose=0):
         self.prior = prior
@@ -287,7 +297,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         "epsilon": [Interval(Real, 0.0, 1.0, closed="neither"), None],
         "flip_prior": [None, Satisfies(is_flip_prior, "a pair (a, b) of positive numbers")],
         "inference": [StrOptions(_INFERENCE)],
-        "n_samples": [Interval(Integral, 1, None, closed="left")],
+        "n_samples": [StrOptions({"auto"}), Interval(Integral, 1, None, closed="left")],
         "burn_in": [Interval(Integral, 0, None, closed="left")],
         "n_chains": [Interval(Integral, 1, None, closed="left")],
         "n_temperatures": [StrOptions({"auto"}), Interval(Integral, 1, None, closed="left")],
@@ -352,7 +362,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
             # The exact engine's own work count decides, whatever the support's size.
             inference = "mcmc" if over_cap else "exact"
             work = auto_work_budget(truth, y01, model, n_chains=int(self.n_chains),
-                                    n_samples=int(self.n_samples), burn_in=int(self.burn_in),
+                                    n_samples=self._n_samples(), burn_in=int(self.burn_in),
                                     n_temperatures=self.n_temperatures)
         elif inference == "exact" and over_cap:
             raise ValueError(
@@ -393,10 +403,14 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         self.n_unique_specifications_ = len(self.posterior_)
         return self
 
+    def _n_samples(self):
+        return "auto" if self.n_samples == "auto" else int(self.n_samples)
+
     def _warn_disagreement(self, n_hyp):
         """ConvergenceWarnings: a better optimum than the chains found, chains that disagree."""
         diag = self.mcmc_diagnostics_
-        advice = (f"Increase n_samples (now {self.n_samples:,}) or n_chains (now "
+        now = "'auto'" if self.n_samples == "auto" else f"{self.n_samples:,}"
+        advice = (f"Increase n_samples (now {now}) or n_chains (now "
                   f"{self.n_chains}), or restrict the roles (global_candidates, subtasks, "
                   f"conditions) to shrink the support ({format_count(n_hyp)} hypotheses).")
         for message in disagreement_problems(diag):
@@ -414,7 +428,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         return post, None
 
     def _fit_mcmc(self, truth, y01, roles, model, seeds):
-        res = sample_posterior(truth, y01, model, seeds, n_samples=int(self.n_samples),
+        res = sample_posterior(truth, y01, model, seeds, n_samples=self._n_samples(),
                                burn_in=int(self.burn_in), n_temperatures=self.n_temperatures,
                                n_jobs=self.n_jobs, verbose=self.verbose)
         self.flip_rate_, self.flip_rate_interval_ = flip_rate_posterior(

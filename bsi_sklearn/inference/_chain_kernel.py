@@ -36,7 +36,8 @@ from bsi_sklearn.likelihood import cb_rejected, log_likelihood
 from bsi_sklearn.model import Model
 from bsi_sklearn.priors import log_inclusion, log_prior, log_prior_structure, log_prior_subset
 
-__all__ = ["Demos", "ChainState", "ChainBuffers", "make_buffers", "chain_kernel",
+__all__ = ["Demos", "ChainState", "ChainBuffers", "ChainLoop", "make_buffers", "make_loop",
+           "chain_kernel",
            "init_viol", "score_one", "score_rows", "violation_rows"]
 
 
@@ -353,38 +354,62 @@ def _record(states, k, state, r, n_g, n):
     return k, True
 
 
+class ChainLoop(NamedTuple):
+    """Where a chain stands between calls of :func:`chain_kernel` (see :func:`make_loop`).
+
+    A chain run in several calls carries these, its state and its buffers (the uniforms not
+    yet used among them) from one call to the next: the calls then draw exactly the numbers
+    one long call would, and record the same states.
+    """
+
+    slot: np.ndarray       # (R,) int64: slot[k] is the replica on rung k
+    swaps: np.ndarray      # (R - 1,) int64: accepted swaps between rungs k and k + 1
+    counters: np.ndarray   # int64: sweeps, burned (-1: burning), upos, moved, updates, started
+    n_conj: np.ndarray     # (R,) int64: every replica's number of conjuncts
+    lp_sub: np.ndarray     # (R,): log prior of its subsets
+    lp_struct: np.ndarray  # (R,): log prior of its structure
+    ll: np.ndarray         # (R,): log-likelihood
+
+
+def make_loop(n_rungs):
+    """A chain's :class:`ChainLoop` before its first sweep."""
+    return ChainLoop(np.arange(n_rungs), np.zeros(max(n_rungs - 1, 0), dtype=np.int64),
+                     np.array([0, -1, 0, 0, 0, 0], dtype=np.int64),
+                     np.zeros(n_rungs, dtype=np.int64), np.zeros(n_rungs),
+                     np.zeros(n_rungs), np.zeros(n_rungs))
+
+
 @njit(cache=True, nogil=True)
-def _init_cache(state, demos, model, bufs, n_rungs):
+def _init_cache(state, demos, model, bufs, loop):
     # Violation counts of every replica into bufs.viol, and per replica the number of
     # conjuncts, log priors (subsets, structure) and log-likelihood the moves keep up to date.
     n_g, n = model.n_g, model.n
-    n_conj = np.empty(n_rungs, dtype=np.int64)
-    lp_sub, lp_struct, ll = np.empty(n_rungs), np.empty(n_rungs), np.empty(n_rungs)
-    for r in range(n_rungs):
+    for r in range(loop.slot.shape[0]):
         viol = bufs.viol[r]
-        n_conj[r] = _fill_viol(viol, state.tau[r], state.w1[r], state.parent[r],
-                               demos.truth_t, model)
-        lp_sub[r] = (log_prior_subset(state.tau[r].sum(), n_g, model.p_global)
-                     + log_prior_subset(state.w1[r].sum(), n, model.p_eventual))
-        lp_struct[r] = log_prior_structure(state.parent[r], model)
+        loop.n_conj[r] = _fill_viol(viol, state.tau[r], state.w1[r], state.parent[r],
+                                    demos.truth_t, model)
+        loop.lp_sub[r] = (log_prior_subset(state.tau[r].sum(), n_g, model.p_global)
+                          + log_prior_subset(state.w1[r].sum(), n, model.p_eventual))
+        loop.lp_struct[r] = log_prior_structure(state.parent[r], model)
         ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
-        ll[r] = log_likelihood(ps, ns, demos.n_pos, demos.n_neg, n_conj[r], model.log_eps,
-                               model.likelihood, model.flip_a, model.flip_b)
-    return n_conj, lp_sub, lp_struct, ll
+        loop.ll[r] = log_likelihood(ps, ns, demos.n_pos, demos.n_neg, loop.n_conj[r],
+                                    model.log_eps, model.likelihood, model.flip_a,
+                                    model.flip_b)
 
 
 @njit(cache=True, nogil=True)
-def chain_kernel(state, demos, model, bufs, betas, rng, n_samples, burn_in, target, max_extra):
+def chain_kernel(state, demos, model, bufs, betas, rng, loop, n_samples, burn_in, target,
+                 max_extra):
     """Run one tempered chain; record the beta = 1 replica after every sweep past burn-in.
 
-    ``state`` holds the replicas' starting hypotheses (row ``k`` starts on rung ``k``) and is
-    updated in place; ``betas`` is the ladder, ``betas[0] = 1``. Burn-in lasts ``burn_in``
-    sweeps, and then on while the beta = 1 replica's log posterior is below ``target``, for
-    at most ``max_extra`` more sweeps; ``n_samples`` sweeps are recorded after it. Returns
-    ``(states, counts, trace_lp, n_moved, n_updates, swaps, n_sweeps, n_burned)``: the
-    recorded rows run-length encoded, the log posterior after every recorded sweep, the block
-    updates of rung 0 that changed its state and their number, the accepted swaps between
-    rungs ``k`` and ``k + 1``, the sweeps run and those discarded.
+    ``state`` holds the replicas' hypotheses (row ``k`` starts on rung ``k``) and is updated
+    in place, as are ``bufs`` and ``loop`` (:class:`ChainLoop`): a call resumes where the last
+    one stopped. Burn-in lasts ``burn_in`` sweeps, and then on while the beta = 1 replica's
+    log posterior is below ``target``, for at most ``max_extra`` more sweeps; this call
+    records ``n_samples`` sweeps after it. ``betas`` is the ladder, ``betas[0] = 1``. Returns
+    ``(states, counts, trace_lp)``: this call's recorded rows run-length encoded and the log
+    posterior after every recorded sweep; the swaps, sweeps, moves and burn-in are in
+    ``loop``.
     """
     # The state and the scratch buffers (allocated by the caller) are used through unmanaged
     # views: see _unmanaged.
@@ -395,22 +420,22 @@ def chain_kernel(state, demos, model, bufs, betas, rng, n_samples, burn_in, targ
     # draw), so that the generator, a managed object, is not passed to every move.
     ubuf = bufs.ubuf
     n_u = ubuf.shape[0]
-    upos = n_u
+    counters, slot, swaps = loop.counters, loop.slot, loop.swaps
+    if counters[5] == 0:
+        _init_cache(state, demos, model, bufs, loop)
+        counters[2] = n_u  # the buffer is empty
+        counters[5] = 1
+    sweep, burned, upos, moved, updates = (counters[0], counters[1], counters[2],
+                                           counters[3], counters[4])
     need = n_g + 2 * n + n_rungs  # the most uniforms of one replica's sweep and the swaps
-    cache = _init_cache(state, demos, model, bufs, n_rungs)
-    n_conj, lp_sub, lp_struct, ll = cache
-    slot = np.arange(n_rungs)  # slot[k]: the replica on rung k
-    swaps = np.zeros(max(n_rungs - 1, 0), dtype=np.int64)
+    cache = (loop.n_conj, loop.lp_sub, loop.lp_struct, loop.ll)
+    ll = loop.ll
     states = np.empty((n_samples, n_g + 2 * n), dtype=np.int16)
     trace_lp = np.empty(n_samples)
     counts = np.zeros(n_samples, dtype=np.int64)
     per_sweep = n_g + n  # blocks one sweep updates
-    moved = 0
-    updates = 0
     k = -1
     row = 0
-    sweep = 0
-    burned = -1
     while row < n_samples:
         for t in range(n_rungs):
             if upos + need > n_u:
@@ -436,7 +461,7 @@ def chain_kernel(state, demos, model, bufs, betas, rng, n_samples, burn_in, targ
                 swaps[t] += 1
             upos += 1
         r = slot[0]
-        lp0 = lp_sub[r] + lp_struct[r] + ll[r]
+        lp0 = loop.lp_sub[r] + loop.lp_struct[r] + ll[r]
         sweep += 1
         if burned < 0:
             if sweep <= burn_in or (lp0 < target and sweep <= burn_in + max_extra):
@@ -446,4 +471,6 @@ def chain_kernel(state, demos, model, bufs, betas, rng, n_samples, burn_in, targ
         k, _ = _record(states, k, state, r, n_g, n)
         counts[k] += 1
         row += 1
-    return states[:k + 1], counts[:k + 1], trace_lp, moved, updates, swaps, sweep, burned
+    counters[0], counters[1], counters[2], counters[3], counters[4] = (sweep, burned, upos,
+                                                                       moved, updates)
+    return states[:k + 1], counts[:k + 1], trace_lp

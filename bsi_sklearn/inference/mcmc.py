@@ -25,15 +25,17 @@ from bsi_sklearn.inference._chain_kernel import (
     Demos,
     chain_kernel,
     make_buffers,
+    make_loop,
     score_rows,
     violation_rows,
 )
 from bsi_sklearn.inference._local_search import beam_search, n_neighbours_max, neighbourhood
 from bsi_sklearn.inference.diagnostics import MODE_WARN, missed_mass, split_rhat
+from bsi_sklearn.inference.stopping import MAX_SAMPLES, rounds, should_stop
 from bsi_sklearn.likelihood import step_scale
 from bsi_sklearn.priors import draw_hypothesis, next_structure
 
-__all__ = ["Demos", "ChainResult", "MCMCResult", "run_chain", "deduplicate_demos",
+__all__ = ["Demos", "ChainResult", "MCMCResult", "ChainRun", "run_chain", "deduplicate_demos",
            "score_states", "unique_states", "temperature_ladder", "deterministic_optimum",
            "sampling_count", "sample_posterior"]
 
@@ -195,9 +197,59 @@ def deterministic_optimum(demos, model, width=BEAM_WIDTH):
     return row.astype(np.int16), float(lp)
 
 
+class ChainRun:
+    """One chain that can be run in several calls (the rounds of ``n_samples="auto"``).
+
+    Holds the replicas' state, the kernel's buffers and :class:`~._chain_kernel.ChainLoop`,
+    and the generator: :meth:`advance` resumes exactly where the last call stopped, so that
+    rounds of 500 and 500 sweeps record what one call of 1,000 would.
+    """
+
+    def __init__(self, seed, demos, model, betas=None, start=None, *, burn_in=0,
+                 target=-np.inf, max_extra=0):
+        self.betas = (np.ones(1) if betas is None
+                      else np.ascontiguousarray(betas, dtype=np.float64))
+        self.demos, self.model = demos, model
+        self.burn_in, self.target, self.max_extra = int(burn_in), float(target), int(max_extra)
+        self.rng = np.random.default_rng(seed)
+        n_g, n, n_rungs = model.n_g, model.n, len(self.betas)
+        if start is None:
+            draws = [draw_hypothesis(model, self.rng) for _ in range(n_rungs)]
+        else:
+            start = np.asarray(start, dtype=np.int64)
+            draws = [(start[:n_g], start[n_g:n_g + n], start[n_g + n:])] * n_rungs
+        # The kernel's state and scratch buffers live here, for every call (see _unmanaged).
+        self.state = ChainState(*(
+            np.ascontiguousarray(np.stack([d[i] for d in draws]), dtype=np.int64)
+            .reshape(n_rungs, -1) for i in range(3)))
+        self.bufs = make_buffers(n_g, n, demos.truth_t.shape[1], n_rungs)
+        self.loop = make_loop(n_rungs)
+        self.states, self.counts, self.traces = [], [], []
+
+    def advance(self, n_samples):
+        """Record ``n_samples`` more sweeps (after the burn-in, on the first call)."""
+        states, counts, trace_lp = chain_kernel(
+            self.state, self.demos, self.model, self.bufs, self.betas, self.rng, self.loop,
+            int(n_samples), self.burn_in, self.target, self.max_extra)
+        self.states.append(states)
+        self.counts.append(counts)
+        self.traces.append(trace_lp)
+        return self
+
+    def result(self):
+        """The chain's :class:`ChainResult` so far."""
+        sweep, burned, _, moved, updates, _ = self.loop.counters.tolist()
+        # Pair k proposes a swap after the sweeps of k's parity.
+        tries = (sweep + 1 - np.arange(len(self.loop.swaps)) % 2) // 2
+        return ChainResult(np.concatenate(self.states), np.concatenate(self.counts),
+                           np.concatenate(self.traces), moved / max(updates, 1),
+                           int(updates) * len(self.betas),
+                           self.loop.swaps / np.maximum(tries, 1), burned)
+
+
 def run_chain(seed, demos, model, n_samples, burn_in, betas=None, start=None, *,
               target=-np.inf, max_extra=0):
-    """Run one chain; every replica starts from its own draw of the prior.
+    """Run one chain; every replica starts from ``start``, or its own draw of the prior.
 
     Parameters
     ----------
@@ -216,24 +268,8 @@ def run_chain(seed, demos, model, n_samples, burn_in, betas=None, start=None, *,
     -------
     ChainResult
     """
-    betas = np.ones(1) if betas is None else np.ascontiguousarray(betas, dtype=np.float64)
-    rng = np.random.default_rng(seed)
-    if start is None:
-        draws = [draw_hypothesis(model, rng) for _ in range(len(betas))]
-    else:
-        n_g, n = model.n_g, model.n
-        start = np.asarray(start, dtype=np.int64)
-        draws = [(start[:n_g], start[n_g:n_g + n], start[n_g + n:])] * len(betas)
-    # The kernel's state and scratch buffers live here, for the whole call (see _unmanaged).
-    state = ChainState(*(np.ascontiguousarray(np.stack([d[i] for d in draws]), dtype=np.int64)
-                         .reshape(len(betas), -1) for i in range(3)))
-    bufs = make_buffers(model.n_g, model.n, demos.truth_t.shape[1], len(betas))
-    states, counts, trace_lp, moved, updates, swaps, n_sweeps, burned = chain_kernel(
-        state, demos, model, bufs, betas, rng, n_samples, burn_in, target, max_extra)
-    # Pair k proposes a swap after the sweeps of k's parity.
-    tries = (n_sweeps + 1 - np.arange(len(swaps)) % 2) // 2
-    return ChainResult(states, counts, trace_lp, moved / max(updates, 1),
-                       int(updates) * len(betas), swaps / np.maximum(tries, 1), burned)
+    return ChainRun(seed, demos, model, betas, start, burn_in=burn_in, target=target,
+                    max_extra=max_extra).advance(n_samples).result()
 
 
 def _complete(uniq, scores, demos, model):
@@ -257,7 +293,8 @@ def sampling_count(truth, y01, model, *, n_chains, n_samples, burn_in, n_tempera
     Every sweep of every replica of every chain weighs the ``n_g + n`` inclusion bits and, for
     each of the ``n`` subtasks, its ``n + 1`` places (:mod:`bsi_sklearn.inference._gibbs_moves`),
     each candidate over every unique demonstration row; ``burn_in + n_samples`` sweeps at least
-    (a chain that has not reached the optimum's neighbourhood runs longer). A count of the data
+    (a chain that has not reached the optimum's neighbourhood runs longer; ``"auto"`` counts its
+    most, 10,000, where it may stop sooner). A count of the data
     and the parameters only, never of timing: ``inference="auto"`` compares it with the exact
     engine's work count (``BSIClassifier``).
 
@@ -266,25 +303,75 @@ def sampling_count(truth, y01, model, *, n_chains, n_samples, burn_in, n_tempera
     count : float
     """
     demos = deduplicate_demos(truth, y01)
+    n_samples = MAX_SAMPLES if n_samples == "auto" else n_samples  # at most
     rungs = len(temperature_ladder(demos, model, n_temperatures))
     n_g, n = model.n_g, model.n
     per_sweep = (n_g + n + n * (n + 1)) * demos.truth_t.shape[1]
     return float(n_chains) * (int(n_samples) + int(burn_in)) * rungs * per_sweep
 
 
-def sample_posterior(truth, y01, model, seeds, *, n_samples=10_000, burn_in=100,
+def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
+    # Run the chains round by round (one round for a fixed n_samples) until the stopping rule
+    # holds; returns their results, the unique states visited with their sample counts, the
+    # state of every recorded row, the states' exact log posteriors, and the rounds' record.
+    from sklearn.utils.parallel import Parallel, delayed
+
+    bar = None
+    if verbose:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=len(runs) * plan[-1], desc="MCMC sweeps", unit="sweep")
+    scored = {}  # the exact log posterior of every state seen, by its row's bytes
+    record, done = [], 0
+    # Chains are threads of this process (the kernels release the GIL), also when an outer
+    # joblib backend such as dask distributes whole fits.
+    with Parallel(n_jobs=n_jobs, backend="threading") as parallel:
+        for total in plan:
+            parallel(delayed(run.advance)(total - done) for run in runs)
+            if bar is not None:
+                bar.update(len(runs) * (total - done))
+            done = total
+            results = [run.result() for run in runs]
+            visited, counts, row_state = unique_states(
+                np.concatenate([r.states for r in results], axis=0),
+                np.concatenate([r.counts for r in results]), return_inverse=True)
+            new = [i for i in range(len(visited)) if visited[i].tobytes() not in scored]
+            if new:
+                lp_new = score_states(visited[new], demos, model)
+                scored.update(zip((visited[i].tobytes() for i in new), lp_new.tolist()))
+            visited_lp = np.array([scored[row.tobytes()] for row in visited])
+            if len(plan) == 1:
+                break
+            probs = np.exp(visited_lp - visited_lp.max())
+            probs /= probs.sum()
+            ends = np.cumsum([len(r.states) for r in results])
+            per_chain = np.split(row_state, ends[:-1])
+            first = np.full(len(visited), np.iinfo(np.int64).max)
+            for r, rows in zip(results, per_chain):
+                np.minimum.at(first, rows, np.cumsum(r.counts) - r.counts)
+            stop, detail = should_stop(per_chain, probs, first,
+                                       np.stack([r.trace_lp for r in results]))
+            record.append(dict(detail, n_samples=done))
+            if stop:
+                break
+    if bar is not None:
+        bar.close()
+    stopping = {"rounds": record, "stopped_early": done < plan[-1]}
+    return results, visited, counts, row_state, visited_lp, stopping
+
+
+def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
                      n_temperatures="auto", n_jobs=None, verbose=0):
     """The MCMC posterior: tempered chains, the states they found scored exactly.
 
-    Every chain (every replica of its ladder) starts from the hypothesis without clauses,
-    which every demonstration satisfies (a draw of the prior includes most clauses and
-    violates most demonstrations through several of them at once, a plateau where no single
-    move helps). Burn-in lasts ``burn_in`` sweeps and then, for at most ``n_samples`` more,
-    until the chain's log posterior reaches that of the deterministic optimum
-    (:func:`deterministic_optimum`) less ``log 20``. The reported posterior is the exact
-    posterior restricted to the states the chains recorded, the optimum, and the one-block
-    neighbours of the most probable of them (where the posterior is flat, states each too
-    improbable to be visited add up), renormalised.
+    Every chain (every replica of its ladder) starts from the deterministic optimum
+    (:func:`deterministic_optimum`): a beam search finds the best basin that single-coordinate
+    moves from the hypothesis without clauses often cannot reach on large problems, and the
+    hot replicas leave it at once. Burn-in lasts ``burn_in`` sweeps and then, for at most
+    ``n_samples`` more, until the chain's log posterior is within ``log 20`` of the optimum's.
+    The reported posterior is the exact posterior restricted to the states the chains
+    recorded, the optimum, and the one-block neighbours of the most probable of them (where
+    the posterior is flat, states each too improbable to be visited add up), renormalised.
 
     Parameters
     ----------
@@ -295,14 +382,17 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples=10_000, burn_in=100,
     model : Model
     seeds : sequence of int
         One chain per seed; results depend on the seeds only, not on ``n_jobs``.
-    n_samples, burn_in : int
-        Sweeps recorded per chain, after ``burn_in`` discarded ones (and the extension).
+    n_samples : int or "auto", default="auto"
+        Sweeps recorded per chain; ``"auto"``: in doubling rounds, until the chains agree and
+        stop finding mass (:mod:`bsi_sklearn.inference.stopping`), at most 10,000.
+    burn_in : int, default=100
+        Sweeps discarded first (and the extension).
     n_temperatures : "auto" or int, default="auto"
         Rungs of every chain's ladder (:func:`temperature_ladder`).
     n_jobs : int, default=None
         Chains run in threads of this process (the kernels release the GIL).
     verbose : int, default=0
-        Progress bar over chains when > 0.
+        Progress bar over the chains' sweeps when > 0.
 
     Returns
     -------
@@ -311,29 +401,15 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples=10_000, burn_in=100,
         ``max_missed_mass``, ``optimum_gap`` and the rest (see
         :class:`bsi_sklearn.BSIClassifier`).
     """
-    from sklearn.utils.parallel import Parallel, delayed
-
     n_g, n = model.n_g, model.n
     demos = deduplicate_demos(truth, y01)
     betas = temperature_ladder(demos, model, n_temperatures)
     optimum, optimum_lp = deterministic_optimum(demos, model)
-    empty = np.concatenate([np.zeros(n_g + n, dtype=np.int64), _first_structure(model)])
-    seeds_iter = seeds
-    if verbose:
-        from tqdm.auto import tqdm
-
-        seeds_iter = tqdm(seeds, desc="MCMC chains", unit="chain")
-    # Chains are threads of this process (the kernels release the GIL), also when an outer
-    # joblib backend such as dask distributes whole fits.
-    results = Parallel(n_jobs=n_jobs, backend="threading")(
-        delayed(run_chain)(int(seed), demos, model, int(n_samples), int(burn_in), betas, empty,
-                           target=optimum_lp - MODE_WARN, max_extra=int(n_samples))
-        for seed in seeds_iter
-    )
-    visited, counts, row_state = unique_states(
-        np.concatenate([r.states for r in results], axis=0),
-        np.concatenate([r.counts for r in results]), return_inverse=True)
-    visited_lp = score_states(visited, demos, model)
+    plan = rounds() if n_samples == "auto" else [int(n_samples)]
+    runs = [ChainRun(int(seed), demos, model, betas, optimum, burn_in=int(burn_in),
+                     target=optimum_lp - MODE_WARN, max_extra=plan[-1]) for seed in seeds]
+    results, visited, counts, row_state, visited_lp, stopping = _run_rounds(
+        runs, plan, demos, model, n_jobs, verbose)
     # The support: the visited states, the optimum, and their neighbourhood.
     support = np.concatenate([visited, optimum[None, :]])
     support_lp = np.concatenate([visited_lp, [optimum_lp]])
@@ -369,7 +445,8 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples=10_000, burn_in=100,
         "burn_in_per_chain": np.array([r.n_burned for r in results]),
         "n_updates": int(sum(r.n_updates for r in results)),
         "n_chains": len(seeds),
-        "n_samples": int(n_samples),
+        "n_samples": len(traces[0]) if len(traces) else 0,
+        "stopping": stopping,
         "burn_in": int(burn_in),
         "n_visited": len(visited),
         "n_added": len(uniq) - len(visited),

@@ -1,0 +1,84 @@
+"""When the sampler's chains may stop: ``n_samples="auto"``.
+
+The reported MCMC posterior is the exact posterior restricted to the states the chains visited
+(:mod:`bsi_sklearn.inference.mcmc`), so more sweeps help only by finding states that carry
+mass. With ``n_samples="auto"`` the chains run in rounds that double the sweeps recorded
+(``FIRST_ROUND``, twice that, ... up to ``MAX_SAMPLES``), and stop after a round where
+
+- no chain missed more than ``STOP_MISSED`` of the mass they found together
+  (:func:`bsi_sklearn.inference.diagnostics.missed_mass`): they agree;
+- the split-R-hat of their log posteriors is at most ``STOP_RHAT``;
+- the states first found in the round's second half (by any chain) hold at most
+  ``STOP_LATE`` of that mass: the chains have stopped finding what matters.
+
+Every quantity is exact-scored, and the rule depends on the chains only, never on timing or
+on ``n_jobs``. A peaked posterior stops after the first round; a flat one, where the chains
+keep finding states, runs to ``MAX_SAMPLES`` as a fixed ``n_samples`` would.
+"""
+
+import numpy as np
+
+from bsi_sklearn.inference.diagnostics import missed_mass, split_rhat
+
+__all__ = ["FIRST_ROUND", "MAX_SAMPLES", "STOP_MISSED", "STOP_RHAT", "STOP_LATE", "rounds",
+           "should_stop"]
+
+#: Sweeps recorded per chain by the first round of ``n_samples="auto"``.
+FIRST_ROUND = 500
+#: The most sweeps recorded per chain (the paper's number of samples).
+MAX_SAMPLES = 10_000
+#: Stop thresholds: a tenth of the warning's missed mass, a fifth of its R-hat excess.
+STOP_MISSED = 0.005
+STOP_RHAT = 1.01
+STOP_LATE = 0.001
+
+
+def rounds(first=FIRST_ROUND, most=MAX_SAMPLES):
+    """Cumulative sweeps recorded per chain after each round: doubling, capped at ``most``.
+
+    Examples
+    --------
+    >>> rounds()
+    [500, 1000, 2000, 4000, 8000, 10000]
+    """
+    out = [min(first, most)]
+    while out[-1] < most:
+        out.append(min(2 * out[-1], most))
+    return out
+
+
+def should_stop(chain_rows, probabilities, first_seen, traces):
+    """Whether the chains may stop after this round, and the three quantities it weighs.
+
+    Parameters
+    ----------
+    chain_rows : sequence of ndarray of int
+        For each chain, the index (into ``probabilities``) of every state it visited.
+    probabilities : ndarray of shape (n_states,)
+        The exact posterior restricted to the states visited, normalised.
+    first_seen : ndarray of shape (n_states,)
+        The first recorded sweep (of any chain) at which each state was visited.
+    traces : ndarray of shape (n_chains, n_recorded)
+        The chains' log posteriors after every recorded sweep.
+
+    Returns
+    -------
+    stop : bool
+    detail : dict
+        ``max_missed_mass``, ``rhat``, ``late_mass``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> probs = np.array([0.9995, 0.0005])
+    >>> stop, detail = should_stop([np.array([0, 1]), np.array([0])], probs,
+    ...                            np.array([0, 7]), np.zeros((2, 10)))
+    >>> stop, detail["late_mass"]
+    (True, 0.0005)
+    """
+    missed = float(missed_mass(chain_rows, probabilities).max())
+    rhat = split_rhat(traces)
+    half = traces.shape[1] // 2
+    late = float(np.sum(probabilities[first_seen >= half]))
+    stop = missed <= STOP_MISSED and rhat <= STOP_RHAT and late <= STOP_LATE
+    return stop, {"max_missed_mass": missed, "rhat": rhat, "late_mass": late}
