@@ -141,8 +141,8 @@ def disagreement_problems(diag):
         problems.append(
             "MCMC chains missed a mode: a deterministic search found a specification "
             f"exp({diag['optimum_gap']:.3g}) times more probable than any state the chains "
-            "visited (mcmc_diagnostics_['optimum_gap'] > log 20); it is in the reported "
-            "posterior, but the chains never reached its neighbourhood, so the rest of "
+            "recorded (mcmc_diagnostics_['optimum_gap'] > log 20); it is in the reported "
+            "posterior, but the chains did not sample its neighbourhood, so the rest of "
             "the reported posterior is unreliable.")
     worst = diag["max_missed_mass"]
     if worst > MISSED_WARN:
