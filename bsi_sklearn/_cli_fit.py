@@ -210,7 +210,12 @@ def add_arguments(parser):
 
 def _n_samples(token):
     """``--n-samples``: ``auto`` or an integer (its range is checked with the others)."""
-    return token if token == "auto" else int(token)
+    if token == "auto":
+        return token
+    try:
+        return int(token)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be 'auto' or an integer, got {token!r}") from None
 
 
 def _option_constraints():

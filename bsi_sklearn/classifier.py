@@ -63,14 +63,13 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         have ``pi_w = true``; ``{}``: no conditions.
     roles : {"infer", "all"}, default="infer"
         What the roles left at ``None`` become. ``"infer"``: read from the training
-        demonstrations (propositions whose clauses the
-        demonstrations can test, each subtask's condition from the initial values that
-        separate the acceptable demonstrations completing it from those skipping it; see
-        :func:`bsi_sklearn.inferred_roles.infer_roles` and ``docs/roles.md``). A role given
-        explicitly is used as given either way; ``roles_`` says what was used. ``"all"``:
-        every proposition is a global candidate and a subtask, and no subtask has a
-        condition (the paper's setting without an expert's roles; vacuous clauses and chance
-        orders then enter the MAP, see ``docs/roles.md``).
+        demonstrations (propositions whose clauses they can test, each subtask's condition
+        from the initial values that separate the acceptable demonstrations completing it
+        from those skipping it; :func:`bsi_sklearn.inferred_roles.infer_roles`). ``"all"``:
+        every proposition a global candidate and a subtask, no conditions (the paper's
+        setting without an expert's roles: vacuous clauses and chance orders then enter the
+        MAP). Roles given explicitly are used as given; ``roles_`` says what was used; see
+        ``docs/roles.md``.
     p_global : float, default=0.8
         Prior inclusion probability of each ``G`` clause.
     p_eventual : float, default=0.8
@@ -90,16 +89,14 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         second of work on a 2020s CPU core or, if more, what the MCMC it would fall back to
         costs (chains x sweeps x rungs x moves x demonstrations; ``docs/auto-budget.md``),
         however large the support, within caps (1e10 work units, 1 GiB of tables), and
-        samples with MCMC otherwise; work is counted, not timed, so the choice is the same on
-        every machine and for every ``n_jobs``. A peaked posterior over 1e19 hypotheses can be
-        cheap and a nearly flat one over 1e8 (``"ci"`` with a large ``epsilon``) expensive.
+        samples with MCMC otherwise; work is counted, not timed: the same choice on every
+        machine and for every ``n_jobs`` (a peaked posterior over 1e19 hypotheses can be
+        cheap, a nearly flat one over 1e8 expensive).
         ``"exact"`` has a memory limit only (4 GiB of tables, counted before allocation):
         beyond it, a ``ValueError`` names the size and the cure. ``inference_`` says which.
     n_samples : int or "auto", default="auto"
-        MCMC sweeps recorded per chain, after ``burn_in`` (a sweep redraws every coordinate).
-        ``"auto"``: at most 10,000, in doubling rounds from 500 that stop once the chains
-        agree and no longer find states that carry mass (see Notes); ``mcmc_diagnostics_``
-        records the rounds.
+        MCMC sweeps recorded per chain, after ``burn_in`` (a sweep redraws every coordinate);
+        ``"auto"``: at most 10,000, in rounds that stop once the chains agree (see Notes).
     burn_in : int, default=100
         MCMC sweeps discarded at the start of every chain.
     n_chains : int, default=4
@@ -177,7 +174,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
           among the states the chains visited (the total variation between that chain's own
           reweighted posterior and theirs);
         - ``optimum_log_posterior``: the log posterior (unnormalised) of a deterministic
-          optimum (a beam search over one-block changes from the hypothesis without clauses);
+          optimum (a beam search over one-block changes), where every chain starts;
           ``best_visited_log_posterior``: the best state the chains recorded;
           ``optimum_gap``: the first less the second;
         - ``betas``: the tempering ladder; ``swap_rate`` (chains x rung pairs): accepted
@@ -188,7 +185,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
           they did not (the optimum and the completed neighbourhood);
           ``sample_frequencies``: each specification's frequency among the samples (0 for
           added ones); ``log_posterior_traces`` (chains x samples); ``seeds``, ``n_chains``,
-          ``n_samples``, ``burn_in``.
+          ``n_samples`` (sweeps each chain recorded), ``burn_in``; ``stopping``: the rounds
+          of ``n_samples="auto"`` (each one's ``max_missed_mass``, ``rhat``, ``late_mass``).
 
     See Also
     --------
@@ -200,20 +198,15 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     exact posterior restricted to that support, renormalised, which is far closer to the exact
     posterior than sample frequencies (kept in ``mcmc_diagnostics_``). Every chain runs a
     ladder of tempered replicas (``n_temperatures``) from the deterministic optimum (a beam
-    search finds the best basin, which single-coordinate moves from an empty hypothesis often
-    cannot reach on large problems; the hot replicas leave it at once); its burn-in lasts
-    ``burn_in`` sweeps and then, for at most ``n_samples`` more, until it comes within a
-    factor 20 of the optimum. With ``n_samples="auto"`` the chains record 500 sweeps, then
-    1,000, 2,000, ... up to 10,000, and stop after the first round where no chain missed more
-    than 0.5% of the mass they found together, the split-R-hat is at most 1.01 and the states
-    first found in the round's second half hold at most 0.1% of that mass
-    (:mod:`bsi_sklearn.inference.stopping`): a peaked posterior stops after 500 sweeps, a flat
-    one runs to 10,000 as before. The support is what the chains recorded,
-    the optimum, and the one-block neighbours of the states holding 99% of the mass (in a flat
-    posterior, states too improbable to be visited one by one add up).
+    search's best basin, which single-coordinate moves often miss on large problems) for
+    ``burn_in`` sweeps, and longer while it is 20 times less probable than the optimum.
+    ``n_samples="auto"`` records 500, 1,000, 2,000, ... up to 10,000 sweeps, until the chains
+    agree and stop finding mass (:mod:`bsi_sklearn.inference.stopping`). The support is what
+    the chains recorded, the optimum, and the one-block neighbours of the states holding 99%
+    of the mass (in a flat posterior, states too improbable to be visited add up).
 
     A ``ConvergenceWarning`` is raised when the optimum is more than 20 times as probable as
-    every state the chains visited (they agree, if they do, on a wrong mode), when some chain
+    every state the chains recorded (they left it and agree on a worse mode), when some chain
     never visited more than 5% of the mass the chains found (``max_missed_mass``: they
     disagree), and when the split-R-hat exceeds 1.05 (with one chain, the halves of its
     trace are compared, and no chain can disagree). With ``roles="all"`` (every proposition
@@ -342,8 +335,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
 
     def _fit(self, X, y):
         self._validate_params()
-        name = type(self).__name__
-        traces = check_traces(X, binarize=self.binarize, estimator_name=name)
+        traces = check_traces(X, binarize=self.binarize, estimator_name=type(self).__name__)
         y01, classes = check_labels(y, traces.n_demos, self.pos_label)
         given = (self.global_candidates, self.subtasks, self.conditions)
         roles = (infer_roles(traces, y01, *given) if self.roles == "infer" else
@@ -355,21 +347,19 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
                            p_part=self.p_part, n_new=self.n_new, epsilon=self.epsilon,
                            flip_prior=self.flip_prior)
         n_hyp = count_hypotheses(self.prior, n_g, n)
-        inference = self.inference
-        work = None
+        inference, work = self.inference, None
         over_cap = self.max_exact_hypotheses is not None and n_hyp > self.max_exact_hypotheses
         if inference == "auto":
             # The exact engine's own work count decides, whatever the support's size.
             inference = "mcmc" if over_cap else "exact"
             work = auto_work_budget(truth, y01, model, n_chains=int(self.n_chains),
-                                    n_samples=self._n_samples(), burn_in=int(self.burn_in),
+                                    n_samples=self.n_samples, burn_in=int(self.burn_in),
                                     n_temperatures=self.n_temperatures)
         elif inference == "exact" and over_cap:
             raise ValueError(
                 f"inference='exact' needs {n_hyp:,} hypotheses ({n_g} global candidates, {n} "
                 f"subtasks, prior={self.prior!r}), above max_exact_hypotheses="
-                f"{self.max_exact_hypotheses:,}; raise max_exact_hypotheses or use 'mcmc'"
-            )
+                f"{self.max_exact_hypotheses:,}; raise max_exact_hypotheses or use 'mcmc'")
         if inference == "exact":
             try:
                 self.posterior_, self.mcmc_diagnostics_ = self._fit_exact(
@@ -403,13 +393,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         self.n_unique_specifications_ = len(self.posterior_)
         return self
 
-    def _n_samples(self):
-        return "auto" if self.n_samples == "auto" else int(self.n_samples)
-
     def _warn_disagreement(self, n_hyp):
         """ConvergenceWarnings: a better optimum than the chains found, chains that disagree."""
         diag = self.mcmc_diagnostics_
-        now = "'auto'" if self.n_samples == "auto" else f"{self.n_samples:,}"
+        now = "'auto', at most 10,000" if self.n_samples == "auto" else f"{self.n_samples:,}"
         advice = (f"Increase n_samples (now {now}) or n_chains (now "
                   f"{self.n_chains}), or restrict the roles (global_candidates, subtasks, "
                   f"conditions) to shrink the support ({format_count(n_hyp)} hypotheses).")
@@ -421,14 +408,13 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
                               max_bytes=max_bytes)
         self.flip_rate_, self.flip_rate_interval_ = flip_rate_posterior(
             np.arange(len(res.violation_mass)), res.violation_mass, len(y01), self.flip_prior)
-        probs = np.exp(res.log_prob)
-        probs /= probs.sum()
+        probs = np.exp(res.log_prob) / np.exp(res.log_prob).sum()
         post = Posterior(res.structures, res.tau_masks, res.w1_masks, probs, roles,
                          clause_marginals=res.clause_marginals, dropped_mass=res.dropped_mass)
         return post, None
 
     def _fit_mcmc(self, truth, y01, roles, model, seeds):
-        res = sample_posterior(truth, y01, model, seeds, n_samples=self._n_samples(),
+        res = sample_posterior(truth, y01, model, seeds, n_samples=self.n_samples,
                                burn_in=int(self.burn_in), n_temperatures=self.n_temperatures,
                                n_jobs=self.n_jobs, verbose=self.verbose)
         self.flip_rate_, self.flip_rate_interval_ = flip_rate_posterior(

@@ -245,7 +245,8 @@ def test_classifier_parameters_are_validated_before_the_data():
 @pytest.mark.parametrize("argv, message", [
     (["fit", "no_such.trace", "--top", "0"],
      "bsi fit: error: --top must be an integer >= 1, got 0"),
-    (["fit", "no_such.trace", "--n-samples", "0"], "--n-samples must be an integer >= 1, got 0"),
+    (["fit", "no_such.trace", "--n-samples", "0"],
+     "--n-samples must be one of ['auto'] or an integer >= 1, got 0"),
     (["fit", "no_such.trace", "--seed", "-1"], "--seed must be an integer in [0, 4294967295]"),
 ])
 def test_bsi_options_are_checked_before_any_work(argv, message, capsys):
@@ -265,6 +266,10 @@ def test_option_type_errors_are_usage_errors(capsys):
     with pytest.raises(SystemExit):
         main(["reproduce", "dinner", "--n-jobs", "x"])
     assert "invalid int value: 'x'" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["fit", "no_such.trace", "--n-samples", "many"])
+    assert "argument --n-samples: must be 'auto' or an integer, got 'many'" in \
+        capsys.readouterr().err
 
 
 def test_bsi_lfe_report_options_are_checked(tmp_path, capsys):

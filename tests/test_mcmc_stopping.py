@@ -1,0 +1,141 @@
+"""``n_samples="auto"``: chains run in rounds and stop once they agree and find nothing more.
+
+Rounds resume the chains exactly (a chain run in rounds records what one call records), the
+stopping rule stops a peaked posterior after the first round and lets a flat one run to the
+most, and the posterior it reports is the exact one on the problems users bring.
+"""
+
+import warnings
+
+import numpy as np
+import pytest
+from poi_problems import make_poi_problem
+from sklearn.exceptions import ConvergenceWarning
+
+from bsi_sklearn import BSIClassifier
+from bsi_sklearn.datasets import make_process_log
+from bsi_sklearn.inference.diagnostics import total_variation
+from bsi_sklearn.inference.mcmc import (
+    ChainRun,
+    deduplicate_demos,
+    deterministic_optimum,
+    run_chain,
+    temperature_ladder,
+)
+from bsi_sklearn.inference.stopping import FIRST_ROUND, MAX_SAMPLES, rounds, should_stop
+from bsi_sklearn.io import EventLogEncoder, read_event_log
+from bsi_sklearn.model import make_model
+from bsi_sklearn.priors import PRIORS
+
+
+def _poi(**kw):
+    return make_poi_problem(n_demos=18, n_threats=2, n_pois=4, chain=(0, 2), n_negative=6,
+                            seed=3, always_violated=(1,), **kw)
+
+
+def _log(n_activities, n_cases, seed):
+    log = make_process_log(n_activities, n_cases, random_state=seed)
+    cases, y, _ = read_event_log(log.events, labels=log.labels)
+    return EventLogEncoder().fit_transform(cases), y
+
+
+@pytest.mark.parametrize("prior", PRIORS)
+def test_a_chain_run_in_rounds_records_what_one_call_records(prior):
+    rng = np.random.default_rng(5)
+    truth = (rng.random((30, 2 + 4 + 16)) < 0.75).astype(np.uint8)
+    y01 = (rng.random(30) < 0.6).astype(np.int64)
+    model = make_model(prior=prior, likelihood="ci", n_globals=2, n_subtasks=4, epsilon=0.1)
+    demos = deduplicate_demos(truth, y01)
+    betas = temperature_ladder(demos, model, 4)
+    start, lp = deterministic_optimum(demos, model)
+    whole = run_chain(3, demos, model, 1000, 50, betas, start, target=lp - 3.0, max_extra=1000)
+    run = ChainRun(3, demos, model, betas, start, burn_in=50, target=lp - 3.0, max_extra=1000)
+    for n in (1, 299, 200, 500):
+        run.advance(n)
+    parts = run.result()
+    # Run-length rows may be split at a round's end: compare the expanded samples.
+    expand = lambda r: np.repeat(r.states, r.counts, axis=0)  # noqa: E731
+    assert np.array_equal(expand(whole), expand(parts))
+    assert np.array_equal(whole.trace_lp, parts.trace_lp)
+    assert np.array_equal(whole.swap_rate, parts.swap_rate)
+    assert (whole.move_rate, whole.n_updates, whole.n_burned) == \
+        (parts.move_rate, parts.n_updates, parts.n_burned)
+
+
+def test_rounds_double_up_to_the_most():
+    assert rounds() == [500, 1000, 2000, 4000, 8000, 10_000]
+    assert rounds(FIRST_ROUND, 700) == [500, 700] and rounds(800, 300) == [300]
+    assert MAX_SAMPLES == 10_000
+
+
+def test_the_stopping_rule_weighs_agreement_r_hat_and_late_discoveries():
+    probs = np.array([0.99, 0.01])
+    both = [np.array([0, 1]), np.array([0, 1])]
+    flat = np.zeros((2, 10))
+    assert should_stop(both, probs, np.array([0, 2]), flat)[0]
+    # A state first found in the second half, holding more than 0.1%: not yet.
+    stop, detail = should_stop(both, probs, np.array([0, 5]), flat)
+    assert not stop and detail["late_mass"] == pytest.approx(0.01)
+    # A chain that never visited 1% of the mass: the chains disagree.
+    stop, detail = should_stop([np.array([0]), np.array([0, 1])], probs, np.array([0, 2]), flat)
+    assert not stop and detail["max_missed_mass"] == pytest.approx(0.01)
+    # Chains on different levels: R-hat is infinite.
+    assert not should_stop(both, probs, np.array([0, 2]), np.array([[0.0] * 10, [1.0] * 10]))[0]
+
+
+def _auto_fit(X, y, **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ConvergenceWarning)
+        return BSIClassifier(inference="mcmc", random_state=0, **kw).fit(X, y)
+
+
+@pytest.mark.parametrize("case", ["poi_roles", "poi_no_roles", "log_peaked", "log_spread"])
+def test_auto_stops_after_the_first_round_on_a_peaked_posterior_and_is_exact(case):
+    if case.startswith("poi"):
+        X, y, roles = _poi()
+        kw = roles if case == "poi_roles" else {}
+    else:
+        X, y = _log(8, 400, 2) if case == "log_peaked" else _log(10, 40, 8)
+        kw = {}
+    exact = BSIClassifier(inference="exact", **kw).fit(X, y)
+    clf = _auto_fit(X, y, **kw)
+    diag = clf.mcmc_diagnostics_
+    assert diag["n_samples"] == FIRST_ROUND and diag["stopping"]["stopped_early"]
+    assert [r["n_samples"] for r in diag["stopping"]["rounds"]] == [FIRST_ROUND]
+    assert total_variation(exact.posterior_, clf.posterior_) < 1e-6
+    assert clf.map_specification_ == exact.map_specification_
+
+
+def test_auto_runs_a_flat_posterior_to_the_most_and_is_close_to_exact():
+    X, y, roles = _poi()
+    kw = dict(roles, likelihood="ci", epsilon=0.3)
+    exact = BSIClassifier(inference="exact", **kw).fit(X, y)
+    assert exact.posterior_.probabilities[0] < 0.3
+    clf = _auto_fit(X, y, **kw)
+    diag = clf.mcmc_diagnostics_
+    # The chains keep finding states holding mass: every round runs, as n_samples=10_000 would.
+    assert [r["n_samples"] for r in diag["stopping"]["rounds"]] == rounds()
+    assert not diag["stopping"]["stopped_early"] and diag["n_samples"] == MAX_SAMPLES
+    assert total_variation(exact.posterior_, clf.posterior_) < 0.01
+    fixed = _auto_fit(X, y, n_samples=MAX_SAMPLES, **kw)
+    assert np.array_equal(fixed.mcmc_diagnostics_["log_posterior_traces"],
+                          diag["log_posterior_traces"])
+
+
+def test_auto_is_independent_of_n_jobs():
+    X, y, roles = _poi()
+    kw = dict(roles, likelihood="ci", epsilon=0.2, n_chains=3)
+    a, b = (_auto_fit(X, y, n_jobs=j, **kw) for j in (1, 2))
+    assert a.posterior_.specifications == b.posterior_.specifications
+    assert np.array_equal(a.posterior_.probabilities, b.posterior_.probabilities)
+    assert a.mcmc_diagnostics_["stopping"] == b.mcmc_diagnostics_["stopping"]
+    assert np.array_equal(a.mcmc_diagnostics_["log_posterior_traces"],
+                          b.mcmc_diagnostics_["log_posterior_traces"])
+
+
+def test_n_samples_accepts_auto_or_a_positive_integer():
+    X, y, roles = _poi()
+    for bad in ("all", 0, 2.5):
+        with pytest.raises(ValueError, match="n_samples"):
+            BSIClassifier(n_samples=bad, inference="mcmc", **roles).fit(X, y)
+    assert BSIClassifier().get_params()["n_samples"] == "auto"
