@@ -4,7 +4,8 @@
     python benchmarks/bench_mcmc_mixing.py --quick --out /tmp/mixing.md
 
 Three sets of problems where exact enumeration is available, each fitted exactly and with MCMC at
-the default settings (4 chains x 10,000 sweeps, ``random_state=0``):
+the default settings (4 chains, ``n_samples="auto"``: 500 to 10,000 sweeps recorded per chain,
+"sweeps" in the tables; before the stopping rule, 10,000; ``random_state=0``):
 
 * **LFE with roles**: the paper's large-force-exercise template (5 globals x 6 subtasks, Prior
   2, 8.3e6 hypotheses), ``make_lfe_dataset(n, random_state=seed)`` for (seed, n) = (2, 18),
@@ -121,6 +122,7 @@ def fit_pair(X, y, roles, **mcmc_params):
         "optimum_gap": float(diag.get("optimum_gap", np.nan)),
         "n_temperatures": int(len(diag.get("betas", [1.0]))),
         "burn_in_max": int(np.max(diag.get("burn_in_per_chain", [diag["burn_in"]]))),
+        "n_samples": int(diag["n_samples"]),
         "warnings": kinds, "wall_s": wall, "cpu_s": cpu, "n_specs": len(mcmc.posterior_),
     }
 
@@ -147,10 +149,11 @@ def measure(problems, **mcmc_params):
 def _table(rows):
     return md_table(
         ["problem", "demos", "TV to exact", "split-R-hat", "max missed", "optimum gap",
-         "rungs", "burn-in (max)", "ConvergenceWarning", "wall", "CPU"],
+         "rungs", "burn-in (max)", "sweeps", "ConvergenceWarning", "wall", "CPU"],
         [[r["problem"], r["n_demos"], f"{r['tv']:.4f}", f"{r['rhat']:.3f}",
           f"{r['max_missed_mass']:.3f}", f"{r['optimum_gap']:.2f}", r["n_temperatures"],
-          r["burn_in_max"], ", ".join(r["warnings"]) or "-", fmt_s(r["wall_s"]),
+          r["burn_in_max"], f"{r.get('n_samples', 10_000):,}", ", ".join(r["warnings"]) or "-",
+          fmt_s(r["wall_s"]),
           fmt_s(r["cpu_s"])] for r in rows])
 
 

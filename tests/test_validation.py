@@ -108,7 +108,7 @@ def test_a_subtask_is_not_its_own_condition(conditions, names):
         ({"p_part": 1.5}, r"p_part must be a number in \[0.0, 1.0\]"),
         ({"n_new": 0}, r"n_new must be a number in \(0.0, inf\)"),
         ({"epsilon": 1.0}, r"epsilon must be a number in \(0.0, 1.0\) or None"),
-        ({"n_samples": 0}, "n_samples must be an integer >= 1"),
+        ({"n_samples": 0}, r"n_samples must be one of \[.auto.\] or an integer >= 1"),
         ({"n_chains": 2.5}, "n_chains must be an integer"),
         ({"inference": "vi"}, "inference must be one of"),
         ({"n_jobs": 0}, "n_jobs must be None or a non-zero integer"),
