@@ -301,10 +301,10 @@ def report(runs, table, diffs, gaps, config, seconds, command):
                         for (s, n), r in how.iterrows()]), "",
               "## Reading the rows", "",
               "- CB's two rows are one fit read twice: the predictive is `eps + (1 - 2 eps) s`, "
-              "the vote `s` moved by at most the paper's `eps` (`e^-55` for the template the "
-              "roles inferred here), so they coincide up to rounding, and the figure's CB "
-              "lines lie on each other. Where the clipped log loss differs, the vote's "
-              "`1 - s` carries the rounding of the posterior's sum (about 1e-14 when every "
+              "the vote `s` moved by at most the paper's `eps` (`e^-55` for five global "
+              "candidates and five subtasks), so they coincide up to rounding, and the "
+              "figure's CB lines lie on each other. Where the clipped log loss differs, the "
+              "vote's `1 - s` carries the rounding of the posterior's sum (about 1e-14 when every "
               "formula accepts a mission), which scikit-learn's clipping scores as a smaller "
               "loss than the predictive's exact `eps`, clipped to 2.2e-16: not a better "
               "probability. Unclipped, a mission every formula labels wrongly costs "
