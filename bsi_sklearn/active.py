@@ -28,8 +28,9 @@ def vote_entropy(clf, X):
     Returns
     -------
     entropy : ndarray of shape (n_demos,)
-        ``H(p) = -p log2 p - (1 - p) log2 (1 - p)`` with ``p = clf.predict_proba(X)[:, 1]``:
-        0 when the posterior agrees on the label, 1 bit when it is split in half.
+        ``H(p) = -p log2 p - (1 - p) log2 (1 - p)`` with ``p`` the posterior mass of the
+        formulas a demonstration satisfies (``predict_proba`` under ``vote="satisfaction"``,
+        whatever ``clf.vote``): 0 when the posterior agrees, 1 bit when it is split in half.
 
     Examples
     --------
@@ -40,7 +41,8 @@ def vote_entropy(clf, X):
     >>> vote_entropy(clf, [np.array([[1, 0], [1, 1]])]).round(3)
     array([0.])
     """
-    p = np.clip(clf.predict_proba(X)[:, 1], 0.0, 1.0)
+    # The vote, not the predictive: the label noise would add the same entropy to every score.
+    p = np.clip(clf.posterior_.predict_proba(clf._validated(X))[:, 1], 0.0, 1.0)
     with np.errstate(divide="ignore", invalid="ignore"):
         h = -(p * np.log2(p) + (1 - p) * np.log2(1 - p))
     return np.nan_to_num(h, nan=0.0)
@@ -56,7 +58,8 @@ def entropy_sampling(clf, X_pool, n_instances=1):
     demonstrations with the highest vote entropy is therefore both uncertainty sampling and
     the Bayesian active-learning (BALD) choice, here with no approximation. (The likelihood's
     small ``epsilon`` makes labels slightly noisy; it lowers every score by the same amount
-    and leaves the ranking unchanged.)
+    and leaves the ranking unchanged, so the scores are the vote's, not ``predict_proba``'s
+    posterior predictive.)
 
     Parameters
     ----------

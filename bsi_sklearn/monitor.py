@@ -13,7 +13,7 @@ Every candidate clause of the posterior is *open*, *satisfied* or *violated* aft
 A specification is violated when any of its clauses is, satisfied when all are, else open; the
 verdict's three probabilities are the posterior masses of those three sets. Closing the trace
 (its last state repeats forever) satisfies the open ``G`` clauses and violates the open ``F``
-and ``U`` clauses, which is exactly the evaluation of :meth:`BSIClassifier.predict_proba`.
+and ``U`` clauses: ``p_satisfied`` is then the vote, :meth:`Posterior.predict_proba`.
 
 A clause never leaves a decided state, so the monitor keeps one state per clause slot and
 recomputes the specifications' states (one AND per word of their clause masks) only at the
@@ -135,7 +135,7 @@ class PosteriorMonitor:
     >>> v.p_open, v.closed
     (0.0, True)
     >>> trace = np.array([[1, 0, 0], [1, 1, 0], [1, 1, 1]])
-    >>> bool(v.p_satisfied == clf.predict_proba([trace])[0, 1])
+    >>> bool(v.p_satisfied == clf.posterior_.predict_proba([trace])[0, 1])
     True
     >>> clf.monitor_proba([trace])[0].shape
     (3, 3)
@@ -238,7 +238,7 @@ class PosteriorMonitor:
         """Close the trace: its last state repeats forever, so no specification stays open.
 
         Open ``G`` clauses become satisfied, open ``F`` and ``U`` clauses violated. Then
-        ``p_open == 0`` and ``p_satisfied`` equals ``predict_proba([trace])[0, 1]``.
+        ``p_open == 0`` and ``p_satisfied`` equals ``posterior.predict_proba([trace])[0, 1]``.
 
         Returns
         -------

@@ -287,7 +287,7 @@ class Posterior:
         return ~((m[:, None, :] & ~words[None, :, :]) != 0).any(axis=2)
 
     def predict_proba(self, X):
-        """Posterior voting: column 1 is the mass of specifications each trace satisfies.
+        """The paper's vote, no label noise: column 1 is the posterior mass satisfied.
 
         Parameters
         ----------

@@ -21,8 +21,11 @@ def _pool(n=30, seed=0):
 
 def test_ranking_follows_the_entropy_of_the_vote(clf):
     pool = _pool()
-    p = clf.predict_proba(pool)[:, 1]
+    p = clf.posterior_.predict_proba(pool)[:, 1]  # the vote, not the predictive
     h = vote_entropy(clf, pool)
+    assert np.array_equal(p, clf.set_params(vote="satisfaction").predict_proba(pool)[:, 1])
+    clf.set_params(vote="predictive")  # whatever vote says, the scores are the vote's
+    np.testing.assert_array_equal(vote_entropy(clf, pool), h)
     expected = -p * np.log2(p, where=p > 0, out=np.zeros_like(p)) - (1 - p) * np.log2(
         1 - p, where=p < 1, out=np.zeros_like(p))
     np.testing.assert_allclose(h, expected, atol=1e-12)

@@ -194,7 +194,7 @@ LAYERS = [
     {"clauses"},
     {"priors", "likelihood", "model"},
     {"inference"},
-    {"posterior", "metrics", "monitor", "monitor_figure",
+    {"posterior", "predictive", "metrics", "monitor", "monitor_figure",
      "active"},
     {"classifier"},
 ]

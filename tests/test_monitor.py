@@ -141,7 +141,8 @@ def test_classifier_monitor_finish_equals_predict_proba(name, data):
         np.testing.assert_allclose(rows[0][t], [v.p_satisfied, v.p_violated, v.p_open],
                                    atol=1e-12)
     np.testing.assert_allclose(rows[1][0], rows[0][0], atol=1e-12)
-    assert mon.finish().p_satisfied == clf.predict_proba([trace])[0, 1]
+    # Closed, the monitor gives the vote: the posterior mass satisfied.
+    assert mon.finish().p_satisfied == clf.posterior_.predict_proba([trace])[0, 1]
 
 
 def test_verdicts_are_monotone_and_reset_starts_over():
@@ -273,7 +274,7 @@ def test_bsi_monitor_writes_tables_and_plots(tmp_path, capsys):
                                    expected[["p_satisfied", "p_violated", "p_open"]])
         assert table["events"].tolist() == expected["events"].tolist()
         assert table["p_satisfied"].iloc[-1] == pytest.approx(
-            clf.predict_proba([trace])[0, 1], abs=1e-15)
+            clf.posterior_.predict_proba([trace])[0, 1], abs=1e-15)
         assert (tmp_path / "out" / f"demos_{i}_monitor.png").stat().st_size > 1000
 
 

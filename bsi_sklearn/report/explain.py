@@ -142,7 +142,7 @@ def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=Non
                            key=lambda o: (_sort_key(o[0]), _sort_key(o[1]))),
         inference=inference,
         roles_table=_roles_table(roles),
-        demo_names=None, clause_states=None, map_satisfied=None, proba=None,
+        demo_names=None, clause_states=None, map_satisfied=None, proba=None, proba_name=None,
         predicted_acceptable=None, violations=None, labels=None, confusion_matrix=None,
         f1=None, f1_weighted=None, vote_f1_weighted=None,
     )
@@ -207,6 +207,8 @@ def _demonstration_fields(classifier, X, y, keys, conds, demo_names):
                                                           name="clause", dtype=object),
                                    columns=pd.Index(demo_names, name="demonstration")),
         map_satisfied=map_satisfied, proba=proba, predicted_acceptable=predicted_acceptable,
+        proba_name=("posterior mass satisfied" if getattr(classifier, "vote", None) ==
+                    "satisfaction" else "P(acceptable)"),
         violations=violations,
     )
     if y is not None:

@@ -74,7 +74,11 @@ class SpecificationReport:
     map_satisfied : ndarray of bool or None
         Whether each demonstration satisfies the MAP specification.
     proba : ndarray or None
-        Posterior-vote probability that each demonstration is acceptable.
+        The classifier's ``predict_proba(X)[:, 1]``: the posterior predictive probability that
+        each demonstration is acceptable or, under ``vote="satisfaction"``, the posterior mass
+        of the specifications it satisfies (:attr:`proba_name` says which).
+    proba_name : str or None
+        ``"P(acceptable)"`` or ``"posterior mass satisfied"``: what :attr:`proba` is.
     predicted_acceptable : ndarray of bool or None
         ``classifier.predict(X) == classes_[1]``.
     violations : dict or None
@@ -88,7 +92,7 @@ class SpecificationReport:
         F1 of the MAP specification for the acceptable class, and the mean of both classes'
         F1 weighted by support (the paper's LFE score).
     vote_f1_weighted : float or None
-        The same weighted F1 for the classifier's posterior vote (``predict``).
+        The same weighted F1 for the classifier's decisions (``predict``).
     """
 
     def __init__(self, **fields):
@@ -263,7 +267,7 @@ class SpecificationReport:
         doc.add("h", 2, "Demonstrations")
         doc.add("p", f"{n} demonstration{'' if n == 1 else 's'}, "
                      f"{int(self.map_satisfied.sum())} satisfy the MAP specification; the "
-                     f"classifier (posterior vote) predicts {n_bad} unacceptable.")
+                     f"classifier (predict) finds {n_bad} unacceptable.")
         if "satisfaction" in pngs:
             doc.add("figure", "satisfaction",
                     "Clause-by-demonstration satisfaction of the MAP specification "
@@ -281,13 +285,13 @@ class SpecificationReport:
             if keys:
                 why = [x for k in keys for x in (f"{sentence[k]} ", Code(ltl[k]), "; ")][:-1]
             else:
-                why = ("none: it satisfies the MAP specification but less than half of the "
-                       "posterior mass")
+                why = ("none: it satisfies the MAP specification, but the posterior as a "
+                       "whole finds it more likely unacceptable")
             row = [name, f"{self.proba[j]:.3f}"]
             if self.labels is not None:
                 row.append("acceptable" if self.labels[j] else "unacceptable")
             rows.append(row + [why])
-        header = ["demonstration", "P(acceptable)"]
+        header = ["demonstration", self.proba_name]
         header += ["label"] if self.labels is not None else []
         doc.add("table", header + ["violated clauses"], rows)
 
@@ -295,7 +299,7 @@ class SpecificationReport:
         doc.add("h", 2, "Agreement with the labels")
         cm = self.confusion_matrix.to_numpy()
         doc.add("p", f"MAP specification: F1 (acceptable) = {self.f1:.3f}, weighted F1 = "
-                     f"{self.f1_weighted:.3f}. Posterior vote (predict): weighted F1 = "
+                     f"{self.f1_weighted:.3f}. Classifier (predict): weighted F1 = "
                      f"{self.vote_f1_weighted:.3f}.")
         doc.add("table", ["label", "MAP says acceptable", "MAP says unacceptable"],
                 [["acceptable", str(cm[0, 0]), str(cm[0, 1])],

@@ -203,7 +203,7 @@ def test_fuzzed_documents_load_or_raise_value_error(doc, data):
 def test_loaded_posterior_enforces_column_names(fitted):
     clf, X, _ = fitted
     again = Posterior.from_json(clf.posterior_.to_json())
-    np.testing.assert_array_equal(again.predict_proba(X), clf.predict_proba(X))
+    np.testing.assert_array_equal(again.predict_proba(X), clf.posterior_.predict_proba(X))
     reordered = [x[NAMES[::-1]] for x in X]
     with pytest.raises(ValueError, match="feature names should match"):
         clf.predict_proba(reordered)

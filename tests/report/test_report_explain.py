@@ -275,7 +275,12 @@ def test_rejected_by_vote_only(tmp_path):
     assert rep.predicted_acceptable.tolist() == [False]
     assert rep.violations == {"0": []}
     md = rep.to_markdown(tmp_path).read_text()
-    assert "none: it satisfies the MAP specification but less than half" in md
+    assert "none: it satisfies the MAP specification, but the posterior as a whole" in md
+    assert "| P(acceptable) |" in md and rep.proba_name == "P(acceptable)"
+    # The paper's vote is named for what it is.
+    vote = explain(clf.set_params(vote="satisfaction"), [np.array([[0, 1, 0]])])
+    assert vote.proba_name == "posterior mass satisfied"
+    assert "posterior mass satisfied" in vote.to_markdown(tmp_path / "vote").read_text()
 
 
 def test_verdicts_come_from_the_classifier():

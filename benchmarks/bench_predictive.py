@@ -1,0 +1,364 @@
+"""The posterior predictive against the paper's vote on held-out LFE missions (issue 31).
+
+A first measurement for issue 31's second part (which likelihood should be the default): the
+probabilities of ``BSIClassifier(vote="predictive")`` (label noise included) against the
+paper's vote (``vote="satisfaction"``, the posterior mass satisfied), from the *same* fits,
+under the default likelihood (CB with the paper's epsilon) and under
+``likelihood="ci", flip_prior=(1, 9)`` (the flip prior the documentation suggests). The
+classifier is fitted as a new user fits it: ``BSIClassifier(random_state=...)``, no roles
+(inferred), every other default. Missions come from the study's simulator
+(:func:`lfe.study.simulate_repeat`: the paper's propositions through the extractor, 4 %
+judgement noise, training sets drawn stratified by :func:`lfe.study.draw_training_set`) at a
+study seed not used elsewhere in the repository; each repeat fits on 12 and on 36 of its
+missions and is scored on its own held-out missions, one classifier per mission objective. A
+logistic regression on five plain features per proposition
+(:class:`baselines.practitioner.TemporalLogisticRegression`, the practitioner row of
+``bsi-lfe study``) is the reference.
+
+Reported per row and training size: log loss (scikit-learn's, probabilities clipped to
+``[eps, 1 - eps]`` with ``eps`` the float epsilon, 2.2e-16), the log loss unclipped (from
+``predict_log_proba``; infinite when a probability is exactly 0), the Brier score and the
+accuracy of ``predict``; each the mean over the three objectives in a repeat, then the mean
+over repeats with a Student-t 95 % interval (:func:`lfe.study.t_interval`); and a reliability
+diagram of every test mission pooled over repeats and objectives, with the largest gap to the
+diagonal over the bins holding at least 5 % of them (issue 31's calibration target).
+
+Run from the repository root (about 5 minutes on one core)::
+
+    python benchmarks/bench_predictive.py             # 10 repeats, 12 and 36 missions
+    python benchmarks/bench_predictive.py --quick     # 2 repeats, for a smoke test
+
+Writes ``benchmarks/RESULTS_predictive.md`` and ``benchmarks/predictive/`` (``runs.csv``: every
+row, repeat, size and objective; ``summary.csv``: the table; ``reliability.csv``: the bins;
+``reliability.png``: the diagram). Every warning is counted per fit, none is silenced.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from sklearn.metrics import accuracy_score, brier_score_loss, log_loss
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from baselines.practitioner import TemporalLogisticRegression, temporal_features  # noqa: E402
+from benchmarks._common import machine_info, md_table  # noqa: E402
+from bsi_sklearn import BSIClassifier  # noqa: E402
+from lfe.annotate import MISSION_OBJECTIVES  # noqa: E402
+from lfe.study import (  # noqa: E402
+    derive_seed,
+    draw_training_set,
+    repeat_seeds,
+    simulate_repeat,
+    t_interval,
+)
+
+#: BSI settings: name -> parameters (on top of ``random_state``; no roles: inferred).
+SETTINGS = {"CB (default)": {}, "CI, flip_prior=(1, 9)": {"likelihood": "ci",
+                                                         "flip_prior": (1, 9)}}
+VOTES = ("satisfaction", "predictive")
+REFERENCE = "Logistic regression (reference)"
+#: The rows, in the table's order.
+ROWS = tuple(f"{s}, {v}" for s in SETTINGS for v in VOTES) + (REFERENCE,)
+N_BINS = 10
+
+
+def _scores(y, p1, log_p, pred):
+    """Log loss (clipped as scikit-learn clips, and unclipped), Brier score, accuracy."""
+    log_p = np.asarray(log_p, dtype=float)
+    unclipped = float(-np.mean(np.where(y == 1, log_p[:, 1], log_p[:, 0])))
+    return dict(log_loss=log_loss(y, p1, labels=[0, 1]), log_loss_unclipped=unclipped,
+                brier=brier_score_loss(y, p1, pos_label=1), accuracy=accuracy_score(y, pred))
+
+
+def _fit_bsi(X_train, y_train, X_test, params, seed):
+    """Both votes of one fit: ``{vote: (P(acceptable), log proba, predict)}`` and the fit's
+    facts (inference, specifications, dropped mass, flip rate, warnings, seconds)."""
+    start = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")  # count every warning (recorded, not silenced)
+        clf = BSIClassifier(random_state=seed, **params).fit(X_train, y_train)
+        out = {}
+        for vote in VOTES:
+            clf.set_params(vote=vote)  # read at prediction: one fit, both votes
+            with np.errstate(divide="ignore"):  # the vote's log of an exact 0 is -inf
+                log_p = clf.predict_log_proba(X_test)
+            out[vote] = (clf.predict_proba(X_test)[:, 1], log_p, clf.predict(X_test))
+    facts = dict(inference=clf.inference_, n_specifications=len(clf.posterior_),
+                 dropped_mass=clf.posterior_.dropped_mass, flip_rate=clf.flip_rate_,
+                 warnings=len(caught), fit_s=time.perf_counter() - start)
+    return out, facts
+
+
+def _fit_reference(X_train, y_train, X_test, seed):
+    """The logistic regression's P(acceptable), log proba and prediction on the test set."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        clf = TemporalLogisticRegression(random_state=seed).fit(X_train, y_train)
+        est = clf.estimators_[0]  # the fitted pipeline, or the label of a one-class objective
+        if hasattr(est, "predict_proba"):
+            proba = est.predict_proba(temporal_features(X_test))[:, list(est.classes_).index(1)]
+        else:
+            proba = np.full(len(X_test), float(est == 1))
+    with np.errstate(divide="ignore"):
+        log_p = np.log(np.column_stack([1.0 - proba, proba]))
+    return proba, log_p, (proba >= 0.5).astype(int), len(caught)
+
+
+def run_repeat(repeat, config):
+    """Every row of one repeat: ``(runs, predictions)``."""
+    seed = config["seed"]
+    n_pool = max(config["sizes"])
+    data = simulate_repeat(n_pool=n_pool, test_size=config["test_size"],
+                           noises=[config["noise"]], propositions=["paper"],
+                           **repeat_seeds(seed, repeat))
+    props, y = data["props"]["paper"], data["labels"][config["noise"]]
+    test = np.arange(n_pool, len(data["clean"]))
+    X_test = [props[i] for i in test]
+    runs, preds = [], []
+    for n_train in config["sizes"]:
+        train = draw_training_set(data["clean"], n_pool, n_train,
+                                  derive_seed(seed, repeat, 2, n_train))
+        model_seed = derive_seed(seed, repeat, 3, n_train)
+        X_train = [props[i] for i in train]
+        for k, objective in enumerate(MISSION_OBJECTIVES):
+            y_train, y_test = y[train, k], y[test, k]
+            cell = dict(repeat=repeat, n_train=n_train, objective=objective,
+                        n_acceptable_train=int(y_train.sum()))
+            results = {}
+            for name, params in SETTINGS.items():
+                if not np.any(y_train == 1):
+                    raise RuntimeError(f"repeat {repeat}, {n_train} missions, {objective}: no "
+                                       "acceptable training mission (BSI needs one)")
+                votes, facts = _fit_bsi(X_train, y_train, X_test, params, model_seed)
+                for vote, result in votes.items():
+                    results[f"{name}, {vote}"] = (*result, facts)
+            p, log_p, pred, n_warn = _fit_reference(X_train, y_train, X_test, model_seed)
+            results[REFERENCE] = (p, log_p, pred, dict(warnings=n_warn))
+            for row, (p, log_p, pred, facts) in results.items():
+                runs.append(dict(row=row, **cell, **_scores(y_test, p, log_p, pred), **facts))
+                preds.append(pd.DataFrame(dict(row=row, repeat=repeat, n_train=n_train,
+                                               objective=objective, p=p, y=y_test)))
+    return runs, preds
+
+
+def summary(runs):
+    """Per training size and row: each metric's mean over repeats (of the mean over the
+    objectives) with its 95 % interval; and predictive minus satisfaction, paired."""
+    per_repeat = runs.groupby(["n_train", "row", "repeat"], sort=False)[
+        ["log_loss", "log_loss_unclipped", "brier", "accuracy"]].mean()
+    out = []
+    for (n_train, row), group in per_repeat.groupby(level=["n_train", "row"], sort=False):
+        entry = dict(n_train=n_train, row=row, n_repeats=len(group))
+        for metric in group.columns:
+            values = group[metric].to_numpy()
+            if np.isfinite(values).all():
+                entry[metric], entry[f"{metric}_low"], entry[f"{metric}_high"] = \
+                    t_interval(values)
+            else:
+                entry[metric] = entry[f"{metric}_low"] = entry[f"{metric}_high"] = np.inf
+        out.append(entry)
+    table = pd.DataFrame(out)
+    table["row"] = pd.Categorical(table["row"], ROWS, ordered=True)
+    return table.sort_values(["n_train", "row"]).reset_index(drop=True)
+
+
+def paired(runs):
+    """Predictive minus satisfaction, repeat by repeat, per setting, size and metric."""
+    per_repeat = runs.groupby(["n_train", "row", "repeat"])[
+        ["log_loss", "brier", "accuracy"]].mean()
+    out = []
+    for setting in SETTINGS:
+        for n_train in sorted(runs["n_train"].unique()):
+            a = per_repeat.loc[(n_train, f"{setting}, predictive")]
+            b = per_repeat.loc[(n_train, f"{setting}, satisfaction")]
+            entry = dict(setting=setting, n_train=n_train)
+            for metric in a.columns:
+                entry[metric], entry[f"{metric}_low"], entry[f"{metric}_high"] = t_interval(
+                    a[metric] - b[metric])
+            out.append(entry)
+    return pd.DataFrame(out)
+
+
+def reliability(preds, n_bins=N_BINS):
+    """Equal-width bins of P(acceptable), per row and size, every test mission pooled.
+
+    Returns one line per non-empty bin: its share of the missions, the mean predicted
+    probability and the observed fraction acceptable.
+    """
+    out = []
+    for (row, n_train), group in preds.groupby(["row", "n_train"], sort=False):
+        bins = np.minimum((group["p"].to_numpy() * n_bins).astype(int), n_bins - 1)
+        for b in np.unique(bins):
+            inside = group[bins == b]
+            out.append(dict(row=row, n_train=n_train, bin=int(b), n=len(inside),
+                            share=len(inside) / len(group), predicted=inside["p"].mean(),
+                            observed=inside["y"].mean()))
+    return pd.DataFrame(out)
+
+
+def worst_gap(bins, min_share=0.05):
+    """Largest |observed - predicted| over the bins holding at least ``min_share``."""
+    big = bins[bins["share"] >= min_share]
+    gap = (big["observed"] - big["predicted"]).abs()
+    return big.assign(gap=gap).groupby(["row", "n_train"], sort=False)["gap"].max()
+
+
+def figure(bins, path):
+    """Reliability diagrams, one panel per training size; marker area ~ the bin's share."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    sizes = sorted(bins["n_train"].unique())
+    fig, axes = plt.subplots(1, len(sizes), figsize=(5.2 * len(sizes), 5), squeeze=False)
+    styles = {row: (f"C{i}", "--" if row.endswith("satisfaction") else "-")
+              for i, row in enumerate(ROWS)}
+    for ax, n_train in zip(axes[0], sizes):
+        ax.plot([0, 1], [0, 1], color="grey", lw=0.8)
+        for row in ROWS:
+            part = bins[(bins["row"] == row) & (bins["n_train"] == n_train)]
+            color, ls = styles[row]
+            ax.plot(part["predicted"], part["observed"], ls, color=color, lw=1.2, label=row)
+            ax.scatter(part["predicted"], part["observed"], s=400 * part["share"],
+                       color=color, alpha=0.6)
+        ax.set(title=f"{n_train} training missions", xlabel="predicted P(acceptable)",
+               ylabel="observed fraction acceptable", xlim=(-0.02, 1.02), ylim=(-0.02, 1.02))
+        ax.set_aspect("equal")
+    axes[0][0].legend(fontsize=7, loc="upper left")
+    fig.suptitle("LFE missions, held out: reliability of P(acceptable) "
+                 "(bins of 0.1; marker area ~ share of missions)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _ci(row, metric, digits=3):
+    value = row[metric]
+    if not np.isfinite(value):
+        return "inf"
+    return (f"{value:.{digits}f} [{row[f'{metric}_low']:.{digits}f}, "
+            f"{row[f'{metric}_high']:.{digits}f}]")
+
+
+def report(runs, table, diffs, gaps, config, seconds, command):
+    """The Markdown of RESULTS_predictive.md."""
+    info = machine_info()
+    bsi = runs[runs["row"].str.endswith(", predictive")]  # one line per fit
+    how = bsi.assign(setting=bsi["row"].str.removesuffix(", predictive")).groupby(
+        ["setting", "n_train"], sort=False).agg(
+        fits=("fit_s", "size"), exact=("inference", lambda s: int((s == "exact").sum())),
+        specs=("n_specifications", "median"), dropped=("dropped_mass", "max"),
+        flip=("flip_rate", "mean"), warnings=("warnings", "sum"), fit_s=("fit_s", "median"))
+    lines = [
+        "# The posterior predictive against the vote: held-out LFE missions (issue 31)", "",
+        "Generated by `benchmarks/bench_predictive.py` (its docstring has the protocol). "
+        "Missions from the study's simulator (paper propositions, "
+        f"{config['noise']:.0%} judgement noise) at study seed {config['seed']}, "
+        f"{config['repeats']} repeats; each fits `BSIClassifier(random_state=...)` with no "
+        "roles on 12 and 36 of its missions and is scored on its "
+        f"{config['test_size']} held-out missions, one classifier per objective (MO1-MO3). "
+        "`satisfaction` and `predictive` are the two votes of the *same* fit. Means over "
+        "repeats of the mean over the three objectives, Student-t 95 % intervals.", "",
+        f"- Command: `{command}`",
+        f"- Machine: {info['cpu']} (`lscpu | grep 'Model name'`), {info['usable_cores']} "
+        f"usable cores, load {info.get('load_average')}; commit {info['commit']}",
+        f"- Date: {info['date']}; run time {seconds:.0f} s wall, one process.",
+        f"- Versions: python {info['python']}, numpy {info['numpy']}, scikit-learn "
+        f"{info['scikit-learn']}, numba {info['numba']}.", "",
+        "## Scores", "",
+        "Log loss is scikit-learn's (probabilities clipped to [2.2e-16, 1 - 2.2e-16], so an "
+        "exact 0 or 1 on the wrong side costs 36 nats); *unclipped* is from "
+        "`predict_log_proba` (infinite when a mission gets probability exactly 0 of its "
+        "label). Worst bin: the largest |observed - predicted| of the reliability diagram's "
+        "bins (width 0.1) holding at least 5 % of the pooled test missions.", ""]
+    rows = []
+    for _, r in table.iterrows():
+        rows.append([int(r.n_train), r.row, _ci(r, "log_loss"), _ci(r, "log_loss_unclipped"),
+                     _ci(r, "brier"), _ci(r, "accuracy"),
+                     f"{gaps.get((r.row, r.n_train), np.nan):.3f}"])
+    lines += [md_table(["missions", "row", "log loss", "log loss, unclipped", "Brier",
+                        "accuracy", "worst bin"], rows), ""]
+    rows = [[d.setting, int(d.n_train), _ci(d, "log_loss"), _ci(d, "brier"),
+             _ci(d, "accuracy")] for _, d in diffs.iterrows()]
+    lines += ["## Predictive minus satisfaction (paired, repeat by repeat)", "",
+              md_table(["setting", "missions", "log loss", "Brier", "accuracy"], rows), "",
+              "![reliability](predictive/reliability.png)", "",
+              "## How the BSI fits were made", "",
+              md_table(["setting", "missions", "fits", "exact", "median specifications",
+                        "largest dropped mass", "mean flip_rate_", "warnings",
+                        "median fit + predict, s"],
+                       [[s, int(n), int(r.fits), int(r.exact), f"{r.specs:,.0f}",
+                         f"{r.dropped:.2g}", "-" if not np.isfinite(r.flip) else
+                         f"{r.flip:.3f}", int(r.warnings), f"{r.fit_s:.2f}"]
+                        for (s, n), r in how.iterrows()]), "",
+              "## Reading the rows", "",
+              "- CB's two rows are one fit read twice: the predictive is `eps + (1 - 2 eps) s`, "
+              "the vote `s` moved by at most the paper's `eps` (`e^-55` for five global "
+              "candidates and five subtasks), so they coincide up to rounding, and the "
+              "figure's CB lines lie on each other. Where the clipped log loss differs, the "
+              "vote's `1 - s` carries the rounding of the posterior's sum (about 1e-14 when every "
+              "formula accepts a mission), which scikit-learn's clipping scores as a smaller "
+              "loss than the predictive's exact `eps`, clipped to 2.2e-16: not a better "
+              "probability. Unclipped, a mission every formula labels wrongly costs "
+              "`-log eps` = 55 nats under the predictive and infinitely many under the vote.",
+              "- With the flip prior the posterior is nearly flat: the exact enumeration lists "
+              "at most 1,000,000 specifications (`inference.exact.MAX_KEPT`) and renormalises "
+              "them; *largest dropped mass* is what it left out, so those rows' probabilities "
+              "are over the listed specifications (`flip_rate_` is over the whole support).",
+              "- `flip_rate_` is the flip rate the model needs to explain the labels, its own "
+              "misfit included (no roles, few missions), not the simulator's judgement noise.",
+              ""]
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=10)
+    parser.add_argument("--sizes", default="12,36")
+    parser.add_argument("--noise", type=float, default=0.04)
+    parser.add_argument("--test-size", type=int, default=120)
+    parser.add_argument("--seed", type=int, default=2031,
+                        help="study seed (the repository's study runs use 0)")
+    parser.add_argument("--quick", action="store_true", help="2 repeats")
+    parser.add_argument("--out", default=None, help="folder (default: benchmarks/)")
+    args = parser.parse_args(argv)
+    out = Path(args.out) if args.out else Path(__file__).resolve().parent
+    if args.quick:
+        args.repeats = 2
+    config = dict(repeats=args.repeats, sizes=[int(s) for s in args.sizes.split(",")],
+                  noise=args.noise, test_size=args.test_size, seed=args.seed)
+    start = time.perf_counter()
+    runs, preds = [], []
+    for repeat in range(args.repeats):
+        r, p = run_repeat(repeat, config)
+        runs += r
+        preds += p
+        print(f"repeat {repeat + 1}/{args.repeats}: {time.perf_counter() - start:.0f} s",
+              file=sys.stderr)
+    runs, preds = pd.DataFrame(runs), pd.concat(preds, ignore_index=True)
+    table, diffs, bins = summary(runs), paired(runs), reliability(preds)
+    gaps = worst_gap(bins).to_dict()
+    folder = out / "predictive"
+    folder.mkdir(parents=True, exist_ok=True)
+    runs.to_csv(folder / "runs.csv", index=False)
+    table.to_csv(folder / "summary.csv", index=False)
+    bins.to_csv(folder / "reliability.csv", index=False)
+    figure(bins, folder / "reliability.png")
+    command = ("python benchmarks/bench_predictive.py " + " ".join(
+        argv if argv is not None else sys.argv[1:])).strip()
+    text = report(runs, table, diffs, gaps, config, time.perf_counter() - start, command)
+    (out / "RESULTS_predictive.md").write_text(text + "\n")
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,295 @@
+"""The posterior predictive: ``P(label = acceptable | demonstration, data)``, label noise included.
+
+Every specification ``phi`` of the posterior labels a demonstration it satisfies acceptable
+with probability ``1 - rho_phi`` and one it violates acceptable with probability ``rho_phi``
+(the flip rate). ``rho_phi`` is the likelihood's ``epsilon`` for CB, CI and the calibrated
+likelihood; with ``flip_prior=(a, b)`` it is the posterior mean of the flip rate given ``phi``,
+``(a + v_phi) / (a + b + n)``, where ``v_phi`` is the number of training demonstrations
+``phi`` misclassifies. The predictive is the posterior mixture of these label models
+(derivation: ``docs/likelihoods.md``, "The posterior predictive").
+
+The specifications are grouped by their flip rate (one group for a fixed ``epsilon``, one per
+value of ``v_phi`` with a flip prior), so a demonstration needs only the posterior mass it
+satisfies and the mass it violates in each group; everything after that is in log space, so
+that ``epsilon = exp(-2000)`` still gives an exact ``log P`` of the label it makes unlikely.
+"""
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+from sklearn.utils.validation import check_is_fitted
+
+from bsi_sklearn.clauses import pack_rows
+from bsi_sklearn.param_validation import validate_params
+from bsi_sklearn.traces import check_consistent_traces, check_traces
+
+__all__ = ["LabelNoise", "fixed_noise", "learned_noise", "misclassified", "label_noise",
+           "predictive_log_proba", "PosteriorPredictiveMixin"]
+
+
+class LabelNoise(NamedTuple):
+    """The flip rate of every specification of a posterior, grouped by value.
+
+    ``group[h]`` is the group of the ``h``-th specification; ``log_rho[g]`` and
+    ``log1m_rho[g]`` are ``log(rho)`` and ``log(1 - rho)`` of group ``g``, each computed
+    without cancellation.
+    """
+
+    group: np.ndarray      # (n_specs,) int64
+    log_rho: np.ndarray    # (n_groups,)
+    log1m_rho: np.ndarray  # (n_groups,)
+
+
+def fixed_noise(n_specs, log_eps):
+    """One flip rate ``epsilon = exp(log_eps)`` for every specification.
+
+    Examples
+    --------
+    >>> noise = fixed_noise(3, -2000.0)
+    >>> noise.group.tolist(), float(noise.log_rho[0]), float(noise.log1m_rho[0])
+    ([0, 0, 0], -2000.0, -0.0)
+    """
+    log_eps = float(log_eps)
+    # log(1 - e^x): expm1 near 0, log1p far from it (x = -2000 gives -0.0, not log(1 - 0)).
+    log1m = np.log(-np.expm1(log_eps)) if log_eps > -np.log(2.0) else np.log1p(-np.exp(log_eps))
+    return LabelNoise(np.zeros(n_specs, dtype=np.int64), np.array([log_eps]), np.array([log1m]))
+
+
+def learned_noise(violations, n_demos, flip_prior):
+    """Each specification's flip rate given the ``violations`` it makes on the training data.
+
+    A specification misclassifying ``v`` of ``n`` demonstrations has the flip rate's posterior
+    Beta(a + v, b + n - v); the probability that the next label is flipped is its mean,
+    ``(a + v) / (a + b + n)``.
+
+    Examples
+    --------
+    >>> noise = learned_noise([0, 2, 0], 8, (1.0, 9.0))
+    >>> noise.group.tolist(), np.exp(noise.log_rho).round(4).tolist()
+    ([0, 1, 0], [0.0556, 0.1667])
+    """
+    a, b = (float(x) for x in flip_prior)
+    values, group = np.unique(np.asarray(violations, dtype=float), return_inverse=True)
+    log_total = np.log(a + b + n_demos)
+    return LabelNoise(group.ravel().astype(np.int64), np.log(a + values) - log_total,
+                      np.log(b + n_demos - values) - log_total)
+
+
+@njit(cache=True, nogil=True)
+def _misclassified(masks, truth_words, w_pos, w_neg):
+    # Per specification: the acceptable rows it violates plus the unacceptable ones it
+    # satisfies, each distinct clause-truth row weighted by its number of demonstrations.
+    out = np.zeros(masks.shape[0])
+    for h in range(masks.shape[0]):
+        for i in range(truth_words.shape[0]):
+            ok = True
+            for w in range(masks.shape[1]):
+                if masks[h, w] & ~truth_words[i, w]:
+                    ok = False
+                    break
+            out[h] += w_neg[i] if ok else w_pos[i]
+    return out
+
+
+def misclassified(masks, truth, y01):
+    """Training demonstrations each specification misclassifies, from the clause truth.
+
+    Exact inference counts them by posterior mass only, not per listed specification; this
+    reads the clause truth ``fit`` already built (no trace is read again).
+
+    Parameters
+    ----------
+    masks : ndarray of shape (n_specs, n_words), uint64
+        The specifications' clause masks (``Posterior``'s).
+    truth : ndarray of shape (n_demos, n_clauses)
+        Clause truth of the training demonstrations.
+    y01 : ndarray of shape (n_demos,)
+        Their 0/1 labels.
+
+    Returns
+    -------
+    violations : ndarray of shape (n_specs,), float
+    """
+    words = pack_rows(np.ascontiguousarray(truth, dtype=np.uint8))
+    y01 = np.asarray(y01)
+    # Demonstrations with the same clause truth are interchangeable: count each row once.
+    rows, inverse = np.unique(words, axis=0, return_inverse=True)
+    inverse = inverse.ravel()
+    w_pos = np.bincount(inverse, weights=(y01 == 1).astype(float), minlength=len(rows))
+    w_neg = np.bincount(inverse, weights=(y01 == 0).astype(float), minlength=len(rows))
+    return _misclassified(masks, np.ascontiguousarray(rows), w_pos, w_neg)
+
+
+def label_noise(masks, log_eps, flip_prior, truth, y01, violations=None):
+    """The :class:`LabelNoise` of a fitted posterior.
+
+    ``log_eps`` without a flip prior; with ``flip_prior``, the flip rate given each
+    specification, from ``violations`` (MCMC counts them for its flip-rate posterior) or, when
+    ``None``, counted here from ``masks``, ``truth`` and ``y01``.
+    """
+    if flip_prior is None:
+        return fixed_noise(masks.shape[0], log_eps)
+    if violations is None:
+        violations = misclassified(masks, truth, y01)
+    return learned_noise(violations, len(y01), flip_prior)
+
+
+@njit(cache=True, nogil=True)
+def _masses(masks, probs, group, n_groups, truth_words):
+    # Per demonstration and flip-rate group: the posterior mass of the specifications it
+    # satisfies and, summed on its own (not 1 minus the first), the mass of those it violates.
+    n_d = truth_words.shape[0]
+    sat = np.zeros((n_d, n_groups))
+    viol = np.zeros((n_d, n_groups))
+    for i in range(n_d):
+        for h in range(masks.shape[0]):
+            ok = True
+            for w in range(masks.shape[1]):
+                if masks[h, w] & ~truth_words[i, w]:
+                    ok = False
+                    break
+            if ok:
+                sat[i, group[h]] += probs[h]
+            else:
+                viol[i, group[h]] += probs[h]
+    return sat, viol
+
+
+def predictive_log_proba(masks, probs, truth_words, noise):
+    """``log P(label | demonstration, data)`` of every demonstration, columns (0, 1).
+
+    ``P(1 | x) = sum_g S_g (1 - rho_g) + V_g rho_g`` and ``P(0 | x) = sum_g V_g (1 - rho_g)
+    + S_g rho_g``, with ``S_g`` / ``V_g`` the mass of group ``g`` that ``x`` satisfies /
+    violates; both summed in log space, then normalised together so that the rows'
+    probabilities sum to 1 to rounding.
+
+    Parameters
+    ----------
+    masks : ndarray of shape (n_specs, n_words), uint64
+        The specifications' clause masks.
+    probs : ndarray of shape (n_specs,)
+        Their posterior probabilities.
+    truth_words : ndarray of shape (n_demos, n_words), uint64
+        The demonstrations' packed clause truth.
+    noise : LabelNoise
+
+    Returns
+    -------
+    log_proba : ndarray of shape (n_demos, 2)
+
+    Examples
+    --------
+    >>> masks = np.array([[1], [3]], dtype=np.uint64)    # clause 0; clauses 0 and 1
+    >>> words = np.array([[1], [3]], dtype=np.uint64)    # x0 holds clause 0, x1 both
+    >>> lp = predictive_log_proba(masks, np.array([0.5, 0.5]), words, fixed_noise(2, -2000.0))
+    >>> np.exp(lp).round(3).tolist()                     # x0: half the mass satisfied
+    [[0.5, 0.5], [0.0, 1.0]]
+    >>> float(lp[1, 0])                                  # x1: only a flip makes it 0
+    -2000.0
+    """
+    n_groups = len(noise.log_rho)
+    sat, viol = _masses(masks, np.ascontiguousarray(probs, dtype=float), noise.group, n_groups,
+                        truth_words)
+    with np.errstate(divide="ignore"):  # a group with no mass on one side: log 0 = -inf
+        log_sat, log_viol = np.log(sat), np.log(viol)
+    keep, flip = noise.log1m_rho[None, :], noise.log_rho[None, :]
+    log_1 = np.logaddexp.reduce(np.concatenate([log_sat + keep, log_viol + flip], axis=1),
+                                axis=1)
+    log_0 = np.logaddexp.reduce(np.concatenate([log_viol + keep, log_sat + flip], axis=1),
+                                axis=1)
+    total = np.logaddexp(log_0, log_1)
+    return np.column_stack([log_0 - total, log_1 - total])
+
+
+class PosteriorPredictiveMixin:
+    """The predictions of :class:`~bsi_sklearn.BSIClassifier`.
+
+    ``predict_proba``, ``predict_log_proba`` and ``predict``, from ``posterior_``, the label
+    noise ``fit`` stored (``_label_noise``) and the ``vote`` parameter.
+    """
+
+    def _validated(self, X):
+        check_is_fitted(self)
+        traces = check_traces(X, binarize=self.binarize, estimator_name=type(self).__name__)
+        check_consistent_traces(traces, self.n_features_in_,
+                                getattr(self, "feature_names_in_", None), type(self).__name__)
+        return traces
+
+    def _by_satisfaction(self):
+        # vote is read at prediction time (set_params needs no refit): checked here too.
+        validate_params({"vote": self.vote}, {"vote": self._parameter_constraints["vote"]},
+                        type(self).__name__)
+        return self.vote == "satisfaction"
+
+    def predict_proba(self, X):
+        """Probability that each demonstration is acceptable.
+
+        ``vote="predictive"``: P(label = acceptable | X, data), the posterior over formulas and
+        label noise (``docs/likelihoods.md``, "The posterior predictive"); exact when the
+        posterior is. ``vote="satisfaction"``: the posterior mass of the formulas X satisfies.
+
+        Parameters
+        ----------
+        X : demonstrations, in any format accepted by :meth:`fit`.
+
+        Returns
+        -------
+        proba : ndarray of shape (n_demos, 2)
+            Columns follow ``classes_``; each row sums to 1.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from bsi_sklearn import BSIClassifier
+        >>> X = [np.array([[1, 0, 0], [1, 1, 0], [1, 1, 1]]),   # safe; a, then b: acceptable
+        ...      np.array([[1, 0, 0], [1, 0, 1], [1, 1, 1]])]   # b before a: unacceptable
+        >>> clf = BSIClassifier(global_candidates=[0], subtasks=[1, 2], likelihood="ci",
+        ...                     flip_prior=(1, 9), random_state=0).fit(X, [1, 0])
+        >>> clf.predict_proba(X).round(3)                 # the labels may be flipped
+        array([[0.103, 0.897],
+               [0.845, 0.155]])
+        >>> clf.set_params(vote="satisfaction").predict_proba(X).round(3)  # the vote
+        array([[0.02 , 0.98 ],
+               [0.903, 0.097]])
+        """
+        if self._by_satisfaction():
+            return self.posterior_.predict_proba(self._validated(X))
+        return np.exp(self.predict_log_proba(X))
+
+    def predict_log_proba(self, X):
+        """Logarithm of :meth:`predict_proba`.
+
+        Under ``vote="predictive"`` it is computed in log space: finite wherever the label
+        noise leaves a label possible, e.g. ``log epsilon`` for a demonstration every formula
+        rejects, even where :meth:`predict_proba` rounds that probability to 0.
+
+        Parameters
+        ----------
+        X : demonstrations, in any format accepted by :meth:`fit`.
+
+        Returns
+        -------
+        log_proba : ndarray of shape (n_demos, 2)
+        """
+        traces = self._validated(X)
+        if self._by_satisfaction():
+            with np.errstate(divide="ignore"):
+                return np.log(self.posterior_.predict_proba(traces))
+        post = self.posterior_
+        return predictive_log_proba(post._masks, post.probabilities, post._truth_words(traces),
+                                    self._label_noise)
+
+    def predict(self, X):
+        """The Bayes decision: the class :meth:`predict_proba` favours, acceptable on a tie.
+
+        Parameters
+        ----------
+        X : demonstrations, in any format accepted by :meth:`fit`.
+
+        Returns
+        -------
+        y_pred : ndarray of shape (n_demos,)
+        """
+        proba = self.predict_proba(X)
+        return self.classes_[(proba[:, 1] >= proba[:, 0]).astype(int)]

@@ -1,0 +1,67 @@
+"""benchmarks/bench_predictive.py: its scores, bins and paired differences against hand counts."""
+
+import importlib.util
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+SCRIPT = ROOT / "benchmarks" / "bench_predictive.py"
+pytestmark = pytest.mark.skipif(not SCRIPT.is_file(), reason="benchmarks/ is not in this checkout")
+
+
+def _load():
+    spec = importlib.util.spec_from_file_location("_bench_predictive", SCRIPT)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_scores_clip_as_scikit_learn_and_keep_the_unclipped_log_loss():
+    bench = _load()
+    y = np.array([1, 0, 1, 0])
+    p1 = np.array([1.0, 0.0, 0.75, 1.0])  # the last: certain and wrong
+    with np.errstate(divide="ignore"):
+        log_p = np.log(np.column_stack([1 - p1, p1]))
+    s = bench._scores(y, p1, log_p, (p1 >= 0.5).astype(int))
+    eps = np.finfo(float).eps
+    assert s["log_loss"] == pytest.approx((-math.log(0.75) - math.log(eps)) / 4, rel=1e-6)
+    assert s["log_loss_unclipped"] == math.inf
+    assert s["brier"] == pytest.approx((0.0625 + 1.0) / 4)
+    assert s["accuracy"] == 0.75
+
+
+def test_reliability_bins_and_the_worst_gap_over_the_big_bins():
+    bench = _load()
+    p = np.array([0.05] * 10 + [0.95] * 9 + [0.55])
+    y = np.array([0] * 9 + [1] + [1] * 6 + [0] * 3 + [1])
+    preds = pd.DataFrame(dict(row="r", n_train=12, p=p, y=y))
+    bins = bench.reliability(preds)
+    assert bins["bin"].tolist() == [0, 5, 9]
+    assert bins["share"].tolist() == [0.5, 0.05, 0.45]
+    assert bins["observed"].tolist() == pytest.approx([0.1, 1.0, 6 / 9])
+    # the 0.55 bin holds exactly 5 %: counted, its gap 0.45 the largest
+    assert bench.worst_gap(bins)[("r", 12)] == pytest.approx(0.45)
+    assert bench.worst_gap(bins, min_share=0.1)[("r", 12)] == pytest.approx(0.95 - 6 / 9)
+
+
+def test_paired_differences_are_taken_repeat_by_repeat():
+    bench = _load()
+    rows = []
+    for setting in bench.SETTINGS:
+        for repeat, (sat, pred) in enumerate([(1.0, 0.5), (2.0, 1.0), (3.0, 2.5)]):
+            for vote, value in (("satisfaction", sat), ("predictive", pred)):
+                rows.append(dict(row=f"{setting}, {vote}", n_train=12, repeat=repeat,
+                                 objective="MO1", log_loss=value, brier=value / 10,
+                                 accuracy=0.5))
+    diffs = bench.paired(pd.DataFrame(rows))
+    d = np.array([-0.5, -1.0, -0.5])
+    half = 4.302652729911275 * d.std(ddof=1) / np.sqrt(3)  # t(0.975, 2)
+    for _, r in diffs.iterrows():
+        assert r.log_loss == pytest.approx(d.mean())
+        assert (r.log_loss_low, r.log_loss_high) == pytest.approx((d.mean() - half,
+                                                                   d.mean() + half))
+        assert r.accuracy == 0.0
