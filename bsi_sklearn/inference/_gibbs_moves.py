@@ -186,7 +186,7 @@ def flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u, beta):
     return new, (ll_in if new else ll_out), used
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _push_pair(bufs, k, lp, sums, n_conj, demos, model, beta, le_in, le_out):
     # Two candidates of a structure move at one place: k without F(v), k + 1 with it.
     # sums = (ps_out, ns_out, ps_in, ns_in) from flip_sums; n_conj excludes F(v);
