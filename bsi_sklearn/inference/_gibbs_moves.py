@@ -79,11 +79,14 @@ def zero_mask(viol, zmask):
     so only these rows can satisfy a candidate: the candidates are weighed over them alone,
     as bitsets (``Demos.bits``) and weighted popcounts (``Demos.pos_planes``, ``neg_planes``).
     """
+    # A word at a time, without branches (the rows past the last are never set).
+    n_rows = viol.shape[0]
     for w in range(zmask.shape[1]):
-        zmask[0, w] = 0
-    for d in range(viol.shape[0]):
-        if viol[d] == 0:
-            zmask[0, d >> 6] |= np.uint64(1) << np.uint64(d & 63)
+        word = np.uint64(0)
+        base = w << 6
+        for b in range(min(64, n_rows - base)):
+            word |= np.uint64(viol[base + b] == 0) << np.uint64(b)
+        zmask[0, w] = word
 
 
 @njit(cache=True, nogil=True, inline="always")

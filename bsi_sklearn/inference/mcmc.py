@@ -127,8 +127,9 @@ def deduplicate_demos(truth, y01):
 
 def _planes(weights):
     # Bit-plane k of whole-number weights, packed: a weighted count is a sum of popcounts.
+    # No planes when every weight is 0 (no unacceptable demonstrations): nothing to count.
     w = weights.astype(np.int64)
-    n_planes = max(1, int(w.max(initial=0)).bit_length())
+    n_planes = int(w.max(initial=0)).bit_length()
     return pack_rows(((w[None, :] >> np.arange(n_planes)[:, None]) & 1).astype(np.uint8))
 
 
