@@ -27,7 +27,7 @@ from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.specification import Specification
 from bsi_sklearn.traces import Traces, check_consistent_traces, check_traces
 
-__all__ = ["Posterior", "SCHEMA", "SCHEMA_VERSION"]
+__all__ = ["Posterior", "SCHEMA", "SCHEMA_VERSION", "satisfied_masses"]
 
 
 @njit(cache=True, nogil=True)
@@ -55,12 +55,17 @@ def _clause_masks(structures, tau_masks, w1_masks, n_g, n):
 
 
 @njit(cache=True, nogil=True)
-def _vote(masks, probs, truth_words):
-    # P(acceptable) of every demonstration: mass of specifications whose clauses all hold.
+def satisfied_masses(masks, probs, group, n_groups, truth_words):
+    """Posterior masses satisfied and violated, per demonstration and group of specifications.
+
+    A demonstration satisfies a specification when all its clauses hold; the violated mass is
+    summed on its own (not 1 minus the first). ``group[h]`` in ``[0, n_groups)``; the vote is
+    one group.
+    """
     n_d = truth_words.shape[0]
-    out = np.zeros(n_d)
+    sat = np.zeros((n_d, n_groups))
+    viol = np.zeros((n_d, n_groups))
     for i in range(n_d):
-        acc = 0.0
         for h in range(masks.shape[0]):
             ok = True
             for w in range(masks.shape[1]):
@@ -68,9 +73,16 @@ def _vote(masks, probs, truth_words):
                     ok = False
                     break
             if ok:
-                acc += probs[h]
-        out[i] = acc
-    return out
+                sat[i, group[h]] += probs[h]
+            else:
+                viol[i, group[h]] += probs[h]
+    return sat, viol
+
+
+def _vote(masks, probs, truth_words):
+    # P(acceptable) of every demonstration: mass of specifications whose clauses all hold.
+    one = np.zeros(masks.shape[0], dtype=np.int64)
+    return satisfied_masses(masks, probs, one, 1, truth_words)[0][:, 0].copy()
 
 
 class Posterior:

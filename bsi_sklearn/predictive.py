@@ -22,6 +22,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn.clauses import pack_rows
 from bsi_sklearn.param_validation import validate_params
+from bsi_sklearn.posterior import satisfied_masses
 from bsi_sklearn.traces import check_consistent_traces, check_traces
 
 __all__ = ["LabelNoise", "fixed_noise", "learned_noise", "misclassified", "label_noise",
@@ -135,27 +136,6 @@ def label_noise(masks, log_eps, flip_prior, truth, y01, violations=None):
     return learned_noise(violations, len(y01), flip_prior)
 
 
-@njit(cache=True, nogil=True)
-def _masses(masks, probs, group, n_groups, truth_words):
-    # Per demonstration and flip-rate group: the posterior mass of the specifications it
-    # satisfies and, summed on its own (not 1 minus the first), the mass of those it violates.
-    n_d = truth_words.shape[0]
-    sat = np.zeros((n_d, n_groups))
-    viol = np.zeros((n_d, n_groups))
-    for i in range(n_d):
-        for h in range(masks.shape[0]):
-            ok = True
-            for w in range(masks.shape[1]):
-                if masks[h, w] & ~truth_words[i, w]:
-                    ok = False
-                    break
-            if ok:
-                sat[i, group[h]] += probs[h]
-            else:
-                viol[i, group[h]] += probs[h]
-    return sat, viol
-
-
 def predictive_log_proba(masks, probs, truth_words, noise):
     """``log P(label | demonstration, data)`` of every demonstration, columns (0, 1).
 
@@ -189,8 +169,8 @@ def predictive_log_proba(masks, probs, truth_words, noise):
     -2000.0
     """
     n_groups = len(noise.log_rho)
-    sat, viol = _masses(masks, np.ascontiguousarray(probs, dtype=float), noise.group, n_groups,
-                        truth_words)
+    sat, viol = satisfied_masses(masks, np.ascontiguousarray(probs, dtype=float), noise.group,
+                                 n_groups, truth_words)
     with np.errstate(divide="ignore"):  # a group with no mass on one side: log 0 = -inf
         log_sat, log_viol = np.log(sat), np.log(viol)
     keep, flip = noise.log1m_rho[None, :], noise.log_rho[None, :]
