@@ -5,13 +5,10 @@ import os
 
 import numpy as np
 import pandas as pd
-from numba import njit
 
 from bsi_sklearn.clauses import (
-    clause_index_eventual,
     clause_index_order,
     clause_truth,
-    n_clauses,
     pack_rows,
 )
 from bsi_sklearn.io.posterior_file import (
@@ -24,65 +21,11 @@ from bsi_sklearn.io.posterior_file import (
     write_posterior,
 )
 from bsi_sklearn.param_validation import Interval, validate_params
+from bsi_sklearn.satisfaction import clause_masks, vote
 from bsi_sklearn.specification import Specification
 from bsi_sklearn.traces import Traces, check_consistent_traces, check_traces
 
-__all__ = ["Posterior", "SCHEMA", "SCHEMA_VERSION", "satisfied_masses"]
-
-
-@njit(cache=True, nogil=True)
-def _clause_masks(structures, tau_masks, w1_masks, n_g, n):
-    n_h = structures.shape[0]
-    n_cl = n_clauses(n_g, n)
-    n_words = (n_cl + 63) // 64
-    out = np.zeros((n_h, n_words), dtype=np.uint64)
-    one = np.uint64(1)
-    for h in range(n_h):
-        for j in range(n_g):
-            if tau_masks[h, j]:
-                out[h, j >> 6] |= one << np.uint64(j & 63)
-        for w in range(n):
-            if w1_masks[h, w]:
-                c = clause_index_eventual(w, n_g)
-                out[h, c >> 6] |= one << np.uint64(c & 63)
-        for v in range(n):
-            a = structures[h, v]
-            while a >= 0:
-                c = clause_index_order(a, v, n_g, n)
-                out[h, c >> 6] |= one << np.uint64(c & 63)
-                a = structures[h, a]
-    return out
-
-
-@njit(cache=True, nogil=True)
-def satisfied_masses(masks, probs, group, n_groups, truth_words):
-    """Posterior masses satisfied and violated, per demonstration and group of specifications.
-
-    A demonstration satisfies a specification when all its clauses hold; the violated mass is
-    summed on its own (not 1 minus the first). ``group[h]`` in ``[0, n_groups)``; the vote is
-    one group.
-    """
-    n_d = truth_words.shape[0]
-    sat = np.zeros((n_d, n_groups))
-    viol = np.zeros((n_d, n_groups))
-    for i in range(n_d):
-        for h in range(masks.shape[0]):
-            ok = True
-            for w in range(masks.shape[1]):
-                if masks[h, w] & ~truth_words[i, w]:
-                    ok = False
-                    break
-            if ok:
-                sat[i, group[h]] += probs[h]
-            else:
-                viol[i, group[h]] += probs[h]
-    return sat, viol
-
-
-def _vote(masks, probs, truth_words):
-    # P(acceptable) of every demonstration: mass of specifications whose clauses all hold.
-    one = np.zeros(masks.shape[0], dtype=np.int64)
-    return satisfied_masses(masks, probs, one, 1, truth_words)[0][:, 0].copy()
+__all__ = ["Posterior", "SCHEMA", "SCHEMA_VERSION"]
 
 
 class Posterior:
@@ -140,7 +83,7 @@ class Posterior:
         self.probabilities = np.asarray(probabilities, dtype=float)
         self.roles = roles
         self.dropped_mass = float(dropped_mass)
-        self._masks = _clause_masks(
+        self._masks = clause_masks(
             self._structures, self._tau, self._w1, roles.n_globals, roles.n_subtasks
         )
         if clause_marginals is None:
@@ -309,7 +252,7 @@ class Posterior:
         -------
         ndarray of shape (n_demos, 2)
         """
-        p1 = np.clip(_vote(self._masks, self.probabilities, self._truth_words(X)), 0.0, 1.0)
+        p1 = np.clip(vote(self._masks, self.probabilities, self._truth_words(X)), 0.0, 1.0)
         return np.column_stack([1.0 - p1, p1])
 
     @property

@@ -22,7 +22,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn.clauses import pack_rows
 from bsi_sklearn.param_validation import validate_params
-from bsi_sklearn.posterior import satisfied_masses
+from bsi_sklearn.satisfaction import satisfied_masses
 from bsi_sklearn.traces import check_consistent_traces, check_traces
 
 __all__ = ["LabelNoise", "fixed_noise", "learned_noise", "misclassified", "label_noise",

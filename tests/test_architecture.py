@@ -194,7 +194,7 @@ LAYERS = [
     {"clauses"},
     {"priors", "likelihood", "model"},
     {"inference"},
-    {"posterior", "predictive", "metrics", "monitor", "monitor_figure",
+    {"satisfaction", "posterior", "predictive", "metrics", "monitor", "monitor_figure",
      "active"},
     {"classifier"},
 ]

@@ -1,0 +1,70 @@
+"""Which specifications a demonstration satisfies: clause bitsets and the masses they hold.
+
+A specification's clauses are a bitset over the clause slots (:mod:`bsi_sklearn.clauses`); a
+demonstration satisfies it when every one of those clauses is true on it. The paper's vote
+(:meth:`bsi_sklearn.Posterior.predict_proba`) and the posterior predictive
+(:mod:`bsi_sklearn.predictive`) both sum posterior mass over that test, here.
+"""
+
+import numpy as np
+from numba import njit
+
+from bsi_sklearn.clauses import clause_index_eventual, clause_index_order, n_clauses
+
+__all__ = ["clause_masks", "satisfied_masses", "vote"]
+
+
+@njit(cache=True, nogil=True)
+def clause_masks(structures, tau_masks, w1_masks, n_g, n):
+    """Every specification's clauses as a bitset over the clause slots (``clauses`` layout)."""
+    n_h = structures.shape[0]
+    n_cl = n_clauses(n_g, n)
+    n_words = (n_cl + 63) // 64
+    out = np.zeros((n_h, n_words), dtype=np.uint64)
+    one = np.uint64(1)
+    for h in range(n_h):
+        for j in range(n_g):
+            if tau_masks[h, j]:
+                out[h, j >> 6] |= one << np.uint64(j & 63)
+        for w in range(n):
+            if w1_masks[h, w]:
+                c = clause_index_eventual(w, n_g)
+                out[h, c >> 6] |= one << np.uint64(c & 63)
+        for v in range(n):
+            a = structures[h, v]
+            while a >= 0:
+                c = clause_index_order(a, v, n_g, n)
+                out[h, c >> 6] |= one << np.uint64(c & 63)
+                a = structures[h, a]
+    return out
+
+
+@njit(cache=True, nogil=True)
+def satisfied_masses(masks, probs, group, n_groups, truth_words):
+    """Posterior masses satisfied and violated, per demonstration and group of specifications.
+
+    A demonstration satisfies a specification when all its clauses hold; the violated mass is
+    summed on its own (not 1 minus the first). ``group[h]`` in ``[0, n_groups)``; the vote is
+    one group.
+    """
+    n_d = truth_words.shape[0]
+    sat = np.zeros((n_d, n_groups))
+    viol = np.zeros((n_d, n_groups))
+    for i in range(n_d):
+        for h in range(masks.shape[0]):
+            ok = True
+            for w in range(masks.shape[1]):
+                if masks[h, w] & ~truth_words[i, w]:
+                    ok = False
+                    break
+            if ok:
+                sat[i, group[h]] += probs[h]
+            else:
+                viol[i, group[h]] += probs[h]
+    return sat, viol
+
+
+def vote(masks, probs, truth_words):
+    """The paper's vote: per demonstration, the mass of the specifications it satisfies."""
+    one = np.zeros(masks.shape[0], dtype=np.int64)
+    return satisfied_masses(masks, probs, one, 1, truth_words)[0][:, 0].copy()
