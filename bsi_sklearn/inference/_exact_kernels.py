@@ -24,7 +24,7 @@ from bsi_sklearn.priors import structure_log_prior
 
 __all__ = ["StructureSide", "SubsetSide", "Likelihoods", "Listing", "likelihood_tables",
            "pair_ll", "pair_ll_many",
-           "log_evidence", "group_masses", "list_hypotheses", "MAX_CELLS"]
+           "log_evidence", "group_masses", "list_hypotheses", "walk_scratch", "MAX_CELLS"]
 
 #: Largest (satisfied positives x satisfied negatives) table of the passes' caches; above it
 #: every pair of groups pays a log and an exp instead.
@@ -370,8 +370,34 @@ def _expand(rec, k, attach, parent, pend_e, pend_a, n_pend):
     return n_pend + 1
 
 
+class _Walk(NamedTuple):
+    # The scratch of list_hypotheses' depth-first walk (allocated by Python, see walk_scratch).
+    parent: np.ndarray  # (n,) int64
+    scratch: np.ndarray  # (n,) int64
+    pend_e: np.ndarray  # (n + 1,) int64: entries still to expand, and where they hang
+    pend_a: np.ndarray
+    fr_e: np.ndarray    # (2 n + 2,) int64: the frames of the walk
+    fr_a: np.ndarray
+    fr_k: np.ndarray
+    fr_n: np.ndarray
+    fr_pe: np.ndarray   # (2 n + 2, n + 1) int64
+    fr_pa: np.ndarray
+    heap_lp: np.ndarray  # (room,) float64: the min-heap of the kept hypotheses
+    heap_slot: np.ndarray  # (room,) int64
+
+
+def walk_scratch(n, room):
+    """The scratch arrays of :func:`list_hypotheses` for ``n`` subtasks, ``room`` hypotheses."""
+    depth = 2 * n + 2
+    return _Walk(np.full(n, -1, dtype=np.int64), np.zeros(n, dtype=np.int64),
+                 *[np.empty(n + 1, dtype=np.int64) for _ in range(2)],
+                 *[np.empty(depth, dtype=np.int64) for _ in range(4)],
+                 *[np.empty((depth, n + 1), dtype=np.int64) for _ in range(2)],
+                 np.empty(room), np.empty(room, dtype=np.int64))
+
+
 @njit(cache=True, nogil=True)
-def list_hypotheses(model, hs, subsets, ls, out_par, out_idx, out_lp):
+def list_hypotheses(model, hs, subsets, ls, out_par, out_idx, out_lp, wk):
     """Enumerate the structures of the target entries and list their kept hypotheses.
 
     Every structure of a target is rebuilt from its derivations (a depth-first walk with a
@@ -379,24 +405,12 @@ def list_hypotheses(model, hs, subsets, ls, out_par, out_idx, out_lp):
     to ``out_*`` (structure, [global mask, eventual mask], unnormalised log posterior), in no
     particular order; when there are more than they have room for, a min-heap keeps the most
     probable. Returns the number of hypotheses at or above ``ls.keep``, which may exceed the
-    room in ``out_*``.
+    room in ``out_*``. ``wk``: :func:`walk_scratch`.
     """
-    n = model.n
-    parent = np.full(n, -1, dtype=np.int64)
-    scratch = np.zeros(n, dtype=np.int64)
-    depth = 2 * n + 2
-    pend_e = np.empty(n + 1, dtype=np.int64)
-    pend_a = np.empty(n + 1, dtype=np.int64)
-    fr_e = np.empty(depth, dtype=np.int64)
-    fr_a = np.empty(depth, dtype=np.int64)
-    fr_k = np.empty(depth, dtype=np.int64)
-    fr_n = np.empty(depth, dtype=np.int64)
-    fr_pe = np.empty((depth, n + 1), dtype=np.int64)
-    fr_pa = np.empty((depth, n + 1), dtype=np.int64)
-    cap = out_lp.shape[0]
-    heap_lp = np.empty(cap)
-    heap_slot = np.empty(cap, dtype=np.int64)
-    k = 0
+    parent, scratch, pend_e, pend_a = wk.parent, wk.scratch, wk.pend_e, wk.pend_a
+    fr_e, fr_a, fr_k, fr_n, fr_pe, fr_pa = wk.fr_e, wk.fr_a, wk.fr_k, wk.fr_n, wk.fr_pe, wk.fr_pa
+    heap_lp, heap_slot = wk.heap_lp, wk.heap_slot
+    k = np.int64(0)
     for ti in range(ls.targets.shape[0]):
         g = ls.group[ti]
         n_pend = 0
@@ -413,8 +427,9 @@ def list_hypotheses(model, hs, subsets, ls, out_par, out_idx, out_lp):
                     fr_e[d] = pend_e[n_pend]
                     fr_a[d] = pend_a[n_pend]
                     fr_n[d] = n_pend
-                    fr_pe[d, :n_pend] = pend_e[:n_pend]
-                    fr_pa[d, :n_pend] = pend_a[:n_pend]
+                    for i in range(n_pend):
+                        fr_pe[d, i] = pend_e[i]
+                        fr_pa[d, i] = pend_a[i]
                     fr_k[d] = ls.rec_start[fr_e[d]]
                     n_pend = _expand(ls.rec, fr_k[d], fr_a[d], parent, pend_e, pend_a, n_pend)
                     d += 1
@@ -432,8 +447,9 @@ def list_hypotheses(model, hs, subsets, ls, out_par, out_idx, out_lp):
                 continue
             fr_k[d] = nxt
             n_pend = fr_n[d]
-            pend_e[:n_pend] = fr_pe[d, :n_pend]
-            pend_a[:n_pend] = fr_pa[d, :n_pend]
+            for i in range(n_pend):
+                pend_e[i] = fr_pe[d, i]
+                pend_a[i] = fr_pa[d, i]
             n_pend = _expand(ls.rec, nxt, fr_a[d], parent, pend_e, pend_a, n_pend)
             d += 1
             down = True

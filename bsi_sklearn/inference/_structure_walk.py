@@ -17,11 +17,11 @@ from numba import njit
 from bsi_sklearn.inference._structures import (
     BLOCK,
     PART,
+    _scratch,
     and_pop,
     candidates,
     find,
     first_subtasks,
-    local_table,
     n_bits,
     problem,
 )
@@ -102,35 +102,46 @@ def _live(out, mark, start, stop):
 
 
 @njit(cache=True, nogil=True)
-def _rec_room(rec, need):
-    if need <= rec.shape[0]:
-        return rec
-    bigger = np.empty((max(need, 2 * rec.shape[0]), 4), dtype=np.int64)
-    bigger[:rec.shape[0]] = rec
-    return bigger
+def _local_table(ht, cur, st, start, stop):
+    # The subset's hash table holding entries start:stop (descend made it big enough).
+    loc, stamp = ht
+    for e in range(start, stop):
+        i, _ = find(loc, stamp, cur, st.bits, st.size, st.aux, st.bits[e], st.size[e],
+                    st.aux[e])
+        loc[i] = e
+        stamp[i] = cur
+
+
+# Where _descend is (an int64 array, so that it can stop when the records are full and be
+# called again where it stopped once Python has made room): the subset, the kind of step, the
+# number of records and the hash table's stamp.
+_S, _KIND, _N_REC, _CUR = range(4)
 
 
 @njit(cache=True, nogil=True)
-def _descend(tabs, pb, out, mark):
+def _descend(tabs, pb, acc, rec, ht, scr, at):
     # From the whole set down: posterior mass per unit weight (out) of every entry, the
-    # order-clause marginals, and the derivations (records) of the marked entries.
+    # order-clause marginals, and the derivations (records) of the marked entries. Returns 0
+    # when done, or the number of records needed when rec is too small for the next step.
     n = pb.n
-    n_sets = 1 << n
     lo, hi = tabs.lo, tabs.hi
-    acc = (out, mark, np.zeros(n * n))
-    rec = np.empty((1024, 4), dtype=np.int64)
-    n_rec = 0
-    cand = np.empty(max(1, n_sets >> 1), dtype=np.int64)
-    fs = np.empty(n, dtype=np.int64)
-    rs = np.empty((n, pb.full.shape[0]), dtype=np.uint64)
-    ht = (np.zeros(1024, dtype=np.int64), np.zeros(1024, dtype=np.int64))
-    cur = 0
-    bits = np.empty(pb.full.shape[0], dtype=np.uint64)
-    for s in range(n_sets - 1, 0, -1):
-        live, marked = _live(out, mark, lo[PART, s], hi[PART, s])
-        if pb.use_part and live:
-            cur += 1
-            ht = local_table(ht, cur, tabs, lo[PART, s], hi[PART, s])
+    out, mark, _ = acc
+    cand, fs, rs, bits = scr.cand, scr.fs, scr.rs, scr.bits
+    s = at[_S]
+    kind = at[_KIND]
+    n_rec = at[_N_REC]
+    cur = at[_CUR]
+    need = 0
+    while s > 0:
+        live, marked = _live(out, mark, lo[kind, s], hi[kind, s])
+        if kind == PART and not (pb.use_part and live):
+            kind = BLOCK
+            continue
+        if kind == BLOCK and not live:
+            kind = PART
+            s -= 1
+            continue
+        if kind == PART:
             n_c, _ = candidates(s, n, lo, hi, tabs.lists, cand)
             if marked:
                 n_comb = 0
@@ -138,18 +149,25 @@ def _descend(tabs, pb, out, mark):
                     b = cand[j]
                     n_comb += ((hi[BLOCK, b] - lo[BLOCK, b])
                                * (hi[PART, s ^ b] - lo[PART, s ^ b]))
-                rec = _rec_room(rec, n_rec + n_comb)
+                if n_rec + n_comb > rec.shape[0]:
+                    need = n_rec + n_comb
+                    break
+            cur += 1
+            _local_table(ht, cur, tabs, lo[PART, s], hi[PART, s])
             n_rec = _part_down(pb, tabs, s, cand, n_c, ht, cur, acc, rec, n_rec, bits)
-        live, marked = _live(out, mark, lo[BLOCK, s], hi[BLOCK, s])
-        if not live:
-            continue
-        cur += 1
-        ht = local_table(ht, cur, tabs, lo[BLOCK, s], hi[BLOCK, s])
-        n_f, n_comb, _ = first_subtasks(pb, lo, hi, s, fs, rs)
-        if marked:
-            rec = _rec_room(rec, n_rec + n_comb)
-        n_rec = _block_down(pb, tabs, s, fs, n_f, rs, ht, cur, acc, rec, n_rec, bits)
-    return acc[2], rec[:n_rec]
+            kind = BLOCK
+        else:
+            n_f, n_comb, _ = first_subtasks(pb, lo, hi, s, fs, rs)
+            if marked and n_rec + n_comb > rec.shape[0]:
+                need = n_rec + n_comb
+                break
+            cur += 1
+            _local_table(ht, cur, tabs, lo[BLOCK, s], hi[BLOCK, s])
+            n_rec = _block_down(pb, tabs, s, fs, n_f, rs, ht, cur, acc, rec, n_rec, bits)
+            kind = PART
+            s -= 1
+    at[_S], at[_KIND], at[_N_REC], at[_CUR] = s, kind, n_rec, cur
+    return need
 
 
 def descend(tables, clause_bits, full, pos, thr, model, top_ids, top_out, marked):
@@ -179,7 +197,22 @@ def descend(tables, clause_bits, full, pos, thr, model, top_ids, top_out, marked
     out[top_ids] = top_out
     mark = np.zeros(len(tables.weight), dtype=np.uint8)
     mark[top_ids[marked]] = 1
-    marg, rec = _descend(tables, problem(clause_bits, full, pos, thr, model), out, mark)
+    pb = problem(clause_bits, full, pos, thr, model)
+    acc = (out, mark, np.zeros(pb.n * pb.n))
+    # One hash table, big enough for every subset's entries (4 slots an entry at least).
+    cap = 1024
+    while cap < 4 * (tables.hi - tables.lo).max(initial=0):
+        cap *= 2
+    ht = (np.zeros(cap, dtype=np.int64), np.zeros(cap, dtype=np.int64))
+    rec = np.empty((1024, 4), dtype=np.int64)
+    at = np.zeros(4, dtype=np.int64)
+    at[_S], at[_KIND] = (1 << pb.n) - 1, PART
+    scr = _scratch(pb.n, full.shape[0])
+    while (need := _descend(tables, pb, acc, rec, ht, scr, at)) > 0:
+        bigger = np.empty((max(need, 2 * rec.shape[0]), 4), dtype=np.int64)
+        bigger[:at[_N_REC]] = rec[:at[_N_REC]]
+        rec = bigger
+    marg, rec = acc[2], rec[:at[_N_REC]]
     order = np.argsort(rec[:, 0], kind="stable")
     rec = rec[order]
     rec_start = np.searchsorted(rec[:, 0], np.arange(len(tables.weight) + 1)).astype(np.int64)

@@ -32,7 +32,7 @@ from numba import njit
 from bsi_sklearn.clauses import popcount
 
 __all__ = ["StructureTables", "structure_tables", "whole_kind", "problem", "n_bits", "and_pop",
-           "find", "local_table", "candidates", "first_subtasks", "BLOCK", "PART", "COMBO_COST",
+           "find", "candidates", "first_subtasks", "BLOCK", "PART", "COMBO_COST",
            "STEP_COST", "ENTRY_COST"]
 
 #: The two kinds of table entries: blocks (one chain, one tree) and whole structures.
@@ -154,27 +154,10 @@ def find(loc, stamp, cur, t_bits, t_size, t_aux, bits, size, aux):
 
 
 @njit(cache=True, nogil=True)
-def local_table(ht, cur, st, start, stop):
-    # The subset's hash table holding entries start:stop, with room for as many again.
-    loc, stamp = ht
-    cap = loc.shape[0]
-    while cap < 4 * (stop - start):
-        cap *= 2
-    if cap > loc.shape[0]:
-        loc = np.zeros(cap, dtype=np.int64)
-        stamp = np.zeros(cap, dtype=np.int64)
-    for e in range(start, stop):
-        i, _ = find(loc, stamp, cur, st.bits, st.size, st.aux, st.bits[e], st.size[e],
-                     st.aux[e])
-        loc[i] = e
-        stamp[i] = cur
-    return loc, stamp
-
-
-@njit(cache=True, nogil=True)
 def _orders_from(pb, f, rest, r):
     # r = AND of the clauses f -> u, u in rest; returns the acceptable demonstrations in r.
-    r[:] = pb.full
+    for w in range(r.shape[0]):
+        r[w] = pb.full[w]
     for u in range(pb.n):
         if (rest >> u) & 1:
             for w in range(r.shape[0]):
@@ -265,7 +248,8 @@ class _Store(NamedTuple):
 
 @njit(cache=True, nogil=True, inline="always")
 def _new_entry(st, e, bits, size, aux):
-    st.bits[e] = bits
+    for w in range(bits.shape[0]):
+        st.bits[e, w] = bits[w]
     st.size[e] = size
     st.aux[e] = aux
     st.weight[e] = 0.0
@@ -339,34 +323,21 @@ def _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits):
     return n_e
 
 
-@njit(cache=True, nogil=True)
 def _new_store(room, n_words):
     # Every entry is written (_new_entry) before it is read: no need to fill.
     return _Store(np.empty((room, n_words), dtype=np.uint64), np.empty(room, dtype=np.int64),
                   np.empty(room, dtype=np.int64), np.empty(room), np.empty(room), np.empty(room))
 
 
-@njit(cache=True, nogil=True)
-def _with_room(st, need):
-    if need <= st.weight.shape[0]:
-        return st
-    k = st.weight.shape[0]
-    big = _new_store(max(need, 2 * k), st.bits.shape[1])
-    big.bits[:k] = st.bits
-    big.size[:k] = st.size
-    big.aux[:k] = st.aux
-    big.weight[:k] = st.weight
-    big.best[:k] = st.best
-    big.count[:k] = st.count
-    return big
-
-
-@njit(cache=True, nogil=True)
 def _more_room(st, ht, code):
     # A step stopped on a full table (-1: the hash table, -2: the store): twice the room. The
     # store only ever holds the groups found, never as many entries as combinations counted.
     if code == -2:
-        return _with_room(st, 2 * st.weight.shape[0]), ht
+        k = st.weight.shape[0]
+        big = _new_store(2 * k, st.bits.shape[1])
+        for old, new in zip(st, big):
+            new[:k] = old
+        return big, ht
     cap = 2 * ht[0].shape[0]
     return st, (np.zeros(cap, dtype=np.int64), np.zeros(cap, dtype=np.int64))
 
@@ -386,83 +357,89 @@ def _close(weight, start, stop, ref_s):
     return ref_s
 
 
+# Where _inside is (an int64 array, so that it can stop on a full table and be called again
+# where it stopped once Python has made room): the subset, the kind of step, the store's end,
+# the hash table's stamp, the work counted, and whether the step's work is already counted.
+_S, _KIND, _END, _CUR, _WORK, _COUNTED = range(6)
+
+
+class _Scratch(NamedTuple):
+    cand: np.ndarray  # (max(1, 2**n / 2),) int64: candidate blocks
+    fs: np.ndarray    # (n,) int64: first subtasks
+    rs: np.ndarray    # (n, n_words) uint64: their orders' bitsets
+    bits: np.ndarray  # (n_words,) uint64
+
+
+def _scratch(n, n_words):
+    return _Scratch(np.empty(max(1, (1 << n) >> 1), dtype=np.int64),
+                    np.empty(n, dtype=np.int64), np.empty((n, n_words), dtype=np.uint64),
+                    np.empty(n_words, dtype=np.uint64))
+
+
 @njit(cache=True, nogil=True)
-def _inside(pb, max_work, max_entries):
+def _inside(pb, st, ht, idx, lists, scr, at, max_work):
+    # The tables from subset at[_S] on; returns 0 (done), 1 (the work passed max_work), or
+    # -1 (-2) when the hash table (the store) needs more room, `at` telling where it stopped.
     n = pb.n
-    n_sets = 1 << n
-    n_words = pb.full.shape[0]
-    st = _new_store(1024, n_words)
-    _new_entry(st, 0, pb.full, 0, 0)  # entry 0: the empty structure (and chain)
-    st.weight[0] = 1.0
-    st.best[0] = 0.0
-    st.count[0] = 1.0
-    n_e = 1
-    lo = np.zeros((2, n_sets), dtype=np.int64)
-    hi = np.zeros((2, n_sets), dtype=np.int64)
-    ref = np.full((2, n_sets), -np.inf)
-    hi[:, 0] = 1
-    ref[:, 0] = 0.0
-    idx = (lo, hi, ref)
-    lists = np.full(n_sets + 3 * n, -1, dtype=np.int64)
-    lists[n_sets + 2 * n:] = 0
-    cand = np.empty(max(1, n_sets >> 1), dtype=np.int64)
-    fs = np.empty(n, dtype=np.int64)
-    rs = np.empty((n, n_words), dtype=np.uint64)
-    ht = (np.zeros(1024, dtype=np.int64), np.zeros(1024, dtype=np.int64))
-    cur = 0
-    bits = np.empty(n_words, dtype=np.uint64)
-    work = 0
-    for s in range(1, n_sets):
-        # Blocks on s; the work of every step is counted before it is done.
-        n_f, n_comb, steps = first_subtasks(pb, lo, hi, s, fs, rs)
-        ref_s = -np.inf
-        for j in range(n_f):
-            ref_s = max(ref_s, ref[pb.child_kind, s ^ (1 << fs[j])] + pb.factor[n_bits(s)])
-        work += STEP_COST * steps + COMBO_COST * n_comb
-        if work > max_work:  # also when the last step's entries passed it
-            return False, st, idx, lists, work
-        while True:  # again with more room when a table fills up (rarely)
+    lo, hi, ref = idx
+    fs, rs, cand = scr.fs, scr.rs, scr.cand
+    s = at[_S]
+    kind = at[_KIND]
+    n_e = at[_END]
+    cur = at[_CUR]
+    work = at[_WORK]
+    counted = at[_COUNTED]
+    code = 0
+    while s < lo.shape[1]:
+        if kind == BLOCK:
+            # Blocks on s; the work of every step is counted before it is done.
+            n_f, n_comb, steps = first_subtasks(pb, lo, hi, s, fs, rs)
+            ref_s = -np.inf
+            for j in range(n_f):
+                ref_s = max(ref_s, ref[pb.child_kind, s ^ (1 << fs[j])] + pb.factor[n_bits(s)])
+            if not counted:
+                work += STEP_COST * steps + COMBO_COST * n_comb
+                counted = 1
+                if work > max_work:  # also when the last step's entries passed it
+                    code = 1
+                    break
             cur += 1
-            stop = _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits)
-            if stop >= 0:
-                break
-            if stop == -2 and 2 * st.weight.shape[0] > max_entries:
-                return False, st, idx, lists, work  # the store would pass its memory
-            st, ht = _more_room(st, ht, stop)
-        lo[BLOCK, s], hi[BLOCK, s] = n_e, stop
-        ref[BLOCK, s] = _close(st.weight, n_e, stop, ref_s)
-        if stop > n_e:
-            _append_block(lists, s, n_sets, n)
+            stop = _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, scr.bits)
+        else:
+            # Structures on s.
+            n_c, steps = candidates(s, n, lo, hi, lists, cand)
+            ref_s = -np.inf
+            n_comb = 0
+            for j in range(n_c):
+                b = cand[j]
+                ref_s = max(ref_s, ref[BLOCK, b] + ref[PART, s ^ b])
+                n_comb += (hi[BLOCK, b] - lo[BLOCK, b]) * (hi[PART, s ^ b] - lo[PART, s ^ b])
+            if not counted:
+                work += STEP_COST * steps + COMBO_COST * n_comb
+                counted = 1
+                if work > max_work:
+                    code = 1
+                    break
+            cur += 1
+            stop = _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, scr.bits)
+        if stop < 0:  # again with more room (rarely)
+            code = stop
+            break
+        lo[kind, s], hi[kind, s] = n_e, stop
+        ref[kind, s] = _close(st.weight, n_e, stop, ref_s)
+        if kind == BLOCK and stop > n_e:
+            _append_block(lists, s, lo.shape[1], n)
         work += ENTRY_COST * (stop - n_e)
         n_e = stop
-        if not pb.use_part:
-            continue
-        # Structures on s.
-        n_c, steps = candidates(s, n, lo, hi, lists, cand)
-        ref_s = -np.inf
-        n_comb = 0
-        for j in range(n_c):
-            b = cand[j]
-            ref_s = max(ref_s, ref[BLOCK, b] + ref[PART, s ^ b])
-            n_comb += (hi[BLOCK, b] - lo[BLOCK, b]) * (hi[PART, s ^ b] - lo[PART, s ^ b])
-        work += STEP_COST * steps + COMBO_COST * n_comb
-        if work > max_work:
-            return False, st, idx, lists, work
-        while True:
-            cur += 1
-            stop = _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits)
-            if stop >= 0:
-                break
-            if stop == -2 and 2 * st.weight.shape[0] > max_entries:
-                return False, st, idx, lists, work
-            st, ht = _more_room(st, ht, stop)
-        lo[PART, s], hi[PART, s] = n_e, stop
-        ref[PART, s] = _close(st.weight, n_e, stop, ref_s)
-        work += ENTRY_COST * (stop - n_e)
-        n_e = stop
-    st = _Store(st.bits[:n_e], st.size[:n_e], st.aux[:n_e], st.weight[:n_e], st.best[:n_e],
-                st.count[:n_e])
-    return work <= max_work, st, idx, lists, work
+        counted = 0
+        if kind == BLOCK and pb.use_part:
+            kind = PART
+        else:
+            kind = BLOCK
+            s += 1
+    at[_S], at[_KIND], at[_END], at[_CUR], at[_WORK], at[_COUNTED] = (s, kind, n_e, cur, work,
+                                                                      counted)
+    return code
 
 
 def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf, max_entries=2**62):
@@ -492,9 +469,33 @@ def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf, max_en
     work : int
         The work counted (done, or that would have been done up to the step that stopped).
     """
-    ok, st, idx, lists, work = _inside(problem(clause_bits, full, pos, thr, model),
-                                       int(min(max_work, 2**62)),
-                                       int(min(max_entries, 2**62)))
-    if not ok:
-        return None, int(work)
-    return StructureTables(*[a.copy() for a in st], *idx, lists), int(work)
+    pb = problem(clause_bits, full, pos, thr, model)
+    n, n_words = pb.n, full.shape[0]
+    n_sets = 1 << n
+    st = _new_store(1024, n_words)
+    st.bits[0] = full  # entry 0: the empty structure (and chain)
+    st.size[0] = st.aux[0] = 0
+    st.weight[0], st.best[0], st.count[0] = 1.0, 0.0, 1.0
+    lo = np.zeros((2, n_sets), dtype=np.int64)
+    hi = np.zeros((2, n_sets), dtype=np.int64)
+    ref = np.full((2, n_sets), -np.inf)
+    hi[:, 0] = 1
+    ref[:, 0] = 0.0
+    lists = np.full(n_sets + 3 * n, -1, dtype=np.int64)
+    lists[n_sets + 2 * n:] = 0
+    ht = (np.zeros(1024, dtype=np.int64), np.zeros(1024, dtype=np.int64))
+    at = np.zeros(6, dtype=np.int64)
+    at[_S], at[_END] = 1, 1
+    scr = _scratch(n, n_words)
+    max_work = int(min(max_work, 2**62))
+    while True:
+        code = _inside(pb, st, ht, (lo, hi, ref), lists, scr, at, max_work)
+        if code >= 0:
+            break
+        if code == -2 and 2 * st.weight.shape[0] > min(max_entries, 2**62):
+            return None, int(at[_WORK])  # the store would pass its memory
+        st, ht = _more_room(st, ht, code)
+    if code == 1 or at[_WORK] > max_work:
+        return None, int(at[_WORK])
+    n_e = at[_END]
+    return StructureTables(*[a[:n_e].copy() for a in st], lo, hi, ref, lists), int(at[_WORK])
