@@ -14,6 +14,7 @@ import math
 import numpy as np
 from numba import njit
 
+from bsi_sklearn._jit import helper
 from bsi_sklearn.inference._structures import (
     BLOCK,
     PART,
@@ -29,7 +30,7 @@ from bsi_sklearn.inference._structures import (
 __all__ = ["descend"]
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _part_down(pb, tabs, s, cand, n_c, ht, cur, acc, rec, n_rec, bits):
     # Mass (and marks, with their derivations) of the structures on s, to their parts.
     out, mark, _ = acc
@@ -41,7 +42,7 @@ def _part_down(pb, tabs, s, cand, n_c, ht, cur, acc, rec, n_rec, bits):
         scale = math.exp(ref[BLOCK, b] + ref[PART, rest] - ref[PART, s])
         for x in range(lo[BLOCK, b], hi[BLOCK, b]):
             for y in range(lo[PART, rest], hi[PART, rest]):
-                if and_pop(tabs.bits[x], tabs.bits[y], bits, pb.pos) < pb.thr:
+                if and_pop(tabs.bits, x, tabs.bits, y, bits, pb.pos) < pb.thr:
                     continue
                 _, e = find(loc, stamp, cur, tabs.bits, tabs.size, tabs.aux, bits,
                             tabs.size[x] + tabs.size[y], tabs.aux[x] + tabs.aux[y] + pb.aux_inc)
@@ -58,7 +59,7 @@ def _part_down(pb, tabs, s, cand, n_c, ht, cur, acc, rec, n_rec, bits):
     return n_rec
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _block_down(pb, tabs, s, fs, n_f, rs, ht, cur, acc, rec, n_rec, bits):
     # Mass (and marks) of the blocks on s, to their rests; the orders f -> u get the mass.
     out, mark, marg = acc
@@ -71,7 +72,7 @@ def _block_down(pb, tabs, s, fs, n_f, rs, ht, cur, acc, rec, n_rec, bits):
         scale = math.exp(ref[pb.child_kind, c] + pb.factor[k_s] - ref[BLOCK, s])
         mass = 0.0
         for z in range(lo[pb.child_kind, c], hi[pb.child_kind, c]):
-            if and_pop(tabs.bits[z], rs[j], bits, pb.pos) < pb.thr:
+            if and_pop(tabs.bits, z, rs, j, bits, pb.pos) < pb.thr:
                 continue
             _, e = find(loc, stamp, cur, tabs.bits, tabs.size, tabs.aux, bits,
                         tabs.size[z] + k_s - 1, 0)
@@ -101,7 +102,7 @@ def _live(out, mark, start, stop):
     return held or marked, marked
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _local_table(ht, cur, st, start, stop):
     # The subset's hash table holding entries start:stop (descend made it big enough).
     loc, stamp = ht

@@ -29,6 +29,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from bsi_sklearn._jit import helper
 from bsi_sklearn.clauses import popcount
 
 __all__ = ["StructureTables", "structure_tables", "whole_kind", "problem", "n_bits", "and_pop",
@@ -115,16 +116,17 @@ def _lowest(s):
     return i
 
 
-@njit(cache=True, nogil=True, inline="always")
-def and_pop(a, b, out, pos):
+@helper
+def and_pop(a, i, b, j, out, pos):
+    # out = a[i] & b[j] (rows of packed words); returns the acceptable demonstrations in it.
     p = 0
     for w in range(out.shape[0]):
-        out[w] = a[w] & b[w]
+        out[w] = a[i, w] & b[j, w]
         p += popcount(out[w] & pos[w])
     return p
 
 
-@njit(cache=True, nogil=True, inline="always")
+@helper
 def find(loc, stamp, cur, t_bits, t_size, t_aux, bits, size, aux):
     # Slot of the key (bits, size, aux) in the subset's own hash table, and its entry (-1:
     # absent). The table holds one subset's entries at a time (stamp == cur), so it stays in
@@ -153,7 +155,7 @@ def find(loc, stamp, cur, t_bits, t_size, t_aux, bits, size, aux):
     return i, np.int64(-1)
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _orders_from(pb, f, rest, r):
     # r = AND of the clauses f -> u, u in rest; returns the acceptable demonstrations in r.
     for w in range(r.shape[0]):
@@ -168,7 +170,7 @@ def _orders_from(pb, f, rest, r):
     return p
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _append_block(lists, s, n_sets, n):
     # lists: next subset at [s], then by lowest subtask i: head, tail, length at n_sets + (0,
     # 1, 2) * n + i (the subsets whose block tables are not empty, in increasing order).
@@ -181,7 +183,7 @@ def _append_block(lists, s, n_sets, n):
     lists[n_sets + 2 * n + i] += 1
 
 
-@njit(cache=True, nogil=True)
+@helper
 def candidates(s, n, lo, hi, lists, out):
     # Blocks B (non-empty tables) holding the lowest subtask of s, with s - B non-empty too:
     # by submasks of s or through the list of blocks with that lowest subtask, whichever is
@@ -214,7 +216,7 @@ def candidates(s, n, lo, hi, lists, out):
     return k, steps
 
 
-@njit(cache=True, nogil=True)
+@helper
 def first_subtasks(pb, lo, hi, s, fs, rs):
     # The subtasks f that can come first (or be the root) in a block on s: the rest s - f
     # has a non-empty table and the orders f -> rest keep thr acceptable demonstrations.
@@ -247,63 +249,67 @@ class _Store(NamedTuple):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _new_entry(st, e, bits, size, aux):
-    for w in range(bits.shape[0]):
-        st.bits[e, w] = bits[w]
-    st.size[e] = size
-    st.aux[e] = aux
-    st.weight[e] = 0.0
-    st.best[e] = -np.inf
-    st.count[e] = 0.0
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _entry_of(st, ht, cur, bits, size, aux, start, n_e):
-    # The store entry of the key (bits, size, aux), added at n_e when new: (entry, new end),
+def _entry_of(t_bits, t_size, t_aux, loc, stamp, cur, bits, size, aux, start, n_e):
+    # The store entry of the key (bits, size, aux), new at n_e when absent: (entry, new end),
     # or (-1, n_e) when the hash table is over a quarter full with this step's entries, (-2,
-    # n_e) when the store is full.
-    loc, stamp = ht
-    i, e = find(loc, stamp, cur, st.bits, st.size, st.aux, bits, size, aux)
+    # n_e) when the store is full. The caller writes a new entry.
+    i, e = find(loc, stamp, cur, t_bits, t_size, t_aux, bits, size, aux)
     if e >= 0:
         return e, n_e
     if 4 * (n_e - start + 1) > loc.shape[0]:
         return -1, n_e
-    if n_e == st.weight.shape[0]:
+    if n_e == t_size.shape[0]:
         return -2, n_e
-    _new_entry(st, n_e, bits, size, aux)
     loc[i] = n_e
     stamp[i] = cur
     return n_e, n_e + 1
 
 
-@njit(cache=True, nogil=True)
-def _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits):
-    # The blocks on s (f first or root, above a table entry on s - f) into the store from
-    # n_e; returns the new end, or -1 (-2) when the hash table (the store) needs more room.
-    lo, hi, ref = idx
+@njit(cache=True, nogil=True, inline="always")
+def _new_entry(t_bits, t_size, t_aux, weight, best, count, e, bits, size, aux):
+    for w in range(bits.shape[0]):
+        t_bits[e, w] = bits[w]
+    t_size[e] = size
+    t_aux[e] = aux
+    weight[e] = 0.0
+    best[e] = -np.inf
+    count[e] = 0.0
+
+
+@helper
+def _block_step(t_bits, t_size, t_aux, weight, best, count, lo, hi, ref, kind, factor, pos,
+                thr, s, fs, n_f, rs, ref_s, loc, stamp, cur, n_e, bits):
+    # The blocks on s (f first or root, above a table entry of kind `kind` on s - f) into the
+    # store from n_e; returns the new end, or -1 (-2) when the hash table (the store) needs
+    # more room.
     k_s = n_bits(s)
     start = n_e
     for j in range(n_f):
         c = s ^ (1 << fs[j])
-        scale = math.exp(ref[pb.child_kind, c] + pb.factor[k_s] - ref_s)
-        for z in range(lo[pb.child_kind, c], hi[pb.child_kind, c]):
-            if and_pop(st.bits[z], rs[j], bits, pb.pos) < pb.thr:
+        scale = math.exp(ref[kind, c] + factor[k_s] - ref_s)
+        for z in range(lo[kind, c], hi[kind, c]):
+            if and_pop(t_bits, z, rs, j, bits, pos) < thr:
                 continue
-            e, n_e = _entry_of(st, ht, cur, bits, st.size[z] + k_s - 1, 0, start, n_e)
+            size = t_size[z] + k_s - 1
+            e, end = _entry_of(t_bits, t_size, t_aux, loc, stamp, cur, bits, size, 0, start,
+                               n_e)
             if e < 0:
                 return e
-            st.weight[e] += st.weight[z] * scale
-            st.count[e] += st.count[z]
-            st.best[e] = max(st.best[e], st.best[z] + pb.factor[k_s])
+            if end > n_e:
+                _new_entry(t_bits, t_size, t_aux, weight, best, count, e, bits, size, 0)
+                n_e = end
+            weight[e] += weight[z] * scale
+            count[e] += count[z]
+            best[e] = max(best[e], best[z] + factor[k_s])
     return n_e
 
 
-@njit(cache=True, nogil=True)
-def _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits):
+@helper
+def _part_step(t_bits, t_size, t_aux, weight, best, count, lo, hi, ref, aux_inc, pos, thr, s,
+               cand, n_c, ref_s, loc, stamp, cur, n_e, bits):
     # The structures on s (a block holding s's lowest subtask beside a structure on the rest)
     # into the store from n_e; returns the new end, or -1 (-2) when the hash table (the
     # store) needs more room.
-    lo, hi, ref = idx
     start = n_e
     for j in range(n_c):
         b = cand[j]
@@ -311,15 +317,20 @@ def _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits):
         scale = math.exp(ref[BLOCK, b] + ref[PART, rest] - ref_s)
         for x in range(lo[BLOCK, b], hi[BLOCK, b]):
             for y in range(lo[PART, rest], hi[PART, rest]):
-                if and_pop(st.bits[x], st.bits[y], bits, pb.pos) < pb.thr:
+                if and_pop(t_bits, x, t_bits, y, bits, pos) < thr:
                     continue
-                e, n_e = _entry_of(st, ht, cur, bits, st.size[x] + st.size[y],
-                                   st.aux[x] + st.aux[y] + pb.aux_inc, start, n_e)
+                size = t_size[x] + t_size[y]
+                aux = t_aux[x] + t_aux[y] + aux_inc
+                e, end = _entry_of(t_bits, t_size, t_aux, loc, stamp, cur, bits, size, aux,
+                                   start, n_e)
                 if e < 0:
                     return e
-                st.weight[e] += st.weight[x] * st.weight[y] * scale
-                st.count[e] += st.count[x] * st.count[y]
-                st.best[e] = max(st.best[e], st.best[x] + st.best[y])
+                if end > n_e:
+                    _new_entry(t_bits, t_size, t_aux, weight, best, count, e, bits, size, aux)
+                    n_e = end
+                weight[e] += weight[x] * weight[y] * scale
+                count[e] += count[x] * count[y]
+                best[e] = max(best[e], best[x] + best[y])
     return n_e
 
 
@@ -342,7 +353,7 @@ def _more_room(st, ht, code):
     return st, (np.zeros(cap, dtype=np.int64), np.zeros(cap, dtype=np.int64))
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _close(weight, start, stop, ref_s):
     # Rescale a subset's weights so that the largest is 1; returns its new ref.
     if stop == start:
@@ -382,6 +393,8 @@ def _inside(pb, st, ht, idx, lists, scr, at, max_work):
     # -1 (-2) when the hash table (the store) needs more room, `at` telling where it stopped.
     n = pb.n
     lo, hi, ref = idx
+    loc, stamp = ht
+    t_bits, t_size, t_aux, weight, best, count = st
     fs, rs, cand = scr.fs, scr.rs, scr.cand
     s = at[_S]
     kind = at[_KIND]
@@ -404,7 +417,9 @@ def _inside(pb, st, ht, idx, lists, scr, at, max_work):
                     code = 1
                     break
             cur += 1
-            stop = _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, scr.bits)
+            stop = _block_step(t_bits, t_size, t_aux, weight, best, count, lo, hi, ref,
+                               pb.child_kind, pb.factor, pb.pos, pb.thr, s, fs, n_f, rs, ref_s,
+                               loc, stamp, cur, n_e, scr.bits)
         else:
             # Structures on s.
             n_c, steps = candidates(s, n, lo, hi, lists, cand)
@@ -421,12 +436,14 @@ def _inside(pb, st, ht, idx, lists, scr, at, max_work):
                     code = 1
                     break
             cur += 1
-            stop = _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, scr.bits)
+            stop = _part_step(t_bits, t_size, t_aux, weight, best, count, lo, hi, ref,
+                              pb.aux_inc, pb.pos, pb.thr, s, cand, n_c, ref_s, loc, stamp, cur,
+                              n_e, scr.bits)
         if stop < 0:  # again with more room (rarely)
             code = stop
             break
         lo[kind, s], hi[kind, s] = n_e, stop
-        ref[kind, s] = _close(st.weight, n_e, stop, ref_s)
+        ref[kind, s] = _close(weight, n_e, stop, ref_s)
         if kind == BLOCK and stop > n_e:
             _append_block(lists, s, lo.shape[1], n)
         work += ENTRY_COST * (stop - n_e)

@@ -42,6 +42,7 @@ from bsi_sklearn.inference._exact_kernels import (
     likelihood_tables,
     list_hypotheses,
     log_evidence,
+    members,
     pair_ll_many,
     walk_scratch,
 )
@@ -293,7 +294,7 @@ def _grouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol):
     budget.allocate(room * (2.0 * model.n + 24), f"the listing of {room:,} hypotheses")
     par = np.empty((room, model.n), dtype=np.int16 if model.n < 2**15 else np.int64)
     idx, lp = np.empty((room, 2), dtype=np.int64), np.empty(room)
-    n_out = min(list_hypotheses(model, hs, subsets, ls, par, idx, lp,
+    n_out = min(list_hypotheses(model, hs.best, members(subsets), ls, par, idx, lp,
                                 walk_scratch(model.n, room)), room)
     par, idx, lp = par[:n_out], idx[:n_out], lp[:n_out] - log_z
     kept = lp >= log_keep
