@@ -6,7 +6,7 @@ proportion to the other's weight; a block's derivation also gives its mass to th
 ``f -> u`` it adds, which sums to the order-clause marginals. The entries of the structure
 groups that may hold a kept hypothesis are marked, the marks passed down the same way, and the
 derivations of every marked entry recorded: they are all
-:func:`bsi_sklearn.inference._exact_kernels.list_hypotheses` needs to rebuild those structures.
+:func:`bsi_sklearn.inference._listing.list_hypotheses` needs to rebuild those structures.
 """
 
 import math
@@ -15,16 +15,16 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn._jit import helper
-from bsi_sklearn.inference._structures import (
+from bsi_sklearn.inference._structure_common import (
     BLOCK,
     PART,
-    _scratch,
     and_pop,
     candidates,
     find,
     first_subtasks,
     n_bits,
     problem,
+    scratch,
 )
 
 __all__ = ["descend"]
@@ -208,7 +208,7 @@ def descend(tables, clause_bits, full, pos, thr, model, top_ids, top_out, marked
     rec = np.empty((1024, 4), dtype=np.int64)
     at = np.zeros(4, dtype=np.int64)
     at[_S], at[_KIND] = (1 << pb.n) - 1, PART
-    scr = _scratch(pb.n, full.shape[0])
+    scr = scratch(pb.n, full.shape[0])
     while (need := _descend(tables, pb, acc, rec, ht, scr, at)) > 0:
         bigger = np.empty((max(need, 2 * rec.shape[0]), 4), dtype=np.int64)
         bigger[:at[_N_REC]] = rec[:at[_N_REC]]

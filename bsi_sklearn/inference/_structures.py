@@ -20,7 +20,7 @@ v's subtree]``, one factor per block. Groups whose acceptable demonstrations num
 :func:`bsi_sklearn.inference._structure_walk.descend` walks the tables back from the whole
 set: the posterior mass of every group (its order-clause marginals) and, for the groups that
 may hold a kept hypothesis, the derivations that
-:func:`bsi_sklearn.inference._exact_kernels.list_hypotheses` enumerates.
+:func:`bsi_sklearn.inference._listing.list_hypotheses` enumerates.
 """
 
 import math
@@ -30,25 +30,32 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn._jit import helper
-from bsi_sklearn.clauses import popcount
+from bsi_sklearn.inference._structure_common import (
+    BLOCK,
+    COMBO_COST,
+    ENTRY_COST,
+    PART,
+    STEP_COST,
+    _Problem,
+    _Scratch,
+    and_pop,
+    append_block,
+    candidates,
+    find,
+    first_subtasks,
+    n_bits,
+    problem,
+    scratch,
+    whole_kind,
+)
 
-__all__ = ["StructureTables", "structure_tables", "whole_kind", "problem", "n_bits", "and_pop",
-           "find", "candidates", "first_subtasks", "BLOCK", "PART", "COMBO_COST",
-           "STEP_COST", "ENTRY_COST"]
+__all__ = ["StructureTables", "structure_tables", "whole_kind", "COMBO_COST", "STEP_COST",
+           "ENTRY_COST"]
 
-#: The two kinds of table entries: blocks (one chain, one tree) and whole structures.
-BLOCK = 0
-PART = 1
-#: By prior code: whether structures are sets of blocks (True) or one block (Prior 1: a chain).
-PRIOR_SETS = (False, True, True)
-#: Work units (evaluations of a pair of groups, about 5-10 ns) of one combination of two table
-#: entries (an AND, a popcount, a hash probe), of one step over subsets or subtasks, and of a
-#: new entry (its time, and as much again for its memory: about 60 bytes, so that the work
-#: budget bounds the memory too).
-COMBO_COST = 4
-STEP_COST = 1
-ENTRY_COST = 32
-
+#: Still importable from here: numba's on-disk cache indexes of the kernels compiled before
+#: these classes moved to _structure_common name them by this module, and numba unpickles an
+#: index before it can tell that it is stale (an AttributeError instead of a recompilation).
+_MOVED = (_Problem, _Scratch)
 
 class StructureTables(NamedTuple):
     """Blocks and structures of every subset of subtasks, grouped (see the module docstring).
@@ -67,175 +74,7 @@ class StructureTables(NamedTuple):
     lo: np.ndarray       # (2, 2**n) int64
     hi: np.ndarray       # (2, 2**n) int64
     ref: np.ndarray      # (2, 2**n) float64
-    lists: np.ndarray    # the subsets with blocks, by lowest subtask (see _append_block)
-
-
-class _Problem(NamedTuple):
-    # What both passes over the tables read.
-    clause_bits: np.ndarray  # (n_clauses, n_words) uint64
-    base: int                # index of the first order clause (a -> b at base + a * n + b)
-    n: int
-    full: np.ndarray         # (n_words,) every demonstration
-    pos: np.ndarray          # (n_words,) the acceptable ones
-    thr: int                 # fewest acceptable demonstrations a kept entry satisfies
-    factor: np.ndarray       # (n + 2,) log weight of a block by its number of subtasks
-    aux_inc: int             # 1: count the blocks of a structure (chains), 0: not (trees)
-    child_kind: int          # what a block's first subtask (or root) is above
-    use_part: bool           # structures are sets of blocks (else one block: Prior 1)
-
-
-def whole_kind(model):
-    """Which table (0: blocks, 1: structures) holds the whole structures of the model's prior."""
-    return PART if PRIOR_SETS[model.prior] or model.n == 0 else BLOCK
-
-
-def problem(clause_bits, full, pos, thr, model):
-    """The bundle both passes over the tables read."""
-    n = model.n
-    chains = not model.forest
-    factor = np.zeros(n + 2) if chains else np.asarray(model.forest_g, dtype=np.float64)
-    return _Problem(clause_bits, model.n_g + n, n, full, pos, int(thr), factor,
-                    1 if chains else 0, BLOCK if chains else PART, PRIOR_SETS[model.prior])
-
-
-# ----------------------------------------------------------------------------- small helpers
-@njit(cache=True, nogil=True, inline="always")
-def n_bits(x):
-    c = 0
-    while x:
-        x &= x - 1
-        c += 1
-    return c
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _lowest(s):
-    i = 0
-    while not (s >> i) & 1:
-        i += 1
-    return i
-
-
-@helper
-def and_pop(a, i, b, j, out, pos):
-    # out = a[i] & b[j] (rows of packed words); returns the acceptable demonstrations in it.
-    p = 0
-    for w in range(out.shape[0]):
-        out[w] = a[i, w] & b[j, w]
-        p += popcount(out[w] & pos[w])
-    return p
-
-
-@helper
-def find(loc, stamp, cur, t_bits, t_size, t_aux, bits, size, aux):
-    # Slot of the key (bits, size, aux) in the subset's own hash table, and its entry (-1:
-    # absent). The table holds one subset's entries at a time (stamp == cur), so it stays in
-    # cache; keys are compared through the entry arrays.
-    h = np.uint64(size * 256 + aux + 1) * np.uint64(0x9E3779B97F4A7C15)
-    for w in range(bits.shape[0]):
-        h ^= bits[w]
-        h ^= h >> np.uint64(30)
-        h *= np.uint64(0xBF58476D1CE4E5B9)
-        h ^= h >> np.uint64(27)
-        h *= np.uint64(0x94D049BB133111EB)
-        h ^= h >> np.uint64(31)
-    mask = np.int64(loc.shape[0] - 1)
-    i = np.int64(h & np.uint64(mask))
-    while stamp[i] == cur:
-        e = loc[i]
-        if t_size[e] == size and t_aux[e] == aux:
-            same = True
-            for w in range(bits.shape[0]):
-                if t_bits[e, w] != bits[w]:
-                    same = False
-                    break
-            if same:
-                return i, e
-        i = (i + np.int64(1)) & mask
-    return i, np.int64(-1)
-
-
-@helper
-def _orders_from(pb, f, rest, r):
-    # r = AND of the clauses f -> u, u in rest; returns the acceptable demonstrations in r.
-    for w in range(r.shape[0]):
-        r[w] = pb.full[w]
-    for u in range(pb.n):
-        if (rest >> u) & 1:
-            for w in range(r.shape[0]):
-                r[w] &= pb.clause_bits[pb.base + f * pb.n + u, w]
-    p = 0
-    for w in range(r.shape[0]):
-        p += popcount(r[w] & pb.pos[w])
-    return p
-
-
-@helper
-def _append_block(lists, s, n_sets, n):
-    # lists: next subset at [s], then by lowest subtask i: head, tail, length at n_sets + (0,
-    # 1, 2) * n + i (the subsets whose block tables are not empty, in increasing order).
-    i = _lowest(s)
-    if lists[n_sets + n + i] >= 0:
-        lists[lists[n_sets + n + i]] = s
-    else:
-        lists[n_sets + i] = s
-    lists[n_sets + n + i] = s
-    lists[n_sets + 2 * n + i] += 1
-
-
-@helper
-def candidates(s, n, lo, hi, lists, out):
-    # Blocks B (non-empty tables) holding the lowest subtask of s, with s - B non-empty too:
-    # by submasks of s or through the list of blocks with that lowest subtask, whichever is
-    # shorter. Returns how many (into out) and the steps taken.
-    n_sets = lo.shape[1]
-    i = _lowest(s)
-    low = 1 << i
-    rest0 = s ^ low
-    k = 0
-    steps = 0
-    if (1 << n_bits(rest0)) <= lists[n_sets + 2 * n + i]:
-        sub = rest0
-        while True:
-            b = sub | low
-            steps += 1
-            if hi[BLOCK, b] > lo[BLOCK, b] and hi[PART, s ^ b] > lo[PART, s ^ b]:
-                out[k] = b
-                k += 1
-            if sub == 0:
-                break
-            sub = (sub - 1) & rest0
-    else:
-        b = lists[n_sets + i]
-        while b >= 0:
-            steps += 1
-            if (b & s) == b and hi[PART, s ^ b] > lo[PART, s ^ b]:
-                out[k] = b
-                k += 1
-            b = lists[b]
-    return k, steps
-
-
-@helper
-def first_subtasks(pb, lo, hi, s, fs, rs):
-    # The subtasks f that can come first (or be the root) in a block on s: the rest s - f
-    # has a non-empty table and the orders f -> rest keep thr acceptable demonstrations.
-    # Returns how many (fs, rs: f and its orders' bitset), the entries they combine and the
-    # steps taken (one per subtask, and one per order clause read).
-    n_f = 0
-    n_comb = 0
-    steps = pb.n
-    for f in range(pb.n):
-        c = s ^ (1 << f)
-        if not (s >> f) & 1 or hi[pb.child_kind, c] == lo[pb.child_kind, c]:
-            continue
-        steps += pb.n
-        if _orders_from(pb, f, c, rs[n_f]) < pb.thr:
-            continue
-        fs[n_f] = f
-        n_comb += hi[pb.child_kind, c] - lo[pb.child_kind, c]
-        n_f += 1
-    return n_f, n_comb, steps
+    lists: np.ndarray    # the subsets with blocks, by lowest subtask (_structure_common)
 
 
 # ----------------------------------------------------------------------------- inside pass
@@ -266,29 +105,31 @@ def _entry_of(t_bits, t_size, t_aux, loc, stamp, cur, bits, size, aux, start, n_
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _new_entry(t_bits, t_size, t_aux, weight, best, count, e, bits, size, aux):
+def _new_entry(st, e, bits, size, aux):
     for w in range(bits.shape[0]):
-        t_bits[e, w] = bits[w]
-    t_size[e] = size
-    t_aux[e] = aux
-    weight[e] = 0.0
-    best[e] = -np.inf
-    count[e] = 0.0
+        st.bits[e, w] = bits[w]
+    st.size[e] = size
+    st.aux[e] = aux
+    st.weight[e] = 0.0
+    st.best[e] = -np.inf
+    st.count[e] = 0.0
 
 
 @helper
-def _block_step(t_bits, t_size, t_aux, weight, best, count, lo, hi, ref, kind, factor, pos,
-                thr, s, fs, n_f, rs, ref_s, loc, stamp, cur, n_e, bits):
-    # The blocks on s (f first or root, above a table entry of kind `kind` on s - f) into the
-    # store from n_e; returns the new end, or -1 (-2) when the hash table (the store) needs
-    # more room.
+def _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits):
+    # The blocks on s (f first or root, above a table entry on s - f) into the store from
+    # n_e; returns the new end, or -1 (-2) when the hash table (the store) needs more room.
+    t_bits, t_size, t_aux, weight, best, count = st
+    lo, hi, ref = idx
+    loc, stamp = ht
+    kind, factor = pb.child_kind, pb.factor
     k_s = n_bits(s)
     start = n_e
     for j in range(n_f):
         c = s ^ (1 << fs[j])
         scale = math.exp(ref[kind, c] + factor[k_s] - ref_s)
         for z in range(lo[kind, c], hi[kind, c]):
-            if and_pop(t_bits, z, rs, j, bits, pos) < thr:
+            if and_pop(t_bits, z, rs, j, bits, pb.pos) < pb.thr:
                 continue
             size = t_size[z] + k_s - 1
             e, end = _entry_of(t_bits, t_size, t_aux, loc, stamp, cur, bits, size, 0, start,
@@ -296,7 +137,7 @@ def _block_step(t_bits, t_size, t_aux, weight, best, count, lo, hi, ref, kind, f
             if e < 0:
                 return e
             if end > n_e:
-                _new_entry(t_bits, t_size, t_aux, weight, best, count, e, bits, size, 0)
+                _new_entry(st, e, bits, size, 0)
                 n_e = end
             weight[e] += weight[z] * scale
             count[e] += count[z]
@@ -305,11 +146,13 @@ def _block_step(t_bits, t_size, t_aux, weight, best, count, lo, hi, ref, kind, f
 
 
 @helper
-def _part_step(t_bits, t_size, t_aux, weight, best, count, lo, hi, ref, aux_inc, pos, thr, s,
-               cand, n_c, ref_s, loc, stamp, cur, n_e, bits):
+def _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits):
     # The structures on s (a block holding s's lowest subtask beside a structure on the rest)
     # into the store from n_e; returns the new end, or -1 (-2) when the hash table (the
     # store) needs more room.
+    t_bits, t_size, t_aux, weight, best, count = st
+    lo, hi, ref = idx
+    loc, stamp = ht
     start = n_e
     for j in range(n_c):
         b = cand[j]
@@ -317,16 +160,16 @@ def _part_step(t_bits, t_size, t_aux, weight, best, count, lo, hi, ref, aux_inc,
         scale = math.exp(ref[BLOCK, b] + ref[PART, rest] - ref_s)
         for x in range(lo[BLOCK, b], hi[BLOCK, b]):
             for y in range(lo[PART, rest], hi[PART, rest]):
-                if and_pop(t_bits, x, t_bits, y, bits, pos) < thr:
+                if and_pop(t_bits, x, t_bits, y, bits, pb.pos) < pb.thr:
                     continue
                 size = t_size[x] + t_size[y]
-                aux = t_aux[x] + t_aux[y] + aux_inc
+                aux = t_aux[x] + t_aux[y] + pb.aux_inc
                 e, end = _entry_of(t_bits, t_size, t_aux, loc, stamp, cur, bits, size, aux,
                                    start, n_e)
                 if e < 0:
                     return e
                 if end > n_e:
-                    _new_entry(t_bits, t_size, t_aux, weight, best, count, e, bits, size, aux)
+                    _new_entry(st, e, bits, size, aux)
                     n_e = end
                 weight[e] += weight[x] * weight[y] * scale
                 count[e] += count[x] * count[y]
@@ -374,27 +217,12 @@ def _close(weight, start, stop, ref_s):
 _S, _KIND, _END, _CUR, _WORK, _COUNTED = range(6)
 
 
-class _Scratch(NamedTuple):
-    cand: np.ndarray  # (max(1, 2**n / 2),) int64: candidate blocks
-    fs: np.ndarray    # (n,) int64: first subtasks
-    rs: np.ndarray    # (n, n_words) uint64: their orders' bitsets
-    bits: np.ndarray  # (n_words,) uint64
-
-
-def _scratch(n, n_words):
-    return _Scratch(np.empty(max(1, (1 << n) >> 1), dtype=np.int64),
-                    np.empty(n, dtype=np.int64), np.empty((n, n_words), dtype=np.uint64),
-                    np.empty(n_words, dtype=np.uint64))
-
-
 @njit(cache=True, nogil=True)
 def _inside(pb, st, ht, idx, lists, scr, at, max_work):
     # The tables from subset at[_S] on; returns 0 (done), 1 (the work passed max_work), or
     # -1 (-2) when the hash table (the store) needs more room, `at` telling where it stopped.
     n = pb.n
     lo, hi, ref = idx
-    loc, stamp = ht
-    t_bits, t_size, t_aux, weight, best, count = st
     fs, rs, cand = scr.fs, scr.rs, scr.cand
     s = at[_S]
     kind = at[_KIND]
@@ -417,9 +245,7 @@ def _inside(pb, st, ht, idx, lists, scr, at, max_work):
                     code = 1
                     break
             cur += 1
-            stop = _block_step(t_bits, t_size, t_aux, weight, best, count, lo, hi, ref,
-                               pb.child_kind, pb.factor, pb.pos, pb.thr, s, fs, n_f, rs, ref_s,
-                               loc, stamp, cur, n_e, scr.bits)
+            stop = _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, scr.bits)
         else:
             # Structures on s.
             n_c, steps = candidates(s, n, lo, hi, lists, cand)
@@ -436,16 +262,14 @@ def _inside(pb, st, ht, idx, lists, scr, at, max_work):
                     code = 1
                     break
             cur += 1
-            stop = _part_step(t_bits, t_size, t_aux, weight, best, count, lo, hi, ref,
-                              pb.aux_inc, pb.pos, pb.thr, s, cand, n_c, ref_s, loc, stamp, cur,
-                              n_e, scr.bits)
+            stop = _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, scr.bits)
         if stop < 0:  # again with more room (rarely)
             code = stop
             break
         lo[kind, s], hi[kind, s] = n_e, stop
-        ref[kind, s] = _close(weight, n_e, stop, ref_s)
+        ref[kind, s] = _close(st.weight, n_e, stop, ref_s)
         if kind == BLOCK and stop > n_e:
-            _append_block(lists, s, lo.shape[1], n)
+            append_block(lists, s, lo.shape[1], n)
         work += ENTRY_COST * (stop - n_e)
         n_e = stop
         counted = 0
@@ -503,7 +327,7 @@ def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf, max_en
     ht = (np.zeros(1024, dtype=np.int64), np.zeros(1024, dtype=np.int64))
     at = np.zeros(6, dtype=np.int64)
     at[_S], at[_END] = 1, 1
-    scr = _scratch(n, n_words)
+    scr = scratch(n, n_words)
     max_work = int(min(max_work, 2**62))
     while True:
         code = _inside(pb, st, ht, (lo, hi, ref), lists, scr, at, max_work)

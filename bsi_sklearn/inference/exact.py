@@ -12,8 +12,8 @@ pair of groups only a histogram over (satisfied positives, satisfied negatives);
 gives every group its posterior mass and flags the structure groups that may hold a hypothesis
 above the keep threshold; a walk back down the structure tables splits the masses into clause
 marginals and yields the derivations from which the kept hypotheses are listed
-(:mod:`bsi_sklearn.inference._structure_walk`). Structures and pairs of groups that cannot add
-1e-17 of the evidence are skipped, with a bound
+(:mod:`bsi_sklearn.inference._structure_walk`, :mod:`bsi_sklearn.inference._listing`).
+Structures and pairs of groups that cannot add 1e-17 of the evidence are skipped, with a bound
 (:mod:`bsi_sklearn.inference._exact_kernels`). The result is the posterior of the ungrouped
 enumeration (:mod:`bsi_sklearn.inference._exact_ungrouped`, the reference it is tested against)
 up to rounding. Whether the enumeration runs is decided by a count of its work that depends on
@@ -35,16 +35,12 @@ from bsi_sklearn.inference._budget import (
     entry_bytes,
 )
 from bsi_sklearn.inference._exact_kernels import (
-    Listing,
     StructureSide,
     SubsetSide,
     group_masses,
     likelihood_tables,
-    list_hypotheses,
     log_evidence,
-    members,
     pair_ll_many,
-    walk_scratch,
 )
 from bsi_sklearn.inference._exact_parts import (
     PartTable,
@@ -56,6 +52,7 @@ from bsi_sklearn.inference._exact_parts import (
 from bsi_sklearn.inference._exact_ungrouped import LabelMasks, ungrouped_kernel
 from bsi_sklearn.inference._exact_ungrouped import structure_tables as ungrouped_structures
 from bsi_sklearn.inference._grouping import Groups
+from bsi_sklearn.inference._listing import Listing, list_hypotheses, members, walk_scratch
 from bsi_sklearn.inference._structure_walk import descend
 from bsi_sklearn.inference._structures import STEP_COST, StructureTables, structure_tables
 from bsi_sklearn.priors import PRIORS, count_hypotheses, format_count, support_structures
