@@ -15,6 +15,8 @@ import numpy as np
 from numba import njit, types
 from numba.extending import intrinsic, register_jitable
 
+from bsi_sklearn._compile_progress import install_notice
+
 __all__ = [
     "clause_index_eventual",
     "clause_index_order",
@@ -24,6 +26,10 @@ __all__ = [
     "popcount",
     "popcounts",
 ]
+
+# Every fit, prediction and monitor imports this module first of the compiled ones: from here
+# on, a compilation of the package's kernels longer than a second prints one line.
+install_notice()
 
 
 @register_jitable

@@ -57,7 +57,7 @@ def _score(row, demos, model, scratch):
         return lp
     truth_t = demos.truth_t
     viol[:] = 0
-    n_conj = 0
+    n_conj = np.int64(0)  # not a literal 0: log_likelihood compiles once
     for c in range(n_g + n):
         if row[c]:
             n_conj += 1
@@ -163,9 +163,9 @@ def neighbourhood(rows, demos, model, floor):
     buf = np.empty((per_row, n_cols), dtype=np.int64)
     out = np.empty((rows.shape[0] * per_row, n_cols), dtype=np.int16)
     out_lp = np.empty(out.shape[0])
-    m = 0
+    m = np.int64(0)  # counters start as int64, not literal 0s: one compilation each
     for i in range(rows.shape[0]):
-        k = _neighbours(rows[i], model, buf, 0, work)
+        k = _neighbours(rows[i], model, buf, np.int64(0), work)
         for j in range(k):
             lp = _score(buf[j], demos, model, scratch)
             if lp >= floor:
@@ -203,7 +203,7 @@ def beam_search(start, demos, model, width, max_steps):
         _put(beam, i, start[i], n_cols)
         beam_lp[i] = _score(beam[i], demos, model, scratch)
     for _ in range(max_steps):
-        m = 0
+        m = np.int64(0)
         for i in range(n_beam):
             _put(pool, m, beam[i], n_cols)
             pool_lp[m] = beam_lp[i]
@@ -215,7 +215,7 @@ def beam_search(start, demos, model, width, max_steps):
             m = k
         # The best `width` distinct rows, in decreasing order (the first of ties).
         taken[:m] = False
-        kept = 0
+        kept = np.int64(0)
         while kept < width:
             j = -1
             for i in range(m):

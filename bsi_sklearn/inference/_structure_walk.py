@@ -75,7 +75,7 @@ def _block_down(pb, tabs, s, fs, n_f, rs, ht, cur, acc, rec, n_rec, bits):
             if and_pop(tabs.bits, z, rs, j, bits, pb.pos) < pb.thr:
                 continue
             _, e = find(loc, stamp, cur, tabs.bits, tabs.size, tabs.aux, bits,
-                        tabs.size[z] + k_s - 1, 0)
+                        tabs.size[z] + k_s - 1, np.int64(0))  # not a literal 0
             if e < 0:
                 continue
             if out[e] > 0.0:

@@ -124,6 +124,7 @@ def _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits):
     loc, stamp = ht
     kind, factor = pb.child_kind, pb.factor
     k_s = n_bits(s)
+    no_aux = np.int64(0)  # not a literal 0: find compiles once
     start = n_e
     for j in range(n_f):
         c = s ^ (1 << fs[j])
@@ -132,12 +133,12 @@ def _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits):
             if and_pop(t_bits, z, rs, j, bits, pb.pos) < pb.thr:
                 continue
             size = t_size[z] + k_s - 1
-            e, end = _entry_of(t_bits, t_size, t_aux, loc, stamp, cur, bits, size, 0, start,
-                               n_e)
+            e, end = _entry_of(t_bits, t_size, t_aux, loc, stamp, cur, bits, size, no_aux,
+                               start, n_e)
             if e < 0:
                 return e
             if end > n_e:
-                _new_entry(st, e, bits, size, 0)
+                _new_entry(st, e, bits, size, no_aux)
                 n_e = end
             weight[e] += weight[z] * scale
             count[e] += count[z]
