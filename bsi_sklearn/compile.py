@@ -38,11 +38,7 @@ def _problem():
 
 def _exact():
     """Exact inference: every likelihood kind (sums, joint tables, counts) and prior."""
-    import numpy as np
-
     from bsi_sklearn import BSIClassifier
-    from bsi_sklearn.inference import _exact_kernels
-    from bsi_sklearn.model import make_model
 
     X, y, roles = _problem()
     for prior, likelihood, flip in (("sets_of_chains", "cb", None), ("forest", "ci", (1, 9)),
@@ -50,11 +46,11 @@ def _exact():
         BSIClassifier(prior=prior, likelihood=likelihood, flip_prior=flip, inference="exact",
                       **roles).fit(X, y)
     BSIClassifier(random_state=0).fit(X, y)  # roles read from the data, "auto"
-    # Above MAX_CELLS the joint likelihood is read from the counts (exact._pair_lls).
-    model = make_model(prior="forest", likelihood="calibrated", n_globals=1, n_subtasks=2)
-    lik = _exact_kernels.likelihood_tables(2, 1, 4, model)
-    one = np.zeros(1, dtype=np.int64)
-    _exact_kernels.pair_ll_many(lik, one, one, one)
+    # 2,048 demonstrations of each label: the joint likelihood table would pass
+    # _exact_kernels.MAX_CELLS, so the likelihood is read from the counts.
+    bad = [X[2], X[2][::-1]]
+    BSIClassifier(likelihood="ci", flip_prior=(1, 9), inference="exact", **roles).fit(
+        X[:2] * 1024 + bad * 1024, [1] * 2048 + [0] * 2048)
 
 
 def _mcmc():
