@@ -4,16 +4,18 @@ In a fresh environment the first fit compiles the numba kernels it calls, which 
 later processes load them from numba's disk cache (``python -m bsi_sklearn.compile`` fills it
 ahead of time, :mod:`bsi_sklearn.compile`). Two things say so:
 
-- a *notice*: whenever this package's kernels have been compiling for more than a second, one
-  line on standard error says what is happening and how to do it ahead of time, whatever the
-  ``verbose`` setting, once per burst of compilation (a burst ends after
-  :data:`QUIET_GAP` seconds without compiling). It is printed by a timer thread, so it
-  appears at the first second even while one long kernel compiles; it is a plain line, not
-  a warning (no filter repeats or hides it), and every process that compiles prints its own
-  (each worker of joblib or dask that starts cold waits too). :func:`install_notice` starts
-  it; the modules that define kernels call it when imported.
+- a *notice*: once this package's kernels have spent a second compiling, one line on standard
+  error says what is happening and how to do it ahead of time, whatever the ``verbose``
+  setting; once per burst of compilation (a burst ends after :data:`QUIET_GAP` seconds
+  without compiling, so a later fit that compiles other kernels says it again). A timer
+  thread prints it, so it comes at the first second even while one long kernel compiles. It
+  is a plain line, not a warning (no warning filter repeats or hides it); every process that
+  compiles prints its own (each joblib or dask worker that starts cold waits too, and its
+  standard error is where its output goes). :func:`install_notice` starts listening;
+  :mod:`bsi_sklearn.clauses`, which every fit, prediction and monitor imports, calls it.
 - a *bar* (tqdm) over the kernels being compiled, for ``verbose > 0`` inside
-  :func:`compile_progress`; the notice stays quiet while a bar is shown.
+  :func:`compile_progress`; the notice stays quiet while a bar is shown
+  (:func:`quiet_notice`), as it does while the compile step runs.
 """
 
 import contextlib

@@ -174,9 +174,13 @@ def compile_all(jobs=None, stream=None):
     compiled : int
         Kernels compiled (the others were loaded from the cache).
     """
-    import bsi_sklearn  # noqa: F401  (the cache's folder is chosen when the package loads)
+    from numba.core.dispatcher import Dispatcher  # (the package, so the cache, is set up)
 
     stream = sys.stderr if stream is None else stream
+    if getattr(Dispatcher.enable_caching, "_bsi_sklearn_skips", False):  # _numba_cache
+        print("bsi_sklearn: numba has no writable cache here, so nothing can be compiled ahead "
+              "(set NUMBA_CACHE_DIR to a writable folder)", file=stream, flush=True)
+        return 0
     jobs = min(len(WORKLOADS), _cpus() if jobs is None else max(int(jobs), 1))
     print(f"bsi_sklearn: compiling the numba kernels into numba's cache ({jobs} "
           f"process{'es' if jobs > 1 else ''}; once after installing, about a minute)",
