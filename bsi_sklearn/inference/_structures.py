@@ -57,6 +57,7 @@ __all__ = ["StructureTables", "structure_tables", "whole_kind", "COMBO_COST", "S
 #: index before it can tell that it is stale (an AttributeError instead of a recompilation).
 _MOVED = (_Problem, _Scratch)
 
+
 class StructureTables(NamedTuple):
     """Blocks and structures of every subset of subtasks, grouped (see the module docstring).
 
