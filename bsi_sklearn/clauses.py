@@ -15,6 +15,8 @@ import numpy as np
 from numba import njit, types
 from numba.extending import intrinsic, register_jitable
 
+from bsi_sklearn._compile_progress import install_notice
+
 __all__ = [
     "clause_index_eventual",
     "clause_index_order",
@@ -24,6 +26,10 @@ __all__ = [
     "popcount",
     "popcounts",
 ]
+
+# Every fit, prediction and monitor imports this module first of the compiled ones: from here
+# on, a compilation of the package's kernels longer than a second prints one line.
+install_notice()
 
 
 @register_jitable
@@ -56,20 +62,22 @@ def clause_truth(traces, roles):
     -------
     truth : ndarray of shape (n_demos, n_clauses), dtype uint8
     """
-    return _clause_truth(
-        traces.data, traces.offsets, roles.global_idx, roles.subtask_idx, roles.condition_idx
-    )
+    n_props = traces.data.shape[1]
+    # Allocated here: a numpy allocation inside the kernel is one more compilation.
+    out = np.zeros((len(traces.offsets) - 1, n_clauses(len(roles.global_idx),
+                                                        len(roles.subtask_idx))), dtype=np.uint8)
+    _clause_truth(traces.data, traces.offsets, roles.global_idx, roles.subtask_idx,
+                  roles.condition_idx, out, np.empty(n_props, dtype=np.uint8),
+                  np.empty(n_props, dtype=np.int64))
+    return out
 
 
 @njit(cache=True, nogil=True)
-def _clause_truth(data, offsets, g_idx, s_idx, c_idx):
+def _clause_truth(data, offsets, g_idx, s_idx, c_idx, out, always, first):
     n_demos = offsets.shape[0] - 1
     n_props = data.shape[1]
     n_g = g_idx.shape[0]
     n = s_idx.shape[0]
-    out = np.zeros((n_demos, n_clauses(n_g, n)), dtype=np.uint8)
-    always = np.empty(n_props, dtype=np.uint8)
-    first = np.empty(n_props, dtype=np.int64)
     for i in range(n_demos):
         start, stop = offsets[i], offsets[i + 1]
         length = stop - start
@@ -102,20 +110,26 @@ def _clause_truth(data, offsets, g_idx, s_idx, c_idx):
                     # !b U a: a happens, and b does not happen strictly before the first a.
                     ok = fa < length and first[s_idx[b]] >= fa
                     out[i, clause_index_order(a, b, n_g, n)] = 1 if ok else 0
-    return out
 
 
-@njit(cache=True, nogil=True)
 def pack_rows(bits):
-    """Pack a 0/1 matrix ``(n_rows, n_cols)`` into uint64 words ``(n_rows, ceil(n_cols/64))``."""
+    """Pack a 0/1 matrix ``(n_rows, n_cols)`` into uint64 words ``(n_rows, ceil(n_cols/64))``.
+
+    Column ``c`` is bit ``c % 64`` of word ``c // 64`` (nonzero entries are ones). Plain numpy:
+    it spares a compilation on the first fit.
+
+    Examples
+    --------
+    >>> pack_rows(np.array([[1, 0, 1], [0, 1, 0]], dtype=np.uint8)).tolist()
+    [[5], [2]]
+    """
+    bits = np.asarray(bits)
     n_rows, n_cols = bits.shape
     n_words = (n_cols + 63) // 64
-    out = np.zeros((n_rows, n_words), dtype=np.uint64)
-    for r in range(n_rows):
-        for c in range(n_cols):
-            if bits[r, c]:
-                out[r, c >> 6] |= np.uint64(1) << np.uint64(c & 63)
-    return out
+    packed = np.packbits(bits != 0, axis=1, bitorder="little")
+    out = np.zeros((n_rows, 8 * n_words), dtype=np.uint8)
+    out[:, :packed.shape[1]] = packed
+    return np.ascontiguousarray(out.view("<u8"), dtype=np.uint64)
 
 
 @intrinsic
@@ -126,11 +140,19 @@ def popcount(typingctx, x):
     return types.uint64(types.uint64), codegen
 
 
-@njit(cache=True, nogil=True)
 def popcounts(bits, mask):
-    """Number of set bits of ``bits[i] & mask`` for every row ``i`` of packed words."""
-    out = np.zeros(bits.shape[0], dtype=np.int64)
-    for i in range(bits.shape[0]):
-        for w in range(bits.shape[1]):
-            out[i] += popcount(bits[i, w] & mask[w])
-    return out
+    """Number of set bits of ``bits[i] & mask`` for every row ``i`` of packed words.
+
+    Plain numpy (it spares a compilation on the first fit); int64.
+
+    Examples
+    --------
+    >>> popcounts(np.array([[7], [12]], dtype=np.uint64), np.array([5], dtype=np.uint64))
+    array([2, 1])
+    """
+    words = np.ascontiguousarray(np.asarray(bits, dtype=np.uint64) & np.asarray(mask, np.uint64))
+    if hasattr(np, "bitwise_count"):  # numpy >= 2.0
+        return np.bitwise_count(words).sum(axis=1, dtype=np.int64)
+    n = words.shape[0]
+    return np.unpackbits(words.view(np.uint8).reshape(n, -1), axis=1).sum(axis=1,
+                                                                         dtype=np.int64)

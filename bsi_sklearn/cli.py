@@ -1,4 +1,4 @@
-"""The ``bsi`` command line: ``fit``, ``monitor`` and ``reproduce`` subcommands.
+"""The ``bsi`` command line: ``fit``, ``monitor``, ``reproduce`` and ``compile`` subcommands.
 
 Each subcommand lives in its own module exposing ``add_arguments(parser)`` and ``run(args)``;
 this file only wires them, importing a module when its subcommand runs.
@@ -18,6 +18,8 @@ SUBCOMMANDS = {
                 "replay demonstrations against a saved posterior: verdicts over time, plots"),
     "reproduce": ("bsi_sklearn.experiments.reproduce",
                   "reproduce the paper's synthetic-domain or dinner-table experiments"),
+    "compile": ("bsi_sklearn.compile",
+                "compile the numba kernels into numba's cache (once after installing)"),
 }
 
 

@@ -11,6 +11,8 @@ import numbers
 import numpy as np
 from numba import njit
 
+from bsi_sklearn._jit import helper
+
 __all__ = ["default_log_epsilon", "resolve_log_epsilon", "log_likelihood", "log_likelihood_cb",
            "cb_rejected", "LIKELIHOODS",
            "likelihood_code", "is_flip_prior", "resolve_flip_prior", "splits_by_label",
@@ -134,7 +136,7 @@ def step_scale(code, log_eps, n_pos, n_neg, flip_a, flip_b):
     return -log_eps
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _log1mexp(x):
     # log(1 - exp(x)) for x < 0, accurate near 0 and for very negative x.
     if x > -0.6931471805599453:
@@ -142,7 +144,7 @@ def _log1mexp(x):
     return math.log1p(-math.exp(x))
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _log_beta(a, b):
     return math.lgamma(a) + math.lgamma(b) - math.lgamma(a + b)
 

@@ -435,7 +435,8 @@ def structure_log_prior(parent, model, scratch):
             if parent[v] < 0:
                 m += 1
         return model.lp_chains[m] if n else 0.0
-    scratch[:] = 1
+    for v in range(n):
+        scratch[v] = 1
     for v in range(n):
         a = parent[v]
         while a >= 0:

@@ -190,7 +190,7 @@ LAYERS = [
     # Specification is a value (imports nothing); ltl/ reads formulas into it.
     {"traces", "_trace_values", "_long_format_split", "roles", "inferred_roles", "io", "ltl",
      "param_validation", "preprocessing", "specification", "automaton", "dfa",
-     "_compile_progress", "_numba_cache", "_lazy"},
+     "_compile_progress", "_numba_cache", "_lazy", "_jit"},
     {"clauses"},
     {"priors", "likelihood", "model"},
     {"inference"},

@@ -72,7 +72,8 @@ def test_scripts_install_cpu_torch_first_then_run_the_readme_commands():
     venv = setup.index("-m venv")
     torch = setup.index("pip install torch==2.13.0")
     project = setup.index('pip install -e "$ROOT[test]"')
-    assert venv < torch < project
+    assert venv < torch < project < setup.rindex("compile_kernels")  # then compiled, once
+    assert '-m bsi_sklearn.compile' in setup
     assert 'exec "$ROOT/.venv/bin/bsi-lfe" compare --out results/ "$@"' in (
         ROOT / "run").read_text()
     assert 'exec "$ROOT/.venv/bin/python" -m pytest -q "$@"' in (ROOT / "test").read_text()

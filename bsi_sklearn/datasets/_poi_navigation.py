@@ -5,7 +5,11 @@ import heapq
 import numpy as np
 from numba import njit
 
+from bsi_sklearn._compile_progress import install_notice
+
 __all__ = ["Navigator"]
+
+install_notice()  # one line when its kernels compile for more than a second
 
 _RESOLUTION = 0.1  # planning grid cell size
 _CLEARANCE = 0.35  # planning margin around threat zones (above the turning radius)

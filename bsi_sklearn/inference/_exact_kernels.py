@@ -18,13 +18,12 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from bsi_sklearn._jit import helper
 from bsi_sklearn.clauses import popcount
 from bsi_sklearn.likelihood import depends_on_conjuncts, log_likelihood, splits_by_label
-from bsi_sklearn.priors import structure_log_prior
 
-__all__ = ["StructureSide", "SubsetSide", "Likelihoods", "Listing", "likelihood_tables",
-           "pair_ll", "pair_ll_many",
-           "log_evidence", "group_masses", "list_hypotheses", "MAX_CELLS"]
+__all__ = ["StructureSide", "SubsetSide", "Likelihoods", "likelihood_tables", "pair_ll",
+           "pair_ll_many", "log_evidence", "group_masses", "MAX_CELLS"]
 
 #: Largest (satisfied positives x satisfied negatives) table of the passes' caches; above it
 #: every pair of groups pays a log and an exp instead.
@@ -76,7 +75,7 @@ class Likelihoods(NamedTuple):
     flip_b: float
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def pair_ll(lik, k, ps, ns):
     """The log-likelihood of a pair of groups with ``k`` conjuncts, ``ps`` / ``ns`` satisfied."""
     if lik.joint.shape[0] == 0:
@@ -87,7 +86,7 @@ def pair_ll(lik, k, ps, ns):
     return _joint_ll(lik, k, ps, ns)
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _joint_ll(lik, k, ps, ns):
     if k == 0 and (ps < lik.n_pos or ns < lik.n_neg):
         return -np.inf  # no conjunct: every demonstration satisfies it
@@ -95,16 +94,20 @@ def _joint_ll(lik, k, ps, ns):
                           lik.log_eps, lik.code, lik.flip_a, lik.flip_b)
 
 
-@njit(cache=True, nogil=True)
 def pair_ll_many(lik, k, ps, ns):
     """:func:`pair_ll` of arrays of pairs (for the Python side)."""
     out = np.empty(k.shape[0])
-    for i in range(k.shape[0]):
-        out[i] = pair_ll(lik, k[i], ps[i], ns[i])
+    _pair_ll_many(lik, k, ps, ns, out)
     return out
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
+def _pair_ll_many(lik, k, ps, ns, out):
+    for i in range(k.shape[0]):
+        out[i] = pair_ll(lik, k[i], ps[i], ns[i])
+
+
+@helper
 def _counts(s_bits, g, h_pos, h_neg, h):
     ps = 0
     ns = 0
@@ -117,7 +120,9 @@ def _counts(s_bits, g, h_pos, h_neg, h):
 def likelihood_tables(n_pos, n_neg, max_conj, model):
     """The likelihood of a pair of groups by its counts, and its bound (:class:`Likelihoods`)."""
     if splits_by_label(model.likelihood):
-        pos, neg, bound = _sum_tables(n_pos, n_neg, max_conj, model)
+        pos, neg = np.empty((max_conj + 1, n_pos + 1)), np.empty((max_conj + 1, n_neg + 1))
+        bound = np.empty((max_conj + 1, n_pos + 1))
+        _sum_tables(n_pos, n_neg, max_conj, model, pos, neg, bound)
         joint = np.empty((0, 1, 1))
     else:
         n_k = max_conj + 1 if depends_on_conjuncts(model.likelihood) else 1
@@ -128,17 +133,16 @@ def likelihood_tables(n_pos, n_neg, max_conj, model):
     lik = Likelihoods(pos, neg, bound, joint, int(n_pos), int(n_neg), float(model.log_eps),
                       int(model.likelihood), float(model.flip_a), float(model.flip_b))
     if joint.shape[0] > 0:
-        _fill_joint(lik, max_conj)
+        _fill_joint(lik, max_conj, np.empty((joint.shape[0], n_pos + 1)))
     return lik
 
 
 @njit(cache=True, nogil=True)
-def _fill_joint(lik, max_conj):
+def _fill_joint(lik, max_conj, rows):
     # The joint table (when it has room) and the bound: the best over every ns, then a running
     # best over ps. A table for every k (K = 1) is the likelihood of k >= 1 conjuncts: with
     # none, only (n_pos, n_neg) can occur, where the two agree.
     n_k = lik.joint.shape[0]
-    rows = np.empty((n_k, lik.n_pos + 1))
     for kk in range(n_k):
         for ps in range(lik.n_pos + 1):
             top = -np.inf
@@ -156,10 +160,7 @@ def _fill_joint(lik, max_conj):
 
 
 @njit(cache=True, nogil=True)
-def _sum_tables(n_pos, n_neg, max_conj, model):
-    lik_pos = np.empty((max_conj + 1, n_pos + 1))
-    lik_neg = np.empty((max_conj + 1, n_neg + 1))
-    bound = np.empty((max_conj + 1, n_pos + 1))
+def _sum_tables(n_pos, n_neg, max_conj, model, lik_pos, lik_neg, bound):
     for k in range(max_conj + 1):
         top = -np.inf
         for ns in range(n_neg + 1):
@@ -175,7 +176,6 @@ def _sum_tables(n_pos, n_neg, max_conj, model):
                                             model.log_eps, model.likelihood, 0.0, 0.0)
             run = max(run, lik_pos[k, ps] + top)
             bound[k, ps] = run
-    return lik_pos, lik_neg, bound
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -188,20 +188,30 @@ def _lse_add(mx, acc, v):
     return mx, acc
 
 
-@njit(cache=True, nogil=True)
+def _cells(lik):
+    # Whether the passes cache over (satisfied positives, satisfied negatives) cells, and the
+    # size of their scratch (decided here: numba would read MAX_CELLS as it was compiled).
+    n_cells = (lik.n_pos + 1) * (lik.n_neg + 1)
+    return (n_cells, True) if n_cells <= MAX_CELLS else (1, False)
+
+
 def log_evidence(ss, hs, lik, cut_offset, cut_floor):
     """Log of the sum over pairs of groups of weight x likelihood.
 
     Relative to the structure weights' ref. A pair is skipped when its bound is below the
     running sum + ``cut_offset`` or below ``cut_floor``.
     """
+    n, use_hist = _cells(lik)
+    return _log_evidence(ss, hs, lik, float(cut_offset), float(cut_floor), use_hist,
+                         np.empty(ss.weight.shape[0]), np.zeros(n), np.zeros(n, dtype=np.int64),
+                         np.empty(n, dtype=np.int64))
+
+
+@njit(cache=True, nogil=True)
+def _log_evidence(ss, hs, lik, cut_offset, cut_floor, use_hist, log_w, hist, stamp, touched):
     n_neg1 = lik.n_neg + 1
-    n_cells = (lik.n_pos + 1) * n_neg1
-    use_hist = n_cells <= MAX_CELLS
-    hist = np.zeros(n_cells if use_hist else 1)
-    stamp = np.zeros(n_cells if use_hist else 1, dtype=np.int64)
-    touched = np.empty(n_cells if use_hist else 1, dtype=np.int64)
-    log_w = np.log(ss.weight)
+    for g in range(log_w.shape[0]):  # numba's log: numpy's may differ in the last bit
+        log_w[g] = math.log(ss.weight[g])
     cur = 0
     mx = -np.inf
     acc = 0.0
@@ -237,7 +247,6 @@ def log_evidence(ss, hs, lik, cut_offset, cut_floor):
     return mx + math.log(acc)
 
 
-@njit(cache=True, nogil=True)
 def group_masses(ss, hs, lik, log_z, keep, cut):
     """Posterior masses of the groups and by misclassified demonstrations, and flags.
 
@@ -250,16 +259,19 @@ def group_masses(ss, hs, lik, log_z, keep, cut):
     with some subset-pair group, its best member may reach ``keep`` (absolute log posterior,
     unnormalised). Pairs whose bound is below ``cut`` are skipped, as in :func:`log_evidence`.
     """
-    mass_s = np.zeros(ss.weight.shape[0])
-    mass_h = np.zeros(hs.pos.shape[0])
-    flag = np.zeros(ss.weight.shape[0], dtype=np.uint8)
-    mass_v = np.zeros(lik.n_pos + lik.n_neg + 1)
+    out = (np.zeros(ss.weight.shape[0]), np.zeros(hs.pos.shape[0]),
+           np.zeros(ss.weight.shape[0], dtype=np.uint8), np.zeros(lik.n_pos + lik.n_neg + 1))
+    n, use_cache = _cells(lik)
+    _group_masses(ss, hs, lik, float(log_z), float(keep), float(cut), use_cache, out,
+                  (np.zeros(n, dtype=np.int64), np.empty(n), np.empty(n)))
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _group_masses(ss, hs, lik, log_z, keep, cut, use_cache, out, cache):
+    mass_s, mass_h, flag, mass_v = out
+    stamp, factor, cell_ll = cache
     n_neg1 = lik.n_neg + 1
-    n_cells = (lik.n_pos + 1) * n_neg1
-    use_cache = n_cells <= MAX_CELLS
-    stamp = np.zeros(n_cells if use_cache else 1, dtype=np.int64)
-    factor = np.empty(n_cells if use_cache else 1)
-    cell_ll = np.empty(n_cells if use_cache else 1)
     cur = 0
     for h in range(hs.pos.shape[0]):
         off = hs.lw[h] - log_z
@@ -290,189 +302,3 @@ def group_masses(ss, hs, lik, log_z, keep, cut):
                 if ss.best[g] + ll >= keep_h:
                     flag[g] = 1
         mass_h[h] = mh
-    return mass_s, mass_h, flag, mass_v
-
-
-@njit(cache=True, nogil=True)
-def _heap_add(heap_lp, heap_slot, size, value, slot):
-    # Min-heap of (log posterior, slot of out_*): the least probable kept hypothesis on top.
-    i = size
-    heap_lp[i] = value
-    heap_slot[i] = slot
-    while i > 0:
-        up = (i - 1) // 2
-        if heap_lp[up] <= heap_lp[i]:
-            break
-        heap_lp[i], heap_lp[up] = heap_lp[up], heap_lp[i]
-        heap_slot[i], heap_slot[up] = heap_slot[up], heap_slot[i]
-        i = up
-
-
-@njit(cache=True, nogil=True)
-def _heap_replace_top(heap_lp, heap_slot, size, value):
-    # The top's slot now holds a more probable hypothesis: restore the heap.
-    heap_lp[0] = value
-    i = 0
-    while True:
-        small = i
-        for child in (2 * i + 1, 2 * i + 2):
-            if child < size and heap_lp[child] < heap_lp[small]:
-                small = child
-        if small == i:
-            break
-        heap_lp[i], heap_lp[small] = heap_lp[small], heap_lp[i]
-        heap_slot[i], heap_slot[small] = heap_slot[small], heap_slot[i]
-        i = small
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _put(out_par, out_idx, out_lp, slot, parent, t, e, value):
-    for v in range(parent.shape[0]):
-        out_par[slot, v] = parent[v]
-    out_idx[slot, 0] = t
-    out_idx[slot, 1] = e
-    out_lp[slot] = value
-
-
-class Listing(NamedTuple):
-    """What the listing of the kept hypotheses needs (see :func:`list_hypotheses`)."""
-
-    rec_start: np.ndarray   # (E + 1,) derivations of table entry e: rec[rec_start[e]:...]
-    rec: np.ndarray         # (R, 4) rows (entry, a, b, f) (see _structures.descend)
-    targets: np.ndarray     # (T,) whole-set entries whose structures are listed
-    group: np.ndarray       # (T,) each target's structure group (sorted StructureSide order)
-    pass_start: np.ndarray  # (G + 1,) CSR by structure group: the subset-pair groups that
-    pass_h: np.ndarray      # may reach keep with it (SubsetSide positions)
-    pass_ll: np.ndarray     # and the pair's log likelihood
-    h_order: np.ndarray     # SubsetSide position -> subset-pair group id
-    keep: float             # absolute log posterior (unnormalised) a kept hypothesis reaches
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _expand(rec, k, attach, parent, pend_e, pend_a, n_pend):
-    # Apply derivation k to an entry hanging under `attach`: a block puts its first subtask
-    # (or root) f under attach and hangs the rest under f; a structure hangs its block and
-    # its rest under attach. The empty structure (entry 0) needs nothing.
-    f = rec[k, 3]
-    if f >= 0:
-        parent[f] = attach
-        if rec[k, 1] != 0:
-            pend_e[n_pend] = rec[k, 1]
-            pend_a[n_pend] = f
-            n_pend += 1
-        return n_pend
-    if rec[k, 2] != 0:
-        pend_e[n_pend] = rec[k, 2]
-        pend_a[n_pend] = attach
-        n_pend += 1
-    pend_e[n_pend] = rec[k, 1]
-    pend_a[n_pend] = attach
-    return n_pend + 1
-
-
-@njit(cache=True, nogil=True)
-def list_hypotheses(model, hs, subsets, ls, out_par, out_idx, out_lp):
-    """Enumerate the structures of the target entries and list their kept hypotheses.
-
-    Every structure of a target is rebuilt from its derivations (a depth-first walk with a
-    stack of the entries still to expand); the hypotheses at or above ``ls.keep`` are written
-    to ``out_*`` (structure, [global mask, eventual mask], unnormalised log posterior), in no
-    particular order; when there are more than they have room for, a min-heap keeps the most
-    probable. Returns the number of hypotheses at or above ``ls.keep``, which may exceed the
-    room in ``out_*``.
-    """
-    n = model.n
-    parent = np.full(n, -1, dtype=np.int64)
-    scratch = np.zeros(n, dtype=np.int64)
-    depth = 2 * n + 2
-    pend_e = np.empty(n + 1, dtype=np.int64)
-    pend_a = np.empty(n + 1, dtype=np.int64)
-    fr_e = np.empty(depth, dtype=np.int64)
-    fr_a = np.empty(depth, dtype=np.int64)
-    fr_k = np.empty(depth, dtype=np.int64)
-    fr_n = np.empty(depth, dtype=np.int64)
-    fr_pe = np.empty((depth, n + 1), dtype=np.int64)
-    fr_pa = np.empty((depth, n + 1), dtype=np.int64)
-    cap = out_lp.shape[0]
-    heap_lp = np.empty(cap)
-    heap_slot = np.empty(cap, dtype=np.int64)
-    k = 0
-    for ti in range(ls.targets.shape[0]):
-        g = ls.group[ti]
-        n_pend = 0
-        if ls.targets[ti] != 0:
-            pend_e[0] = ls.targets[ti]
-            pend_a[0] = -1
-            n_pend = 1
-        d = 0
-        down = True
-        while True:
-            if down:
-                if n_pend > 0:
-                    n_pend -= 1
-                    fr_e[d] = pend_e[n_pend]
-                    fr_a[d] = pend_a[n_pend]
-                    fr_n[d] = n_pend
-                    fr_pe[d, :n_pend] = pend_e[:n_pend]
-                    fr_pa[d, :n_pend] = pend_a[:n_pend]
-                    fr_k[d] = ls.rec_start[fr_e[d]]
-                    n_pend = _expand(ls.rec, fr_k[d], fr_a[d], parent, pend_e, pend_a, n_pend)
-                    d += 1
-                    continue
-                lp = structure_log_prior(parent, model, scratch)
-                k = _list_one(parent, lp, g, hs, subsets, ls, k, out_par, out_idx, out_lp,
-                              heap_lp, heap_slot)
-                down = False
-                continue
-            if d == 0:
-                break
-            d -= 1
-            nxt = fr_k[d] + 1
-            if nxt == ls.rec_start[fr_e[d] + 1]:
-                continue
-            fr_k[d] = nxt
-            n_pend = fr_n[d]
-            pend_e[:n_pend] = fr_pe[d, :n_pend]
-            pend_a[:n_pend] = fr_pa[d, :n_pend]
-            n_pend = _expand(ls.rec, nxt, fr_a[d], parent, pend_e, pend_a, n_pend)
-            d += 1
-            down = True
-    return k
-
-
-@njit(cache=True, nogil=True)
-def _list_one(parent, lp, g, hs, subsets, ls, k, out_par, out_idx, out_lp, heap_lp,
-              heap_slot):
-    # The hypotheses of one structure (log prior lp, structure group g) at or above keep.
-    cap = out_lp.shape[0]
-    for j in range(ls.pass_start[g], ls.pass_start[g + 1]):
-        hi = ls.pass_h[j]
-        ll = ls.pass_ll[j]
-        floor = ls.keep
-        if k >= cap and heap_lp[0] > floor:
-            floor = heap_lp[0]  # the heap is full: beat its least probable
-        need = floor - lp - ll  # a member's log prior must reach this
-        if hs.best[hi] < need:
-            continue
-        h = ls.h_order[hi]
-        for q in range(subsets.pair_start[h], subsets.pair_start[h + 1]):
-            gt = subsets.pair_t[q]
-            ge = subsets.pair_e[q]
-            if subsets.t_groups.best[gt] + subsets.e_groups.best[ge] < need:
-                continue
-            for it in range(subsets.t_start[gt], subsets.t_start[gt + 1]):
-                t = subsets.t_items[it]
-                for ie in range(subsets.e_start[ge], subsets.e_start[ge + 1]):
-                    e = subsets.e_items[ie]
-                    lp_te = subsets.t_lp[t] + subsets.e_lp[e]
-                    if lp_te < need:
-                        continue
-                    value = lp + lp_te + ll
-                    k += 1
-                    if k <= cap:
-                        _put(out_par, out_idx, out_lp, k - 1, parent, t, e, value)
-                        _heap_add(heap_lp, heap_slot, k - 1, value, k - 1)
-                    elif value > heap_lp[0]:
-                        _put(out_par, out_idx, out_lp, heap_slot[0], parent, t, e, value)
-                        _heap_replace_top(heap_lp, heap_slot, cap, value)
-    return k

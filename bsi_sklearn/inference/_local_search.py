@@ -20,6 +20,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from bsi_sklearn._jit import helper
 from bsi_sklearn.clauses import clause_index_order
 from bsi_sklearn.inference._gibbs_moves import sat_counts
 from bsi_sklearn.likelihood import log_likelihood
@@ -35,14 +36,14 @@ class _Scratch(NamedTuple):
     parent: np.ndarray    # (n,) int64
 
 
-@njit(cache=True, nogil=True)
 def _scratch(demos, model):
+    # Allocated by Python: a numpy allocation inside a kernel is one more compilation.
     return _Scratch(np.zeros(demos.truth_t.shape[1], dtype=np.int32),
                     np.empty(model.n_g, dtype=np.int64), np.empty(model.n, dtype=np.int64),
                     np.empty(model.n, dtype=np.int64))
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _score(row, demos, model, scratch):
     # Exact log posterior of a row [tau, w1, parent].
     n_g, n = model.n_g, model.n
@@ -57,7 +58,7 @@ def _score(row, demos, model, scratch):
         return lp
     truth_t = demos.truth_t
     viol[:] = 0
-    n_conj = 0
+    n_conj = np.int64(0)  # not a literal 0: log_likelihood compiles once
     for c in range(n_g + n):
         if row[c]:
             n_conj += 1
@@ -76,13 +77,13 @@ def _score(row, demos, model, scratch):
                                model.likelihood, model.flip_a, model.flip_b)
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _put(out, k, row, n_cols):
     for c in range(n_cols):
         out[k, c] = row[c]
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _neighbours(row, model, out, k, work):
     # Every row one block away from ``row``, into out[k:]; returns the new k. work: (3, n)
     # int64 scratch (the structure without v, its successors, v's subtree).
@@ -149,33 +150,38 @@ def n_neighbours_max(n_g, n):
     return n_g + n + n * 2 * (2 * n + 1)
 
 
-@njit(cache=True, nogil=True)
 def neighbourhood(rows, demos, model, floor):
     """The neighbours of ``rows`` whose log posterior is at least ``floor``, and those scores.
 
     Returns ``(neighbours, log_posteriors)``; a row may appear more than once, and rows of
     ``rows`` may be among them.
     """
+    per_row = n_neighbours_max(model.n_g, model.n)
     n_cols = rows.shape[1]
-    per_row = model.n_g + model.n + model.n * 2 * (2 * model.n + 1)
-    scratch = _scratch(demos, model)
-    work = np.empty((3, model.n), dtype=np.int64)
-    buf = np.empty((per_row, n_cols), dtype=np.int64)
     out = np.empty((rows.shape[0] * per_row, n_cols), dtype=np.int16)
     out_lp = np.empty(out.shape[0])
-    m = 0
+    m = _neighbourhood(rows, demos, model, float(floor), _scratch(demos, model),
+                       np.empty((3, model.n), dtype=np.int64),
+                       np.empty((per_row, n_cols), dtype=np.int64), out, out_lp)
+    return out[:m], out_lp[:m]
+
+
+@njit(cache=True, nogil=True)
+def _neighbourhood(rows, demos, model, floor, scratch, work, buf, out, out_lp):
+    n_cols = rows.shape[1]
+    m = np.int64(0)  # counters start as int64, not literal 0s: one compilation each
     for i in range(rows.shape[0]):
-        k = _neighbours(rows[i], model, buf, 0, work)
+        k = _neighbours(rows[i], model, buf, np.int64(0), work)
         for j in range(k):
             lp = _score(buf[j], demos, model, scratch)
             if lp >= floor:
                 _put(out, m, buf[j], n_cols)
                 out_lp[m] = lp
                 m += 1
-    return out[:m], out_lp[:m]
+    return m
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _same(a, b):
     for i in range(a.shape[0]):
         if a[i] != b[i]:
@@ -183,27 +189,38 @@ def _same(a, b):
     return True
 
 
-@njit(cache=True, nogil=True)
+class _Beam(NamedTuple):
+    pool: np.ndarray     # (width * (n_neighbours_max + 1), n_cols) int64: beam and neighbours
+    pool_lp: np.ndarray  # their log posteriors
+    taken: np.ndarray    # bool
+    beam: np.ndarray     # (width, n_cols) int64
+    beam_lp: np.ndarray
+    nxt: np.ndarray      # (width, n_cols) int64: the next beam
+    nxt_lp: np.ndarray
+
+
 def beam_search(start, demos, model, width, max_steps):
     """Beam search from the rows of ``start``; returns ``(best row, its log posterior)``."""
-    n_g, n = model.n_g, model.n
-    n_cols = n_g + 2 * n
-    scratch = _scratch(demos, model)
-    work = np.empty((3, n), dtype=np.int64)
-    per_row = n_g + n + n * 2 * (2 * n + 1)  # n_neighbours_max
-    pool = np.empty((width * (per_row + 1), n_cols), dtype=np.int64)
-    pool_lp = np.empty(pool.shape[0])
-    taken = np.empty(pool.shape[0], dtype=np.bool_)
-    beam = np.empty((width, n_cols), dtype=np.int64)
-    beam_lp = np.empty(width)
-    nxt = np.empty((width, n_cols), dtype=np.int64)
-    nxt_lp = np.empty(width)
+    n_cols = model.n_g + 2 * model.n
+    rows = width * (n_neighbours_max(model.n_g, model.n) + 1)
+    bufs = _Beam(np.empty((rows, n_cols), dtype=np.int64), np.empty(rows),
+                 np.empty(rows, dtype=np.bool_), np.empty((width, n_cols), dtype=np.int64),
+                 np.empty(width), np.empty((width, n_cols), dtype=np.int64), np.empty(width))
+    lp = _beam_search(start, demos, model, int(width), int(max_steps), _scratch(demos, model),
+                      np.empty((3, model.n), dtype=np.int64), bufs)
+    return bufs.beam[0].copy(), lp
+
+
+@njit(cache=True, nogil=True)
+def _beam_search(start, demos, model, width, max_steps, scratch, work, bufs):
+    n_cols = model.n_g + 2 * model.n
+    pool, pool_lp, taken, beam, beam_lp, nxt, nxt_lp = bufs
     n_beam = min(width, start.shape[0])
     for i in range(n_beam):
         _put(beam, i, start[i], n_cols)
         beam_lp[i] = _score(beam[i], demos, model, scratch)
     for _ in range(max_steps):
-        m = 0
+        m = np.int64(0)
         for i in range(n_beam):
             _put(pool, m, beam[i], n_cols)
             pool_lp[m] = beam_lp[i]
@@ -215,7 +232,7 @@ def beam_search(start, demos, model, width, max_steps):
             m = k
         # The best `width` distinct rows, in decreasing order (the first of ties).
         taken[:m] = False
-        kept = 0
+        kept = np.int64(0)
         while kept < width:
             j = -1
             for i in range(m):
@@ -245,4 +262,4 @@ def beam_search(start, demos, model, width, max_steps):
         n_beam = kept
         if not changed:
             break
-    return beam[0].copy(), beam_lp[0]
+    return beam_lp[0]

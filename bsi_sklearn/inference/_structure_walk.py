@@ -6,7 +6,7 @@ proportion to the other's weight; a block's derivation also gives its mass to th
 ``f -> u`` it adds, which sums to the order-clause marginals. The entries of the structure
 groups that may hold a kept hypothesis are marked, the marks passed down the same way, and the
 derivations of every marked entry recorded: they are all
-:func:`bsi_sklearn.inference._exact_kernels.list_hypotheses` needs to rebuild those structures.
+:func:`bsi_sklearn.inference._listing.list_hypotheses` needs to rebuild those structures.
 """
 
 import math
@@ -14,22 +14,23 @@ import math
 import numpy as np
 from numba import njit
 
-from bsi_sklearn.inference._structures import (
+from bsi_sklearn._jit import helper
+from bsi_sklearn.inference._structure_common import (
     BLOCK,
     PART,
     and_pop,
     candidates,
     find,
     first_subtasks,
-    local_table,
     n_bits,
     problem,
+    scratch,
 )
 
 __all__ = ["descend"]
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _part_down(pb, tabs, s, cand, n_c, ht, cur, acc, rec, n_rec, bits):
     # Mass (and marks, with their derivations) of the structures on s, to their parts.
     out, mark, _ = acc
@@ -41,7 +42,7 @@ def _part_down(pb, tabs, s, cand, n_c, ht, cur, acc, rec, n_rec, bits):
         scale = math.exp(ref[BLOCK, b] + ref[PART, rest] - ref[PART, s])
         for x in range(lo[BLOCK, b], hi[BLOCK, b]):
             for y in range(lo[PART, rest], hi[PART, rest]):
-                if and_pop(tabs.bits[x], tabs.bits[y], bits, pb.pos) < pb.thr:
+                if and_pop(tabs.bits, x, tabs.bits, y, bits, pb.pos) < pb.thr:
                     continue
                 _, e = find(loc, stamp, cur, tabs.bits, tabs.size, tabs.aux, bits,
                             tabs.size[x] + tabs.size[y], tabs.aux[x] + tabs.aux[y] + pb.aux_inc)
@@ -58,7 +59,7 @@ def _part_down(pb, tabs, s, cand, n_c, ht, cur, acc, rec, n_rec, bits):
     return n_rec
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _block_down(pb, tabs, s, fs, n_f, rs, ht, cur, acc, rec, n_rec, bits):
     # Mass (and marks) of the blocks on s, to their rests; the orders f -> u get the mass.
     out, mark, marg = acc
@@ -71,10 +72,10 @@ def _block_down(pb, tabs, s, fs, n_f, rs, ht, cur, acc, rec, n_rec, bits):
         scale = math.exp(ref[pb.child_kind, c] + pb.factor[k_s] - ref[BLOCK, s])
         mass = 0.0
         for z in range(lo[pb.child_kind, c], hi[pb.child_kind, c]):
-            if and_pop(tabs.bits[z], rs[j], bits, pb.pos) < pb.thr:
+            if and_pop(tabs.bits, z, rs, j, bits, pb.pos) < pb.thr:
                 continue
             _, e = find(loc, stamp, cur, tabs.bits, tabs.size, tabs.aux, bits,
-                        tabs.size[z] + k_s - 1, 0)
+                        tabs.size[z] + k_s - 1, np.int64(0))  # not a literal 0
             if e < 0:
                 continue
             if out[e] > 0.0:
@@ -101,36 +102,47 @@ def _live(out, mark, start, stop):
     return held or marked, marked
 
 
-@njit(cache=True, nogil=True)
-def _rec_room(rec, need):
-    if need <= rec.shape[0]:
-        return rec
-    bigger = np.empty((max(need, 2 * rec.shape[0]), 4), dtype=np.int64)
-    bigger[:rec.shape[0]] = rec
-    return bigger
+@helper
+def _local_table(ht, cur, st, start, stop):
+    # The subset's hash table holding entries start:stop (descend made it big enough).
+    loc, stamp = ht
+    for e in range(start, stop):
+        i, _ = find(loc, stamp, cur, st.bits, st.size, st.aux, st.bits[e], st.size[e],
+                    st.aux[e])
+        loc[i] = e
+        stamp[i] = cur
+
+
+# Where _descend is (an int64 array, so that it can stop when the records are full and be
+# called again where it stopped once Python has made room): the subset, the kind of step, the
+# number of records and the hash table's stamp.
+_S, _KIND, _N_REC, _CUR = range(4)
 
 
 @njit(cache=True, nogil=True)
-def _descend(tabs, pb, out, mark):
+def _descend(tabs, pb, acc, rec, ht, scr, at):
     # From the whole set down: posterior mass per unit weight (out) of every entry, the
-    # order-clause marginals, and the derivations (records) of the marked entries.
+    # order-clause marginals, and the derivations (records) of the marked entries. Returns 0
+    # when done, or the number of records needed when rec is too small for the next step.
     n = pb.n
-    n_sets = 1 << n
     lo, hi = tabs.lo, tabs.hi
-    acc = (out, mark, np.zeros(n * n))
-    rec = np.empty((1024, 4), dtype=np.int64)
-    n_rec = 0
-    cand = np.empty(max(1, n_sets >> 1), dtype=np.int64)
-    fs = np.empty(n, dtype=np.int64)
-    rs = np.empty((n, pb.full.shape[0]), dtype=np.uint64)
-    ht = (np.zeros(1024, dtype=np.int64), np.zeros(1024, dtype=np.int64))
-    cur = 0
-    bits = np.empty(pb.full.shape[0], dtype=np.uint64)
-    for s in range(n_sets - 1, 0, -1):
-        live, marked = _live(out, mark, lo[PART, s], hi[PART, s])
-        if pb.use_part and live:
-            cur += 1
-            ht = local_table(ht, cur, tabs, lo[PART, s], hi[PART, s])
+    out, mark, _ = acc
+    cand, fs, rs, bits = scr.cand, scr.fs, scr.rs, scr.bits
+    s = at[_S]
+    kind = at[_KIND]
+    n_rec = at[_N_REC]
+    cur = at[_CUR]
+    need = 0
+    while s > 0:
+        live, marked = _live(out, mark, lo[kind, s], hi[kind, s])
+        if kind == PART and not (pb.use_part and live):
+            kind = BLOCK
+            continue
+        if kind == BLOCK and not live:
+            kind = PART
+            s -= 1
+            continue
+        if kind == PART:
             n_c, _ = candidates(s, n, lo, hi, tabs.lists, cand)
             if marked:
                 n_comb = 0
@@ -138,18 +150,25 @@ def _descend(tabs, pb, out, mark):
                     b = cand[j]
                     n_comb += ((hi[BLOCK, b] - lo[BLOCK, b])
                                * (hi[PART, s ^ b] - lo[PART, s ^ b]))
-                rec = _rec_room(rec, n_rec + n_comb)
+                if n_rec + n_comb > rec.shape[0]:
+                    need = n_rec + n_comb
+                    break
+            cur += 1
+            _local_table(ht, cur, tabs, lo[PART, s], hi[PART, s])
             n_rec = _part_down(pb, tabs, s, cand, n_c, ht, cur, acc, rec, n_rec, bits)
-        live, marked = _live(out, mark, lo[BLOCK, s], hi[BLOCK, s])
-        if not live:
-            continue
-        cur += 1
-        ht = local_table(ht, cur, tabs, lo[BLOCK, s], hi[BLOCK, s])
-        n_f, n_comb, _ = first_subtasks(pb, lo, hi, s, fs, rs)
-        if marked:
-            rec = _rec_room(rec, n_rec + n_comb)
-        n_rec = _block_down(pb, tabs, s, fs, n_f, rs, ht, cur, acc, rec, n_rec, bits)
-    return acc[2], rec[:n_rec]
+            kind = BLOCK
+        else:
+            n_f, n_comb, _ = first_subtasks(pb, lo, hi, s, fs, rs)
+            if marked and n_rec + n_comb > rec.shape[0]:
+                need = n_rec + n_comb
+                break
+            cur += 1
+            _local_table(ht, cur, tabs, lo[BLOCK, s], hi[BLOCK, s])
+            n_rec = _block_down(pb, tabs, s, fs, n_f, rs, ht, cur, acc, rec, n_rec, bits)
+            kind = PART
+            s -= 1
+    at[_S], at[_KIND], at[_N_REC], at[_CUR] = s, kind, n_rec, cur
+    return need
 
 
 def descend(tables, clause_bits, full, pos, thr, model, top_ids, top_out, marked):
@@ -179,7 +198,22 @@ def descend(tables, clause_bits, full, pos, thr, model, top_ids, top_out, marked
     out[top_ids] = top_out
     mark = np.zeros(len(tables.weight), dtype=np.uint8)
     mark[top_ids[marked]] = 1
-    marg, rec = _descend(tables, problem(clause_bits, full, pos, thr, model), out, mark)
+    pb = problem(clause_bits, full, pos, thr, model)
+    acc = (out, mark, np.zeros(pb.n * pb.n))
+    # One hash table, big enough for every subset's entries (4 slots an entry at least).
+    cap = 1024
+    while cap < 4 * (tables.hi - tables.lo).max(initial=0):
+        cap *= 2
+    ht = (np.zeros(cap, dtype=np.int64), np.zeros(cap, dtype=np.int64))
+    rec = np.empty((1024, 4), dtype=np.int64)
+    at = np.zeros(4, dtype=np.int64)
+    at[_S], at[_KIND] = (1 << pb.n) - 1, PART
+    scr = scratch(pb.n, full.shape[0])
+    while (need := _descend(tables, pb, acc, rec, ht, scr, at)) > 0:
+        bigger = np.empty((max(need, 2 * rec.shape[0]), 4), dtype=np.int64)
+        bigger[:at[_N_REC]] = rec[:at[_N_REC]]
+        rec = bigger
+    marg, rec = acc[2], rec[:at[_N_REC]]
     order = np.argsort(rec[:, 0], kind="stable")
     rec = rec[order]
     rec_start = np.searchsorted(rec[:, 0], np.arange(len(tables.weight) + 1)).astype(np.int64)

@@ -20,7 +20,7 @@ v's subtree]``, one factor per block. Groups whose acceptable demonstrations num
 :func:`bsi_sklearn.inference._structure_walk.descend` walks the tables back from the whole
 set: the posterior mass of every group (its order-clause marginals) and, for the groups that
 may hold a kept hypothesis, the derivations that
-:func:`bsi_sklearn.inference._exact_kernels.list_hypotheses` enumerates.
+:func:`bsi_sklearn.inference._listing.list_hypotheses` enumerates.
 """
 
 import math
@@ -29,24 +29,33 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from bsi_sklearn.clauses import popcount
+from bsi_sklearn._jit import helper
+from bsi_sklearn.inference._structure_common import (
+    BLOCK,
+    COMBO_COST,
+    ENTRY_COST,
+    PART,
+    STEP_COST,
+    _Problem,
+    _Scratch,
+    and_pop,
+    append_block,
+    candidates,
+    find,
+    first_subtasks,
+    n_bits,
+    problem,
+    scratch,
+    whole_kind,
+)
 
-__all__ = ["StructureTables", "structure_tables", "whole_kind", "problem", "n_bits", "and_pop",
-           "find", "local_table", "candidates", "first_subtasks", "BLOCK", "PART", "COMBO_COST",
-           "STEP_COST", "ENTRY_COST"]
+__all__ = ["StructureTables", "structure_tables", "whole_kind", "COMBO_COST", "STEP_COST",
+           "ENTRY_COST"]
 
-#: The two kinds of table entries: blocks (one chain, one tree) and whole structures.
-BLOCK = 0
-PART = 1
-#: By prior code: whether structures are sets of blocks (True) or one block (Prior 1: a chain).
-PRIOR_SETS = (False, True, True)
-#: Work units (evaluations of a pair of groups, about 5-10 ns) of one combination of two table
-#: entries (an AND, a popcount, a hash probe), of one step over subsets or subtasks, and of a
-#: new entry (its time, and as much again for its memory: about 60 bytes, so that the work
-#: budget bounds the memory too).
-COMBO_COST = 4
-STEP_COST = 1
-ENTRY_COST = 32
+#: Still importable from here: numba's on-disk cache indexes of the kernels compiled before
+#: these classes moved to _structure_common name them by this module, and numba unpickles an
+#: index before it can tell that it is stale (an AttributeError instead of a recompilation).
+_MOVED = (_Problem, _Scratch)
 
 
 class StructureTables(NamedTuple):
@@ -66,191 +75,7 @@ class StructureTables(NamedTuple):
     lo: np.ndarray       # (2, 2**n) int64
     hi: np.ndarray       # (2, 2**n) int64
     ref: np.ndarray      # (2, 2**n) float64
-    lists: np.ndarray    # the subsets with blocks, by lowest subtask (see _append_block)
-
-
-class _Problem(NamedTuple):
-    # What both passes over the tables read.
-    clause_bits: np.ndarray  # (n_clauses, n_words) uint64
-    base: int                # index of the first order clause (a -> b at base + a * n + b)
-    n: int
-    full: np.ndarray         # (n_words,) every demonstration
-    pos: np.ndarray          # (n_words,) the acceptable ones
-    thr: int                 # fewest acceptable demonstrations a kept entry satisfies
-    factor: np.ndarray       # (n + 2,) log weight of a block by its number of subtasks
-    aux_inc: int             # 1: count the blocks of a structure (chains), 0: not (trees)
-    child_kind: int          # what a block's first subtask (or root) is above
-    use_part: bool           # structures are sets of blocks (else one block: Prior 1)
-
-
-def whole_kind(model):
-    """Which table (0: blocks, 1: structures) holds the whole structures of the model's prior."""
-    return PART if PRIOR_SETS[model.prior] or model.n == 0 else BLOCK
-
-
-def problem(clause_bits, full, pos, thr, model):
-    """The bundle both passes over the tables read."""
-    n = model.n
-    chains = not model.forest
-    factor = np.zeros(n + 2) if chains else np.asarray(model.forest_g, dtype=np.float64)
-    return _Problem(clause_bits, model.n_g + n, n, full, pos, int(thr), factor,
-                    1 if chains else 0, BLOCK if chains else PART, PRIOR_SETS[model.prior])
-
-
-# ----------------------------------------------------------------------------- small helpers
-@njit(cache=True, nogil=True, inline="always")
-def n_bits(x):
-    c = 0
-    while x:
-        x &= x - 1
-        c += 1
-    return c
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _lowest(s):
-    i = 0
-    while not (s >> i) & 1:
-        i += 1
-    return i
-
-
-@njit(cache=True, nogil=True, inline="always")
-def and_pop(a, b, out, pos):
-    p = 0
-    for w in range(out.shape[0]):
-        out[w] = a[w] & b[w]
-        p += popcount(out[w] & pos[w])
-    return p
-
-
-@njit(cache=True, nogil=True, inline="always")
-def find(loc, stamp, cur, t_bits, t_size, t_aux, bits, size, aux):
-    # Slot of the key (bits, size, aux) in the subset's own hash table, and its entry (-1:
-    # absent). The table holds one subset's entries at a time (stamp == cur), so it stays in
-    # cache; keys are compared through the entry arrays.
-    h = np.uint64(size * 256 + aux + 1) * np.uint64(0x9E3779B97F4A7C15)
-    for w in range(bits.shape[0]):
-        h ^= bits[w]
-        h ^= h >> np.uint64(30)
-        h *= np.uint64(0xBF58476D1CE4E5B9)
-        h ^= h >> np.uint64(27)
-        h *= np.uint64(0x94D049BB133111EB)
-        h ^= h >> np.uint64(31)
-    mask = np.int64(loc.shape[0] - 1)
-    i = np.int64(h & np.uint64(mask))
-    while stamp[i] == cur:
-        e = loc[i]
-        if t_size[e] == size and t_aux[e] == aux:
-            same = True
-            for w in range(bits.shape[0]):
-                if t_bits[e, w] != bits[w]:
-                    same = False
-                    break
-            if same:
-                return i, e
-        i = (i + np.int64(1)) & mask
-    return i, np.int64(-1)
-
-
-@njit(cache=True, nogil=True)
-def local_table(ht, cur, st, start, stop):
-    # The subset's hash table holding entries start:stop, with room for as many again.
-    loc, stamp = ht
-    cap = loc.shape[0]
-    while cap < 4 * (stop - start):
-        cap *= 2
-    if cap > loc.shape[0]:
-        loc = np.zeros(cap, dtype=np.int64)
-        stamp = np.zeros(cap, dtype=np.int64)
-    for e in range(start, stop):
-        i, _ = find(loc, stamp, cur, st.bits, st.size, st.aux, st.bits[e], st.size[e],
-                     st.aux[e])
-        loc[i] = e
-        stamp[i] = cur
-    return loc, stamp
-
-
-@njit(cache=True, nogil=True)
-def _orders_from(pb, f, rest, r):
-    # r = AND of the clauses f -> u, u in rest; returns the acceptable demonstrations in r.
-    r[:] = pb.full
-    for u in range(pb.n):
-        if (rest >> u) & 1:
-            for w in range(r.shape[0]):
-                r[w] &= pb.clause_bits[pb.base + f * pb.n + u, w]
-    p = 0
-    for w in range(r.shape[0]):
-        p += popcount(r[w] & pb.pos[w])
-    return p
-
-
-@njit(cache=True, nogil=True)
-def _append_block(lists, s, n_sets, n):
-    # lists: next subset at [s], then by lowest subtask i: head, tail, length at n_sets + (0,
-    # 1, 2) * n + i (the subsets whose block tables are not empty, in increasing order).
-    i = _lowest(s)
-    if lists[n_sets + n + i] >= 0:
-        lists[lists[n_sets + n + i]] = s
-    else:
-        lists[n_sets + i] = s
-    lists[n_sets + n + i] = s
-    lists[n_sets + 2 * n + i] += 1
-
-
-@njit(cache=True, nogil=True)
-def candidates(s, n, lo, hi, lists, out):
-    # Blocks B (non-empty tables) holding the lowest subtask of s, with s - B non-empty too:
-    # by submasks of s or through the list of blocks with that lowest subtask, whichever is
-    # shorter. Returns how many (into out) and the steps taken.
-    n_sets = lo.shape[1]
-    i = _lowest(s)
-    low = 1 << i
-    rest0 = s ^ low
-    k = 0
-    steps = 0
-    if (1 << n_bits(rest0)) <= lists[n_sets + 2 * n + i]:
-        sub = rest0
-        while True:
-            b = sub | low
-            steps += 1
-            if hi[BLOCK, b] > lo[BLOCK, b] and hi[PART, s ^ b] > lo[PART, s ^ b]:
-                out[k] = b
-                k += 1
-            if sub == 0:
-                break
-            sub = (sub - 1) & rest0
-    else:
-        b = lists[n_sets + i]
-        while b >= 0:
-            steps += 1
-            if (b & s) == b and hi[PART, s ^ b] > lo[PART, s ^ b]:
-                out[k] = b
-                k += 1
-            b = lists[b]
-    return k, steps
-
-
-@njit(cache=True, nogil=True)
-def first_subtasks(pb, lo, hi, s, fs, rs):
-    # The subtasks f that can come first (or be the root) in a block on s: the rest s - f
-    # has a non-empty table and the orders f -> rest keep thr acceptable demonstrations.
-    # Returns how many (fs, rs: f and its orders' bitset), the entries they combine and the
-    # steps taken (one per subtask, and one per order clause read).
-    n_f = 0
-    n_comb = 0
-    steps = pb.n
-    for f in range(pb.n):
-        c = s ^ (1 << f)
-        if not (s >> f) & 1 or hi[pb.child_kind, c] == lo[pb.child_kind, c]:
-            continue
-        steps += pb.n
-        if _orders_from(pb, f, c, rs[n_f]) < pb.thr:
-            continue
-        fs[n_f] = f
-        n_comb += hi[pb.child_kind, c] - lo[pb.child_kind, c]
-        n_f += 1
-    return n_f, n_comb, steps
+    lists: np.ndarray    # the subsets with blocks, by lowest subtask (_structure_common)
 
 
 # ----------------------------------------------------------------------------- inside pass
@@ -264,8 +89,26 @@ class _Store(NamedTuple):
 
 
 @njit(cache=True, nogil=True, inline="always")
+def _entry_of(t_bits, t_size, t_aux, loc, stamp, cur, bits, size, aux, start, n_e):
+    # The store entry of the key (bits, size, aux), new at n_e when absent: (entry, new end),
+    # or (-1, n_e) when the hash table is over a quarter full with this step's entries, (-2,
+    # n_e) when the store is full. The caller writes a new entry.
+    i, e = find(loc, stamp, cur, t_bits, t_size, t_aux, bits, size, aux)
+    if e >= 0:
+        return e, n_e
+    if 4 * (n_e - start + 1) > loc.shape[0]:
+        return -1, n_e
+    if n_e == t_size.shape[0]:
+        return -2, n_e
+    loc[i] = n_e
+    stamp[i] = cur
+    return n_e, n_e + 1
+
+
+@njit(cache=True, nogil=True, inline="always")
 def _new_entry(st, e, bits, size, aux):
-    st.bits[e] = bits
+    for w in range(bits.shape[0]):
+        st.bits[e, w] = bits[w]
     st.size[e] = size
     st.aux[e] = aux
     st.weight[e] = 0.0
@@ -273,53 +116,45 @@ def _new_entry(st, e, bits, size, aux):
     st.count[e] = 0.0
 
 
-@njit(cache=True, nogil=True, inline="always")
-def _entry_of(st, ht, cur, bits, size, aux, start, n_e):
-    # The store entry of the key (bits, size, aux), added at n_e when new: (entry, new end),
-    # or (-1, n_e) when the hash table is over a quarter full with this step's entries, (-2,
-    # n_e) when the store is full.
-    loc, stamp = ht
-    i, e = find(loc, stamp, cur, st.bits, st.size, st.aux, bits, size, aux)
-    if e >= 0:
-        return e, n_e
-    if 4 * (n_e - start + 1) > loc.shape[0]:
-        return -1, n_e
-    if n_e == st.weight.shape[0]:
-        return -2, n_e
-    _new_entry(st, n_e, bits, size, aux)
-    loc[i] = n_e
-    stamp[i] = cur
-    return n_e, n_e + 1
-
-
-@njit(cache=True, nogil=True)
+@helper
 def _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits):
     # The blocks on s (f first or root, above a table entry on s - f) into the store from
     # n_e; returns the new end, or -1 (-2) when the hash table (the store) needs more room.
+    t_bits, t_size, t_aux, weight, best, count = st
     lo, hi, ref = idx
+    loc, stamp = ht
+    kind, factor = pb.child_kind, pb.factor
     k_s = n_bits(s)
+    no_aux = np.int64(0)  # not a literal 0: find compiles once
     start = n_e
     for j in range(n_f):
         c = s ^ (1 << fs[j])
-        scale = math.exp(ref[pb.child_kind, c] + pb.factor[k_s] - ref_s)
-        for z in range(lo[pb.child_kind, c], hi[pb.child_kind, c]):
-            if and_pop(st.bits[z], rs[j], bits, pb.pos) < pb.thr:
+        scale = math.exp(ref[kind, c] + factor[k_s] - ref_s)
+        for z in range(lo[kind, c], hi[kind, c]):
+            if and_pop(t_bits, z, rs, j, bits, pb.pos) < pb.thr:
                 continue
-            e, n_e = _entry_of(st, ht, cur, bits, st.size[z] + k_s - 1, 0, start, n_e)
+            size = t_size[z] + k_s - 1
+            e, end = _entry_of(t_bits, t_size, t_aux, loc, stamp, cur, bits, size, no_aux,
+                               start, n_e)
             if e < 0:
                 return e
-            st.weight[e] += st.weight[z] * scale
-            st.count[e] += st.count[z]
-            st.best[e] = max(st.best[e], st.best[z] + pb.factor[k_s])
+            if end > n_e:
+                _new_entry(st, e, bits, size, no_aux)
+                n_e = end
+            weight[e] += weight[z] * scale
+            count[e] += count[z]
+            best[e] = max(best[e], best[z] + factor[k_s])
     return n_e
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits):
     # The structures on s (a block holding s's lowest subtask beside a structure on the rest)
     # into the store from n_e; returns the new end, or -1 (-2) when the hash table (the
     # store) needs more room.
+    t_bits, t_size, t_aux, weight, best, count = st
     lo, hi, ref = idx
+    loc, stamp = ht
     start = n_e
     for j in range(n_c):
         b = cand[j]
@@ -327,51 +162,43 @@ def _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits):
         scale = math.exp(ref[BLOCK, b] + ref[PART, rest] - ref_s)
         for x in range(lo[BLOCK, b], hi[BLOCK, b]):
             for y in range(lo[PART, rest], hi[PART, rest]):
-                if and_pop(st.bits[x], st.bits[y], bits, pb.pos) < pb.thr:
+                if and_pop(t_bits, x, t_bits, y, bits, pb.pos) < pb.thr:
                     continue
-                e, n_e = _entry_of(st, ht, cur, bits, st.size[x] + st.size[y],
-                                   st.aux[x] + st.aux[y] + pb.aux_inc, start, n_e)
+                size = t_size[x] + t_size[y]
+                aux = t_aux[x] + t_aux[y] + pb.aux_inc
+                e, end = _entry_of(t_bits, t_size, t_aux, loc, stamp, cur, bits, size, aux,
+                                   start, n_e)
                 if e < 0:
                     return e
-                st.weight[e] += st.weight[x] * st.weight[y] * scale
-                st.count[e] += st.count[x] * st.count[y]
-                st.best[e] = max(st.best[e], st.best[x] + st.best[y])
+                if end > n_e:
+                    _new_entry(st, e, bits, size, aux)
+                    n_e = end
+                weight[e] += weight[x] * weight[y] * scale
+                count[e] += count[x] * count[y]
+                best[e] = max(best[e], best[x] + best[y])
     return n_e
 
 
-@njit(cache=True, nogil=True)
 def _new_store(room, n_words):
     # Every entry is written (_new_entry) before it is read: no need to fill.
     return _Store(np.empty((room, n_words), dtype=np.uint64), np.empty(room, dtype=np.int64),
                   np.empty(room, dtype=np.int64), np.empty(room), np.empty(room), np.empty(room))
 
 
-@njit(cache=True, nogil=True)
-def _with_room(st, need):
-    if need <= st.weight.shape[0]:
-        return st
-    k = st.weight.shape[0]
-    big = _new_store(max(need, 2 * k), st.bits.shape[1])
-    big.bits[:k] = st.bits
-    big.size[:k] = st.size
-    big.aux[:k] = st.aux
-    big.weight[:k] = st.weight
-    big.best[:k] = st.best
-    big.count[:k] = st.count
-    return big
-
-
-@njit(cache=True, nogil=True)
 def _more_room(st, ht, code):
     # A step stopped on a full table (-1: the hash table, -2: the store): twice the room. The
     # store only ever holds the groups found, never as many entries as combinations counted.
     if code == -2:
-        return _with_room(st, 2 * st.weight.shape[0]), ht
+        k = st.weight.shape[0]
+        big = _new_store(2 * k, st.bits.shape[1])
+        for old, new in zip(st, big):
+            new[:k] = old
+        return big, ht
     cap = 2 * ht[0].shape[0]
     return st, (np.zeros(cap, dtype=np.int64), np.zeros(cap, dtype=np.int64))
 
 
-@njit(cache=True, nogil=True)
+@helper
 def _close(weight, start, stop, ref_s):
     # Rescale a subset's weights so that the largest is 1; returns its new ref.
     if stop == start:
@@ -386,83 +213,76 @@ def _close(weight, start, stop, ref_s):
     return ref_s
 
 
+# Where _inside is (an int64 array, so that it can stop on a full table and be called again
+# where it stopped once Python has made room): the subset, the kind of step, the store's end,
+# the hash table's stamp, the work counted, and whether the step's work is already counted.
+_S, _KIND, _END, _CUR, _WORK, _COUNTED = range(6)
+
+
 @njit(cache=True, nogil=True)
-def _inside(pb, max_work, max_entries):
+def _inside(pb, st, ht, idx, lists, scr, at, max_work):
+    # The tables from subset at[_S] on; returns 0 (done), 1 (the work passed max_work), or
+    # -1 (-2) when the hash table (the store) needs more room, `at` telling where it stopped.
     n = pb.n
-    n_sets = 1 << n
-    n_words = pb.full.shape[0]
-    st = _new_store(1024, n_words)
-    _new_entry(st, 0, pb.full, 0, 0)  # entry 0: the empty structure (and chain)
-    st.weight[0] = 1.0
-    st.best[0] = 0.0
-    st.count[0] = 1.0
-    n_e = 1
-    lo = np.zeros((2, n_sets), dtype=np.int64)
-    hi = np.zeros((2, n_sets), dtype=np.int64)
-    ref = np.full((2, n_sets), -np.inf)
-    hi[:, 0] = 1
-    ref[:, 0] = 0.0
-    idx = (lo, hi, ref)
-    lists = np.full(n_sets + 3 * n, -1, dtype=np.int64)
-    lists[n_sets + 2 * n:] = 0
-    cand = np.empty(max(1, n_sets >> 1), dtype=np.int64)
-    fs = np.empty(n, dtype=np.int64)
-    rs = np.empty((n, n_words), dtype=np.uint64)
-    ht = (np.zeros(1024, dtype=np.int64), np.zeros(1024, dtype=np.int64))
-    cur = 0
-    bits = np.empty(n_words, dtype=np.uint64)
-    work = 0
-    for s in range(1, n_sets):
-        # Blocks on s; the work of every step is counted before it is done.
-        n_f, n_comb, steps = first_subtasks(pb, lo, hi, s, fs, rs)
-        ref_s = -np.inf
-        for j in range(n_f):
-            ref_s = max(ref_s, ref[pb.child_kind, s ^ (1 << fs[j])] + pb.factor[n_bits(s)])
-        work += STEP_COST * steps + COMBO_COST * n_comb
-        if work > max_work:  # also when the last step's entries passed it
-            return False, st, idx, lists, work
-        while True:  # again with more room when a table fills up (rarely)
+    lo, hi, ref = idx
+    fs, rs, cand = scr.fs, scr.rs, scr.cand
+    s = at[_S]
+    kind = at[_KIND]
+    n_e = at[_END]
+    cur = at[_CUR]
+    work = at[_WORK]
+    counted = at[_COUNTED]
+    code = 0
+    while s < lo.shape[1]:
+        if kind == BLOCK:
+            # Blocks on s; the work of every step is counted before it is done.
+            n_f, n_comb, steps = first_subtasks(pb, lo, hi, s, fs, rs)
+            ref_s = -np.inf
+            for j in range(n_f):
+                ref_s = max(ref_s, ref[pb.child_kind, s ^ (1 << fs[j])] + pb.factor[n_bits(s)])
+            if not counted:
+                work += STEP_COST * steps + COMBO_COST * n_comb
+                counted = 1
+                if work > max_work:  # also when the last step's entries passed it
+                    code = 1
+                    break
             cur += 1
-            stop = _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, bits)
-            if stop >= 0:
-                break
-            if stop == -2 and 2 * st.weight.shape[0] > max_entries:
-                return False, st, idx, lists, work  # the store would pass its memory
-            st, ht = _more_room(st, ht, stop)
-        lo[BLOCK, s], hi[BLOCK, s] = n_e, stop
-        ref[BLOCK, s] = _close(st.weight, n_e, stop, ref_s)
-        if stop > n_e:
-            _append_block(lists, s, n_sets, n)
+            stop = _block_step(pb, st, idx, s, fs, n_f, rs, ref_s, ht, cur, n_e, scr.bits)
+        else:
+            # Structures on s.
+            n_c, steps = candidates(s, n, lo, hi, lists, cand)
+            ref_s = -np.inf
+            n_comb = 0
+            for j in range(n_c):
+                b = cand[j]
+                ref_s = max(ref_s, ref[BLOCK, b] + ref[PART, s ^ b])
+                n_comb += (hi[BLOCK, b] - lo[BLOCK, b]) * (hi[PART, s ^ b] - lo[PART, s ^ b])
+            if not counted:
+                work += STEP_COST * steps + COMBO_COST * n_comb
+                counted = 1
+                if work > max_work:
+                    code = 1
+                    break
+            cur += 1
+            stop = _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, scr.bits)
+        if stop < 0:  # again with more room (rarely)
+            code = stop
+            break
+        lo[kind, s], hi[kind, s] = n_e, stop
+        ref[kind, s] = _close(st.weight, n_e, stop, ref_s)
+        if kind == BLOCK and stop > n_e:
+            append_block(lists, s, lo.shape[1], n)
         work += ENTRY_COST * (stop - n_e)
         n_e = stop
-        if not pb.use_part:
-            continue
-        # Structures on s.
-        n_c, steps = candidates(s, n, lo, hi, lists, cand)
-        ref_s = -np.inf
-        n_comb = 0
-        for j in range(n_c):
-            b = cand[j]
-            ref_s = max(ref_s, ref[BLOCK, b] + ref[PART, s ^ b])
-            n_comb += (hi[BLOCK, b] - lo[BLOCK, b]) * (hi[PART, s ^ b] - lo[PART, s ^ b])
-        work += STEP_COST * steps + COMBO_COST * n_comb
-        if work > max_work:
-            return False, st, idx, lists, work
-        while True:
-            cur += 1
-            stop = _part_step(pb, st, idx, s, cand, n_c, ref_s, ht, cur, n_e, bits)
-            if stop >= 0:
-                break
-            if stop == -2 and 2 * st.weight.shape[0] > max_entries:
-                return False, st, idx, lists, work
-            st, ht = _more_room(st, ht, stop)
-        lo[PART, s], hi[PART, s] = n_e, stop
-        ref[PART, s] = _close(st.weight, n_e, stop, ref_s)
-        work += ENTRY_COST * (stop - n_e)
-        n_e = stop
-    st = _Store(st.bits[:n_e], st.size[:n_e], st.aux[:n_e], st.weight[:n_e], st.best[:n_e],
-                st.count[:n_e])
-    return work <= max_work, st, idx, lists, work
+        counted = 0
+        if kind == BLOCK and pb.use_part:
+            kind = PART
+        else:
+            kind = BLOCK
+            s += 1
+    at[_S], at[_KIND], at[_END], at[_CUR], at[_WORK], at[_COUNTED] = (s, kind, n_e, cur, work,
+                                                                      counted)
+    return code
 
 
 def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf, max_entries=2**62):
@@ -492,9 +312,33 @@ def structure_tables(clause_bits, full, pos, thr, model, max_work=np.inf, max_en
     work : int
         The work counted (done, or that would have been done up to the step that stopped).
     """
-    ok, st, idx, lists, work = _inside(problem(clause_bits, full, pos, thr, model),
-                                       int(min(max_work, 2**62)),
-                                       int(min(max_entries, 2**62)))
-    if not ok:
-        return None, int(work)
-    return StructureTables(*[a.copy() for a in st], *idx, lists), int(work)
+    pb = problem(clause_bits, full, pos, thr, model)
+    n, n_words = pb.n, full.shape[0]
+    n_sets = 1 << n
+    st = _new_store(1024, n_words)
+    st.bits[0] = full  # entry 0: the empty structure (and chain)
+    st.size[0] = st.aux[0] = 0
+    st.weight[0], st.best[0], st.count[0] = 1.0, 0.0, 1.0
+    lo = np.zeros((2, n_sets), dtype=np.int64)
+    hi = np.zeros((2, n_sets), dtype=np.int64)
+    ref = np.full((2, n_sets), -np.inf)
+    hi[:, 0] = 1
+    ref[:, 0] = 0.0
+    lists = np.full(n_sets + 3 * n, -1, dtype=np.int64)
+    lists[n_sets + 2 * n:] = 0
+    ht = (np.zeros(1024, dtype=np.int64), np.zeros(1024, dtype=np.int64))
+    at = np.zeros(6, dtype=np.int64)
+    at[_S], at[_END] = 1, 1
+    scr = scratch(n, n_words)
+    max_work = int(min(max_work, 2**62))
+    while True:
+        code = _inside(pb, st, ht, (lo, hi, ref), lists, scr, at, max_work)
+        if code >= 0:
+            break
+        if code == -2 and 2 * st.weight.shape[0] > min(max_entries, 2**62):
+            return None, int(at[_WORK])  # the store would pass its memory
+        st, ht = _more_room(st, ht, code)
+    if code == 1 or at[_WORK] > max_work:
+        return None, int(at[_WORK])
+    n_e = at[_END]
+    return StructureTables(*[a[:n_e].copy() for a in st], lo, hi, ref, lists), int(at[_WORK])

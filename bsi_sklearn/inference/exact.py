@@ -12,8 +12,8 @@ pair of groups only a histogram over (satisfied positives, satisfied negatives);
 gives every group its posterior mass and flags the structure groups that may hold a hypothesis
 above the keep threshold; a walk back down the structure tables splits the masses into clause
 marginals and yields the derivations from which the kept hypotheses are listed
-(:mod:`bsi_sklearn.inference._structure_walk`). Structures and pairs of groups that cannot add
-1e-17 of the evidence are skipped, with a bound
+(:mod:`bsi_sklearn.inference._structure_walk`, :mod:`bsi_sklearn.inference._listing`).
+Structures and pairs of groups that cannot add 1e-17 of the evidence are skipped, with a bound
 (:mod:`bsi_sklearn.inference._exact_kernels`). The result is the posterior of the ungrouped
 enumeration (:mod:`bsi_sklearn.inference._exact_ungrouped`, the reference it is tested against)
 up to rounding. Whether the enumeration runs is decided by a count of its work that depends on
@@ -35,12 +35,10 @@ from bsi_sklearn.inference._budget import (
     entry_bytes,
 )
 from bsi_sklearn.inference._exact_kernels import (
-    Listing,
     StructureSide,
     SubsetSide,
     group_masses,
     likelihood_tables,
-    list_hypotheses,
     log_evidence,
     pair_ll_many,
 )
@@ -54,6 +52,7 @@ from bsi_sklearn.inference._exact_parts import (
 from bsi_sklearn.inference._exact_ungrouped import LabelMasks, ungrouped_kernel
 from bsi_sklearn.inference._exact_ungrouped import structure_tables as ungrouped_structures
 from bsi_sklearn.inference._grouping import Groups
+from bsi_sklearn.inference._listing import Listing, list_hypotheses, members, walk_scratch
 from bsi_sklearn.inference._structure_walk import descend
 from bsi_sklearn.inference._structures import STEP_COST, StructureTables, structure_tables
 from bsi_sklearn.priors import PRIORS, count_hypotheses, format_count, support_structures
@@ -292,7 +291,8 @@ def _grouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol):
     budget.allocate(room * (2.0 * model.n + 24), f"the listing of {room:,} hypotheses")
     par = np.empty((room, model.n), dtype=np.int16 if model.n < 2**15 else np.int64)
     idx, lp = np.empty((room, 2), dtype=np.int64), np.empty(room)
-    n_out = min(list_hypotheses(model, hs, subsets, ls, par, idx, lp), room)
+    n_out = min(list_hypotheses(model, hs.best, members(subsets), ls, par, idx, lp,
+                                walk_scratch(model.n, room)), room)
     par, idx, lp = par[:n_out], idx[:n_out], lp[:n_out] - log_z
     kept = lp >= log_keep
     par, idx, lp = par[kept].astype(np.int64), idx[kept], lp[kept]
