@@ -188,16 +188,16 @@ def _fill_viol(viol, tau, w1, parent, truth_t, model):
     n_conj = 0
     for j in range(n_g):
         if tau[j]:
-            add_pair(viol, truth_t, j, 1)
+            add_pair(viol, truth_t, j, np.int64(1))
             n_conj += 1
     for w in range(n):
         if w1[w]:
-            add_pair(viol, truth_t, n_g + w, 1)
+            add_pair(viol, truth_t, n_g + w, np.int64(1))
             n_conj += 1
     for v in range(n):
         a = parent[v]
         while a >= 0:
-            add_pair(viol, truth_t, clause_index_order(a, v, n_g, n), 1)
+            add_pair(viol, truth_t, clause_index_order(a, v, n_g, n), np.int64(1))
             n_conj += 1
             a = parent[a]
     return n_conj
@@ -290,7 +290,8 @@ def _sweep(r, beta, state, demos, model, bufs, cache, u0):
                     bufs.cand_ew) == cache_j[r, v]:
                 upos += 1
                 continue
-        old_parent[:] = parent
+        for u in range(n):  # element loops, not slice copies: cheaper to compile
+            old_parent[u] = parent[u]
         old_w = w1[v]
         if model.forest:
             n_conj[r], lp_struct[r], ll[r], n_cand, j = forest_move(
@@ -440,8 +441,11 @@ def chain_kernel(state, demos, model, bufs, betas, rng, loop, n_samples, burn_in
         for t in range(n_rungs):
             if upos + need > n_u:
                 rest = n_u - upos
-                ubuf[:rest] = ubuf[upos:]
-                ubuf[rest:] = rng.random(n_u - rest)
+                for i in range(rest):
+                    ubuf[i] = ubuf[upos + i]
+                fresh = rng.random(n_u - rest)
+                for i in range(n_u - rest):
+                    ubuf[rest + i] = fresh[i]
                 upos = 0
             used, m = _sweep(slot[t], betas[t], state, demos, model, bufs, cache, upos)
             upos += used

@@ -185,7 +185,7 @@ def flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u, beta):
         new = 1 if u < p_in else 0
         used = 1
     if new != inc:
-        add_pair(viol, truth_t, c, 1 if new else -1)
+        add_pair(viol, truth_t, c, np.int64(1 if new else -1))
     return new, (ll_in if new else ll_out), used
 
 
@@ -230,21 +230,22 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     lw, cand_lp, cand_ew = bufs.lw, bufs.cand_lp, bufs.cand_ew
     cand_head, cand_pos, child = bufs.cand_head, bufs.cand_pos, bufs.child
     if w1[v]:
-        add_pair(viol, truth_t, cv, -1)
+        add_pair(viol, truth_t, cv, np.int64(-1))
         n_conj -= 1
-    child[:] = -1
+    for u in range(n):
+        child[u] = -1
     for u in range(n):
         if parent[u] >= 0:
             child[parent[u]] = u
     # Remove v's pairs: (ancestor, v) and (v, descendant).
     a = parent[v]
     while a >= 0:
-        add_pair(viol, truth_t, clause_index_order(a, v, model.n_g, n), -1)
+        add_pair(viol, truth_t, clause_index_order(a, v, model.n_g, n), np.int64(-1))
         n_conj -= 1
         a = parent[a]
     d_ = child[v]
     while d_ >= 0:
-        add_pair(viol, truth_t, clause_index_order(v, d_, model.n_g, n), -1)
+        add_pair(viol, truth_t, clause_index_order(v, d_, model.n_g, n), np.int64(-1))
         n_conj -= 1
         d_ = child[d_]
     if child[v] >= 0:
@@ -307,7 +308,7 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     inc = j & 1
     w1[v] = inc
     if inc:
-        add_pair(viol, truth_t, cv, 1)
+        add_pair(viol, truth_t, cv, np.int64(1))
         n_conj += 1
     h = cand_head[j]
     if h < 0:
@@ -318,9 +319,9 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     i = 0
     while u >= 0:
         if i < p:
-            add_pair(viol, truth_t, clause_index_order(u, v, model.n_g, n), 1)
+            add_pair(viol, truth_t, clause_index_order(u, v, model.n_g, n), np.int64(1))
         else:
-            add_pair(viol, truth_t, clause_index_order(v, u, model.n_g, n), 1)
+            add_pair(viol, truth_t, clause_index_order(v, u, model.n_g, n), np.int64(1))
         n_conj += 1
         if i == p - 1:
             prev = u
@@ -351,7 +352,7 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     lw, cand_ew = bufs.lw, bufs.cand_ew
     cand_head, in_s, size = bufs.cand_head, bufs.in_s, bufs.size
     if w1[v]:
-        add_pair(viol, truth_t, cv, -1)
+        add_pair(viol, truth_t, cv, np.int64(-1))
         n_conj -= 1
     size_s = 0
     for u in range(n):
@@ -365,7 +366,7 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     while a >= 0:
         for s in range(n):
             if in_s[s]:
-                add_pair(viol, truth_t, clause_index_order(a, s, model.n_g, n), -1)
+                add_pair(viol, truth_t, clause_index_order(a, s, model.n_g, n), np.int64(-1))
                 n_conj -= 1
         a = parent[a]
     parent[v] = -1
@@ -422,7 +423,7 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     inc = j & 1
     w1[v] = inc
     if inc:
-        add_pair(viol, truth_t, cv, 1)
+        add_pair(viol, truth_t, cv, np.int64(1))
         n_conj += 1
     u = cand_head[j]
     parent[v] = u
@@ -430,7 +431,7 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     while a >= 0:
         for s in range(n):
             if in_s[s]:
-                add_pair(viol, truth_t, clause_index_order(a, s, model.n_g, n), 1)
+                add_pair(viol, truth_t, clause_index_order(a, s, model.n_g, n), np.int64(1))
         n_conj += size_s
         a = parent[a]
     return n_conj, bufs.cand_lp[j], bufs.cand_ll[j], k, j
