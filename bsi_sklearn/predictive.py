@@ -22,7 +22,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn.clauses import pack_rows
 from bsi_sklearn.param_validation import validate_params
-from bsi_sklearn.satisfaction import satisfied_masses
+from bsi_sklearn.satisfaction import satisfied_masses, satisfies
 from bsi_sklearn.traces import check_consistent_traces, check_traces
 
 __all__ = ["LabelNoise", "fixed_noise", "learned_noise", "misclassified", "label_noise",
@@ -84,12 +84,7 @@ def _misclassified(masks, truth_words, w_pos, w_neg):
     out = np.zeros(masks.shape[0])
     for h in range(masks.shape[0]):
         for i in range(truth_words.shape[0]):
-            ok = True
-            for w in range(masks.shape[1]):
-                if masks[h, w] & ~truth_words[i, w]:
-                    ok = False
-                    break
-            out[h] += w_neg[i] if ok else w_pos[i]
+            out[h] += w_neg[i] if satisfies(masks, h, truth_words, i) else w_pos[i]
     return out
 
 

@@ -11,7 +11,7 @@ from numba import njit
 
 from bsi_sklearn.clauses import clause_index_eventual, clause_index_order, n_clauses
 
-__all__ = ["clause_masks", "satisfied_masses", "vote"]
+__all__ = ["clause_masks", "satisfies", "satisfied_masses", "vote"]
 
 
 @njit(cache=True, nogil=True)
@@ -39,6 +39,15 @@ def clause_masks(structures, tau_masks, w1_masks, n_g, n):
     return out
 
 
+@njit(cache=True, nogil=True, inline="always")
+def satisfies(masks, h, truth_words, i):
+    """Whether demonstration ``i`` satisfies specification ``h``: every clause of it holds."""
+    for w in range(masks.shape[1]):
+        if masks[h, w] & ~truth_words[i, w]:
+            return False
+    return True
+
+
 @njit(cache=True, nogil=True)
 def satisfied_masses(masks, probs, group, n_groups, truth_words):
     """Posterior masses satisfied and violated, per demonstration and group of specifications.
@@ -52,12 +61,7 @@ def satisfied_masses(masks, probs, group, n_groups, truth_words):
     viol = np.zeros((n_d, n_groups))
     for i in range(n_d):
         for h in range(masks.shape[0]):
-            ok = True
-            for w in range(masks.shape[1]):
-                if masks[h, w] & ~truth_words[i, w]:
-                    ok = False
-                    break
-            if ok:
+            if satisfies(masks, h, truth_words, i):
                 sat[i, group[h]] += probs[h]
             else:
                 viol[i, group[h]] += probs[h]
