@@ -152,7 +152,7 @@ def _table(rows):
          "rungs", "burn-in (max)", "sweeps", "ConvergenceWarning", "wall", "CPU"],
         [[r["problem"], r["n_demos"], f"{r['tv']:.4f}", f"{r['rhat']:.3f}",
           f"{r['max_missed_mass']:.3f}", f"{r['optimum_gap']:.2f}", r["n_temperatures"],
-          r["burn_in_max"], f"{r.get('n_samples', 10_000):,}", ", ".join(r["warnings"]) or "-",
+          r["burn_in_max"], f"{r['n_samples']:,}", ", ".join(r["warnings"]) or "-",
           fmt_s(r["wall_s"]),
           fmt_s(r["cpu_s"])] for r in rows])
 
