@@ -50,6 +50,14 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         An activity seen in ``transform`` but not in ``fit``: a ``ValueError`` naming the case
         and the activity, or (``"ignore"``) the event still makes a step, on which no
         activity column changes.
+    negations : bool, default=False
+        Also encode, after the other propositions, the negation ``!p`` of each of them (the
+        activities, then the attributes): true at the steps where ``p`` is false. Under
+        ``"occurred"`` ``!a`` reads "a has not occurred yet" and ``G(!a)`` is Declare's
+        ``Absence(a)``, *a never occurs*, a clause the template cannot state on the
+        activities alone. A negated column is true at step 0 and never rises, so inferred
+        roles make it a global candidate at most (never a subtask or a condition): the
+        ``n`` extra columns add ``n`` candidate ``G`` clauses, not orders.
     case_id, activity, timestamp : str, default pm4py's names
         The columns of a single event DataFrame passed as ``X`` (``case:concept:name``,
         ``concept:name``, ``time:timestamp``); ``activity`` is also the activity column of
@@ -61,7 +69,8 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
     activities_ : ndarray of str
         The activities seen in fit, sorted: the first propositions.
     feature_names_out_ : ndarray of str
-        The propositions: the activities, then the names of ``attributes``.
+        The propositions: the activities, then the names of ``attributes``, then (with
+        ``negations=True``) the same names prefixed with ``!``.
 
     See Also
     --------
@@ -95,16 +104,18 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         "encoding": [StrOptions(("occurred", "current"))],
         "attributes": [None, Mapping],
         "handle_unknown": [StrOptions(("error", "ignore"))],
+        "negations": ["boolean"],
         "case_id": [str],
         "activity": [str],
         "timestamp": [str, None],
     }
 
     def __init__(self, *, encoding="occurred", attributes=None, handle_unknown="error",
-                 case_id=CASE_ID, activity=ACTIVITY, timestamp=TIMESTAMP):
+                 negations=False, case_id=CASE_ID, activity=ACTIVITY, timestamp=TIMESTAMP):
         self.encoding = encoding
         self.attributes = attributes
         self.handle_unknown = handle_unknown
+        self.negations = negations
         self.case_id = case_id
         self.activity = activity
         self.timestamp = timestamp
@@ -178,7 +189,7 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         return self._encode(self._events(X))
 
     def get_feature_names_out(self, input_features=None):
-        """The propositions: the activities seen in fit, then the attribute names.
+        """The propositions: the activities seen in fit, the attribute names, their negations.
 
         Parameters
         ----------
@@ -204,7 +215,14 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
             raise ValueError(f"EventLogEncoder: the attribute proposition {clash[0]!r} has "
                              "the name of an activity")
         self.activities_ = np.array(sorted(set(names)), dtype=object)
-        self.feature_names_out_ = np.array([*self.activities_, *attrs], dtype=object)
+        positive = [*map(str, self.activities_), *attrs]
+        negated = ["!" + p for p in positive] if self.negations else []
+        clash = sorted(set(negated) & set(positive))
+        if clash:
+            raise ValueError(f"EventLogEncoder: negations=True names the negation of "
+                             f"{clash[0][1:]!r} {clash[0]!r}, which is already a proposition "
+                             "(an activity or attribute of that name)")
+        self.feature_names_out_ = np.array([*positive, *negated], dtype=object)
 
     def _events(self, X):
         validate_params(self.get_params(deep=False), self._parameter_constraints,
@@ -236,11 +254,14 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         case = np.repeat(np.arange(n_cases), np.diff(events.offsets))
         rows = event + case[event] + 1
         n_rows = len(codes) + n_cases
+        n_pos = n_act + len(columns) - 1
         data = np.zeros((n_rows, len(self.feature_names_out_)), dtype=bool)
         data[rows, props] = True
         row_starts = events.offsets + np.arange(n_cases + 1)
         if self.encoding == "occurred":
-            _accumulate(data, row_starts)
+            _accumulate(data[:, :n_pos], row_starts)
+        if self.negations:
+            np.logical_not(data[:, :n_pos], out=data[:, n_pos:])
         names = pd.Index(self.feature_names_out_.astype(str), dtype=object)
         return [pd.DataFrame(data[a:b], columns=names, copy=False)
                 for a, b in zip(row_starts[:-1], row_starts[1:])]

@@ -243,6 +243,8 @@ def event_log_sentence(clause, conditions=None):
     ``F(a)``                    ``existence(a): a occurs.``
     ``!b U a``                  ``existence(a) and precedence(a, b): a occurs, and
                                 no b before the first a.``
+    ``G(!a)``                   ``absence(a): a never occurs.`` (``!a`` is the
+                                negated column of ``EventLogEncoder(negations=True)``)
     ``G(p)``                    ``p has occurred from the start`` (never true of an
                                 encoded case: its first step is empty)
     ==========================  =====================================================
@@ -256,14 +258,17 @@ def event_log_sentence(clause, conditions=None):
     'existence(pay): pay occurs.'
     >>> event_log_sentence(("U", "pay", "ship"))
     'existence(pay) and precedence(pay, ship): pay occurs, and no ship before the first pay.'
+    >>> event_log_sentence(("G", "!refund"))
+    'absence(refund): refund never occurs.'
     """
     kind = _check_clause(clause)
     cond = dict(conditions) if conditions is not None else {}
-    if kind == "G":
+    subject = clause[1]
+    if kind == "G" and str(subject).startswith("!"):
+        text = f"absence({subject[1:]}): {subject[1:]} never occurs."
+    elif kind == "G":
         text = f"{clause[1]} has occurred from the start."
-        subject = clause[1]
     elif kind == "F":
-        subject = clause[1]
         text = f"existence({subject}): {subject} occurs."
     else:
         subject, b = clause[1], clause[2]

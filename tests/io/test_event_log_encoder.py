@@ -115,7 +115,8 @@ def test_parameters_are_validated_in_fit():
 def test_sklearn_conventions_and_pickle():
     enc = EventLogEncoder(encoding="current")
     assert enc.get_params() == {"encoding": "current", "attributes": None,
-                                "handle_unknown": "error", "case_id": "case:concept:name",
+                                "handle_unknown": "error", "negations": False,
+                                "case_id": "case:concept:name",
                                 "activity": "concept:name", "timestamp": "time:timestamp"}
     assert clone(enc).get_params() == enc.get_params()
     with pytest.raises(NotFittedError):
@@ -150,3 +151,39 @@ def test_pipeline_with_bsi_and_cross_validation():
     assert pipe.score(seqs, y) == 1.0
     scores = cross_val_score(pipe, seqs, y, cv=3)
     assert scores.tolist() == [1.0, 1.0, 1.0]
+
+
+def test_negations_encode_absence_and_stay_global_candidates():
+    seqs = [["order", "pay", "ship"], ["order", "ship"], ["order", "refund", "ship"],
+            ["order", "pay", "refund"]]
+    enc = EventLogEncoder(negations=True)
+    traces = enc.fit_transform(seqs)
+    names = ["order", "pay", "refund", "ship", "!order", "!pay", "!refund", "!ship"]
+    assert enc.get_feature_names_out().tolist() == names
+    for trace in traces:  # each negated column is the complement of its activity's
+        data = trace.to_numpy()
+        np.testing.assert_array_equal(data[:, 4:], ~data[:, :4])
+    # G(!refund) is Declare's absence: refund never occurs
+    absence = Specification(globals={"!refund"})
+    assert [absence.satisfied_by(t) for t in traces] == [True, True, False, False]
+    # under "current" the negation is "the current event is not a", and G still reads absence
+    current = EventLogEncoder(encoding="current", negations=True).fit_transform(seqs)
+    assert [absence.satisfied_by(t) for t in current] == [True, True, False, False]
+    # a negated column starts true and never rises: inferred roles keep it out of the
+    # subtasks and the conditions, so it adds G clauses and nothing else
+    clf = BSIClassifier(random_state=0).fit(traces, [1, 1, 0, 0])
+    assert not any(str(w).startswith("!") for w in clf.roles_["subtasks"])
+    assert not any(str(c).startswith("!") for c in clf.roles_["conditions"].values())
+    assert "!refund" in clf.roles_["global_candidates"]
+    assert "!refund" in clf.map_specification_.globals
+
+
+def test_negations_with_attributes_and_a_name_clash():
+    cases, _, _ = read_event_log(pd.DataFrame({
+        "case:concept:name": ["c", "c"], "concept:name": ["a", "b"], "who": ["x", "y"]}))
+    enc = EventLogEncoder(negations=True, attributes={"by_x": ("who", "x")}).fit(cases)
+    assert enc.get_feature_names_out().tolist() == ["a", "b", "by_x", "!a", "!b", "!by_x"]
+    (trace,) = enc.transform(cases)
+    assert trace["!by_x"].tolist() == [True, False, False]
+    with pytest.raises(ValueError, match=r"negation of 'a' '!a', which is already a proposition"):
+        EventLogEncoder(negations=True).fit([["a", "!a"]])
