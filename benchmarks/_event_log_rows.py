@@ -45,19 +45,23 @@ def split_log(log, spec):
     return list(train), list(test)
 
 
-def _encoded(train_cases, test_cases, activities, min_steps=1):
+def _encoded(train_cases, test_cases, activities, min_steps=1, **encoder):
     """Encoded training and test traces (``EventLogEncoder``'s DataFrames), and its name.
 
-    Traces shorter than ``min_steps`` repeat their last state (the finite-trace reading), for
-    MiniRocket's kernels of length 9.
+    ``encoder`` are ``EventLogEncoder``'s parameters: BSI takes its defaults (the activities
+    and their negations); MiniRocket and Scarlet ``negations=False``, the activities alone
+    (a negated column adds nothing a kernel or an operator ``!`` cannot read from the
+    activity's). Traces shorter than ``min_steps`` repeat their last state (the finite-trace
+    reading), for MiniRocket's kernels of length 9.
     """
     from bsi_sklearn.io import EventLogEncoder
 
-    enc = EventLogEncoder(encoding="occurred").fit(train_cases)
+    enc = EventLogEncoder(**encoder).fit(train_cases)
     tr, te = enc.transform(train_cases), enc.transform(test_cases)
     if min_steps > 1:
         tr, te = ([_pad(x, min_steps) for x in xs] for xs in (tr, te))
-    return tr, te, "EventLogEncoder"
+    name = "EventLogEncoder(" + ", ".join(f"{k}={v!r}" for k, v in encoder.items()) + ")"
+    return tr, te, name
 
 
 def _pad(frame, min_steps):
@@ -148,7 +152,7 @@ def _row_practitioner(method, log, train, test, ytr, row):
         Fte = _counts(te, acts)
         return model.predict(Fte if method == "logreg" else Fte > 0)
     t0 = time.perf_counter()
-    Xtr, Xte, row["encoding"] = _encoded(tr, te, acts, MINIROCKET_MIN_STEPS)
+    Xtr, Xte, row["encoding"] = _encoded(tr, te, acts, MINIROCKET_MIN_STEPS, negations=False)
     row["encode_s"] = time.perf_counter() - t0
     from baselines.practitioner import MiniRocketClassifier
 
@@ -173,7 +177,7 @@ def _row_bsi(log, train, test, ytr, row):
     row["hyper"] = "defaults, random_state=0"
     row["inference"] = str(getattr(clf, "inference_", ""))
     row["map"] = clf.map_specification_.to_ltl()
-    if log.family == "template":
+    if not ({p for p, _ in log.rule_clauses} - {"existence", "precedence", "absence"}):
         row["rule_recovered"] = bool(rule_recovered(clf.map_specification_, log))
     return clf.predict(Xte)
 
@@ -188,7 +192,7 @@ def _row_scarlet(log, train, test, ytr, row, timeout):
 
     cases = dict(zip(log.labels.index, log.cases()))
     Xtr, Xte, row["encoding"] = _encoded([cases[c] for c in train], [cases[c] for c in test],
-                                         log.activities)
+                                         log.activities, negations=False)
     names = list(Xtr[0].columns)
     worker = ScarletWorker(scarlet_dir, timeout=timeout)
     thres = 0.0 if float(log.labels.ne(log.clean_labels).sum()) == 0 else 0.05

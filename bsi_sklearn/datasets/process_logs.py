@@ -147,15 +147,23 @@ class ProcessLog:
         return [list(v) for v in groups.agg(list).reindex(self.labels.index)]
 
     def specification(self):
-        """The hidden rule as a :class:`~bsi_sklearn.Specification` (template rules only).
+        """The hidden rule as a :class:`~bsi_sklearn.Specification`, where the template has it.
 
-        Existence clauses are its eventuals, precedences its orders; the occurred encoding's
-        columns are the activity names.
+        On :class:`~bsi_sklearn.io.EventLogEncoder`'s columns (the occurred encoding, the
+        activity names, and the negated columns ``!a`` of its default ``negations=True``):
+        existence clauses are eventuals, precedences orders, and absences ``G(!a)``. A rule
+        with a response or at-most-once clause has none (the encoding cannot tell how often
+        or how late an activity occurred): a ``ValueError`` naming the clause.
         """
-        if self.family != "template":
-            raise ValueError(f"a {self.family!r} rule is outside BSI's template; only "
-                             f"rule='template' logs have a Specification")
+        outside = [(p, acts) for p, acts in self.rule_clauses
+                   if p not in ("existence", "precedence", "absence")]
+        if outside:
+            pattern, acts = outside[0]
+            raise ValueError(f"the rule's clause {pattern}{tuple(acts)} is outside BSI's "
+                             "template on the occurred encoding; only existence, precedence "
+                             "and absence clauses have a Specification")
         return Specification(
+            globals=["!" + acts[0] for p, acts in self.rule_clauses if p == "absence"],
             eventuals=[acts[0] for p, acts in self.rule_clauses if p == "existence"],
             orders=[acts for p, acts in self.rule_clauses if p == "precedence"])
 

@@ -111,9 +111,20 @@ def test_a_template_rule_is_a_specification_on_the_occurred_encoding(seed):
         assert ok == bool(log.clean_labels[case])
 
 
-def test_a_declare_rule_has_no_specification():
-    with pytest.raises(ValueError, match="outside BSI's template"):
-        make_process_log(10, 20, rule="declare", random_state=0).specification()
+@pytest.mark.parametrize("seed", range(12))
+def test_a_declare_rule_is_a_specification_on_the_encoder_columns_or_an_error(seed):
+    from bsi_sklearn.io import EventLogEncoder
+
+    log = make_process_log(10, 150, rule="declare", noise=0.0, random_state=seed)
+    patterns = {p for p, _ in log.rule_clauses}
+    if patterns - {"absence", "existence", "precedence"}:
+        with pytest.raises(ValueError, match=r"outside BSI's template on the occurred"):
+            log.specification()
+        return
+    spec = log.specification()
+    assert spec.globals == {"!" + acts[0] for p, acts in log.rule_clauses if p == "absence"}
+    traces = EventLogEncoder().fit(log.cases()).transform(log.cases())
+    assert [spec.satisfied_by(t) for t in traces] == log.clean_labels.astype(bool).tolist()
 
 
 def test_noise_flips_about_the_asked_fraction():
