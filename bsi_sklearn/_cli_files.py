@@ -107,8 +107,9 @@ def load_demonstrations(path, fmt="auto", event_log=None):
         ``.xes``, ``.xes.gz`` and a ``.csv`` with the case id column are event logs).
     event_log : dict, default=None
         Keyword arguments of :func:`bsi_sklearn.io.read_event_log` (``label``, ``pos_label``,
-        ``labels``, ``case_id``, ``activity``, ``timestamp``); ``None``: no event logs. An
-        event log is encoded by :class:`bsi_sklearn.io.EventLogEncoder` (its defaults).
+        ``labels``, ``case_id``, ``activity``, ``timestamp``) and ``encoder``, those of
+        :class:`bsi_sklearn.io.EventLogEncoder` that encodes the log (default: its
+        defaults); ``None``: no event logs.
 
     Returns
     -------
@@ -128,8 +129,10 @@ def load_demonstrations(path, fmt="auto", event_log=None):
     if fmt == "event-log":
         if event_log is None:
             raise ValueError(f"{path}: event logs are not read here (use bsi fit)")
-        cases, y, ids = io.read_event_log(path, **event_log)
-        X = io.EventLogEncoder().fit_transform(cases)
+        reader = dict(event_log)
+        encoder = reader.pop("encoder", None) or {}
+        cases, y, ids = io.read_event_log(path, **reader)
+        X = io.EventLogEncoder(**encoder).fit_transform(cases)
         return X, y, None, list(ids)
     if fmt == "csv":
         X, y, ids = io.read_traces_csv(path, return_ids=True)

@@ -200,6 +200,13 @@ def add_arguments(parser):
     parser.add_argument("--timestamp", default=None, metavar="COLUMN",
                         help="event logs: the timestamp column (default: time:timestamp; "
                              "without one, the file's order)")
+    parser.add_argument("--encoding", choices=["occurred", "current"], default="occurred",
+                        help="event logs: a proposition per activity, true once it has "
+                             "occurred, or only at its own events (EventLogEncoder; default: "
+                             "%(default)s)")
+    parser.add_argument("--negations", action=argparse.BooleanOptionalAction, default=True,
+                        help="event logs: also the negation !a of every activity, so that "
+                             "G(!a) states absence(a), a never occurs (default: on)")
     add_format_argument(parser, event_logs=True)
     parser.add_argument("--save", default=None, metavar="JSON",
                         help="write the posterior as JSON (Posterior.to_json, written in one "
@@ -314,7 +321,8 @@ def _roles(args, names, path):
 def _event_log_options(args):
     """``read_event_log``'s keyword arguments from the event-log options."""
     return dict(label=args.label, labels=args.labels, pos_label=args.pos_label,
-                case_id=args.case_id, activity=args.activity, timestamp=args.timestamp)
+                case_id=args.case_id, activity=args.activity, timestamp=args.timestamp,
+                encoder=dict(encoding=args.encoding, negations=args.negations))
 
 
 def _option_names(message):

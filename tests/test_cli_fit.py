@@ -157,11 +157,31 @@ def test_fit_an_xes_event_log_prints_the_map_in_activity_names(tmp_path, capsys)
     assert main(["fit", str(path), "--label", "outcome", "--pos-label", "accepted",
                  "--subtasks", "order", "pay", "ship", "--globals"]) == 0
     out = capsys.readouterr().out
-    assert "4 demonstrations (2 acceptable), 3 propositions" in out
+    assert "4 demonstrations (2 acceptable), 6 propositions" in out   # and their negations
     assert "MAP        : F(order) & (!ship U order)" in out
     # ... and as Declare constraints on the cases
     assert ("reading    : existence(order): order occurs.\n             existence(order) and "
             "precedence(order, ship): order occurs, and no ship before the first order.") in out
+
+
+def test_event_log_negations_read_as_absence_and_the_encoding_options(tmp_path, capsys):
+    path = _xes(tmp_path / "log.xes", [
+        ("c1", ["order", "pay", "ship"], "accepted"), ("c2", ["order", "ship", "pay"], "accepted"),
+        ("c3", ["order", "refund", "ship"], "rejected"), ("c4", ["order", "pay", "refund"],
+                                                          "rejected")])
+    args = ["fit", str(path), "--label", "outcome", "--pos-label", "accepted"]
+    assert main(args + ["--subtasks"]) == 0
+    out = capsys.readouterr().out
+    assert "4 demonstrations (2 acceptable), 8 propositions" in out
+    assert "MAP        : G(!refund)" in out
+    assert "reading    : absence(refund): refund never occurs." in out
+    assert main(args + ["--no-negations", "--encoding", "current"]) == 0
+    out = capsys.readouterr().out
+    assert "4 propositions" in out and "G(!refund)" not in out
+    with pytest.raises(SystemExit) as exc:
+        main(args + ["--encoding", "sometimes"])
+    assert exc.value.code == 2
+    assert "--encoding: invalid choice: 'sometimes'" in capsys.readouterr().err
 
 
 def test_fit_an_event_log_csv_told_by_its_case_column(tmp_path, capsys):
