@@ -169,7 +169,7 @@ def _row_bsi(log, train, test, ytr, row):
     cases = dict(zip(log.labels.index, log.cases()))
     t0 = time.perf_counter()
     Xtr, Xte, row["encoding"] = _encoded([cases[c] for c in train], [cases[c] for c in test],
-                                         log.activities)
+                                         log.activities, **row.get("encoder", {}))
     row["encode_s"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     clf = BSIClassifier(random_state=0).fit(Xtr, ytr)

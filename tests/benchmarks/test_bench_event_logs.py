@@ -116,3 +116,24 @@ def test_sizes_are_parsed(bench):
     assert bench.parse_sizes("10x100,40x1000") == ((10, 100), (40, 1000))
     with pytest.raises(Exception, match="ACTIVITIESxCASES"):
         bench.parse_sizes("10-100")
+
+
+def test_the_negations_comparison_pairs_by_seed(rows):
+    import bench_event_log_negations as neg
+
+    specs = neg.specs(((10, 60, range(1, 3)),))
+    assert len(specs) == 2 * 2 * 2 and {s["encoder"]["negations"] for s in specs} == {0, 1}
+    # the BSI row passes the encoder's parameters on: one log, its negated columns or not
+    off, on = (rows.run_row(dict(s, encoder={"negations": v})) for s, v in
+               ((specs[0], False), (specs[0], True)))
+    assert off["encoding"] == "EventLogEncoder(negations=False)"
+    assert on["encoding"] == "EventLogEncoder(negations=True)"
+    df = pd.DataFrame([dict(n_activities=10, n_cases=60, rule="declare", seed=seed,
+                            negations=flag, status="ok", accuracy=acc, fit_s=1.0,
+                            rule_recovered=rec)
+                       for seed, flag, acc, rec in [(1, False, 0.5, False), (1, True, 0.9, True),
+                                                    (2, False, 0.7, False), (2, True, 0.8, False),
+                                                    (3, True, 1.0, True)]])  # seed 3 unpaired
+    table = neg.summary(df)
+    assert "| 10x60 | declare | 2 | 0.600 | 0.850 | +0.250 [" in table
+    assert "| +0.100 |" in table and "| 0 / 1 of 2 |" in table
