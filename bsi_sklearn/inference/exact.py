@@ -40,12 +40,13 @@ from bsi_sklearn.inference._exact_kernels import (
     group_masses,
     likelihood_tables,
     log_evidence,
-    pair_ll_many,
+    group_pair_lls,
 )
 from bsi_sklearn.inference._exact_parts import (
     PartTable,
     group_subsets,
     structure_groups,
+    subset_items,
     subset_table,
     top_entries,
 )
@@ -195,14 +196,11 @@ class _Found(NamedTuple):
     offset: float
 
 
-def _pair_lls(lik, k, ps, ns):
-    # pair_ll over arrays, in numpy where a table holds it (a call into numba per structure
-    # group would cost more than the lookups).
-    if lik.joint.shape[0] == 0:
-        return lik.pos[k, ps] + lik.neg[k, ns]
-    if lik.joint.shape[1] > 0:
-        return lik.joint[np.minimum(k, lik.joint.shape[0] - 1), ps, ns]
-    return pair_ll_many(lik, k.astype(np.int64), ps.astype(np.int64), ns.astype(np.int64))
+def _sorted_members(found):
+    # The number of structures of each group, in the passes' (StructureSide) order.
+    members = np.zeros(len(found.ss.weight))
+    members[found.rank] = found.members
+    return members
 
 
 def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
@@ -212,20 +210,13 @@ def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
     flagged = np.flatnonzero(flag)
     budget.spend(len(flagged) * len(hs.lw), "the pairs of the flagged groups")
     budget.allocate(16.0 * len(flagged) * len(hs.lw), "the pairs of the flagged groups")
-    n_in = np.diff(subsets.t_start).astype(float)[subsets.pair_t] * \
-        np.diff(subsets.e_start).astype(float)[subsets.pair_e]
-    items = np.add.reduceat(n_in, subsets.pair_start[:-1]) if len(n_in) else n_in
-    items = items[h_order]  # SubsetSide order
-    members = np.zeros(len(ss.weight))
-    members[found.rank] = found.members
+    items = subset_items(subsets)[h_order]  # SubsetSide order
+    members = _sorted_members(found)
     pass_start = np.zeros(len(ss.weight) + 1, dtype=np.int64)
     pass_h, pass_ll = [], []
     work = n_list = 0.0
     for g in flagged:
-        ps = popcounts(hs.pos, ss.bits[g])
-        ns = popcounts(hs.neg, ss.bits[g])
-        k = ss.size[g] + hs.size
-        ll = _pair_lls(lik, k, ps, ns)
+        ll = group_pair_lls(ss, g, hs, lik)
         ok = np.flatnonzero(hs.best + ss.best[g] + ll >= keep)
         pass_h.append(ok)
         pass_ll.append(ll[ok])
