@@ -23,7 +23,8 @@ from bsi_sklearn.clauses import popcount, popcounts
 from bsi_sklearn.likelihood import depends_on_conjuncts, log_likelihood, splits_by_label
 
 __all__ = ["StructureSide", "SubsetSide", "Likelihoods", "likelihood_tables", "pair_ll",
-           "pair_ll_many", "pair_lls", "group_pair_lls", "log_evidence", "group_masses", "MAX_CELLS"]
+           "pair_ll_many", "pair_lls", "group_pair_lls", "log_evidence", "group_masses",
+           "MAX_CELLS"]
 
 #: Largest (satisfied positives x satisfied negatives) table of the passes' caches; above it
 #: every pair of groups pays a log and an exp instead.
