@@ -8,11 +8,15 @@ both times, the nanoseconds per unit of each count, and the ratio of the medians
 by which a unit of the sampler's count outweighs a unit of the exact engine's
 (``bsi_sklearn.inference.auto_budget.SAMPLING_TO_EXACT``), and the total CPU time auto would
 spend for several factors. ``--attempts`` then times the exact attempts that fail their budget
-(what auto spends before it samples). One process, one thread; CPU seconds.
+(what auto spends before it samples), and with ``--sampling`` the default MCMC fit that follows
+each (the ratio of the two is what a failed attempt costs). One process, one thread; CPU
+seconds (and wall seconds for the attempts).
 
     python scripts/calibrate_auto_budget.py --sizes 6 12 18 36 72 --out cal.csv
     python scripts/calibrate_auto_budget.py --sizes 6 12 18 36 72 --out cal.csv \
         --attempts failed_attempts.csv
+    python scripts/calibrate_auto_budget.py --out benchmarks/auto_budget/calibration.csv \
+        --attempts attempts.csv --factors 24 --sampling
 """
 
 import argparse
@@ -23,7 +27,7 @@ import pandas as pd
 
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.clauses import clause_truth
-from bsi_sklearn.inference.auto_budget import AUTO_EXACT_WORK
+from bsi_sklearn.inference.auto_budget import AUTO_EXACT_WORK, AUTO_MAX_WORK
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.inference.mcmc import sampling_count
 from bsi_sklearn.inferred_roles import infer_roles
@@ -57,12 +61,14 @@ def _training_sets(args):
     return training, roles
 
 
-def failed_attempts(args, factors=(0.0, 24.0)):
+def failed_attempts(args, factors=(0.0, 24.0), sampling=False):
     """CPU seconds of every exact attempt that fails its budget, per factor (--attempts).
 
     Reads the fits of ``--out`` (a calibration already run with the same sizes) and, for
     each factor, times the budgeted attempt of every fit whose recorded exact work is over
-    ``max(AUTO_EXACT_WORK, factor x sampling count)``: what auto spends before it samples.
+    ``min(max(AUTO_EXACT_WORK, factor x sampling count), AUTO_MAX_WORK)``: what auto spends
+    before it samples (CPU and wall seconds). With ``sampling``, also the classifier's default
+    MCMC fit of the same data (what follows the attempt).
     """
     df = pd.read_csv(args.out)
     training, roles = _training_sets(args)
@@ -70,12 +76,12 @@ def failed_attempts(args, factors=(0.0, 24.0)):
     for r in df.itertuples():
         eps = None if pd.isna(r.epsilon) else float(r.epsilon)
         for factor in factors:
-            budget = max(AUTO_EXACT_WORK, factor * r.mcmc_count)
+            budget = min(max(AUTO_EXACT_WORK, factor * r.mcmc_count), AUTO_MAX_WORK)
             if not (pd.isna(r.exact_work) or r.exact_work > budget):
                 continue
             X, y = training(r.n_train, r.objective)
             truth, model = _problem(BSIClassifier(prior=r.prior, epsilon=eps, **roles), X, y)
-            t0 = time.process_time()
+            t0, w0 = time.process_time(), time.perf_counter()
             try:
                 exact_posterior(truth, y, model, tol=1e-9, max_work=budget)
             except ExactWorkExceeded:
@@ -83,7 +89,15 @@ def failed_attempts(args, factors=(0.0, 24.0)):
             else:
                 raise AssertionError(f"{r}: the exact work recorded was over {budget:.3g}")
             rows.append(dict(n_train=r.n_train, objective=r.objective, prior=r.prior,
-                             epsilon=eps, factor=factor, attempt_s=time.process_time() - t0))
+                             epsilon=eps, factor=factor, attempt_s=time.process_time() - t0,
+                             attempt_wall_s=time.perf_counter() - w0))
+            if sampling:
+                t0, w0 = time.process_time(), time.perf_counter()
+                BSIClassifier(prior=r.prior, epsilon=eps, inference="mcmc", random_state=0,
+                              n_jobs=1, **roles).fit(X, y)
+                rows[-1].update(mcmc_s=time.process_time() - t0,
+                                mcmc_wall_s=time.perf_counter() - w0)
+                rows[-1]["ratio"] = rows[-1]["attempt_s"] / rows[-1]["mcmc_s"]
             print(rows[-1], flush=True)
     return pd.DataFrame(rows)
 
@@ -100,10 +114,14 @@ def main(argv=None):
                     help="stop the exact engine beyond this many times the sampling count")
     ap.add_argument("--attempts", default=None, metavar="CSV",
                     help="instead: time the failed exact attempts of the fits in --out "
-                         "(factors 0 and 24) and write them to CSV")
+                         "(--factors) and write them to CSV")
+    ap.add_argument("--factors", type=float, nargs="+", default=[0.0, 24.0],
+                    help="with --attempts: the SAMPLING_TO_EXACT factors whose failures to time")
+    ap.add_argument("--sampling", action="store_true",
+                    help="with --attempts: also time the MCMC fit that follows each attempt")
     args = ap.parse_args(argv)
     if args.attempts is not None:
-        failed_attempts(args).to_csv(args.attempts, index=False)
+        failed_attempts(args, args.factors, args.sampling).to_csv(args.attempts, index=False)
         return
     training, roles = _training_sets(args)
     grid = search_grid(False)

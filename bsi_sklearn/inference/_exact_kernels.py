@@ -19,11 +19,12 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn._jit import helper
-from bsi_sklearn.clauses import popcount
+from bsi_sklearn.clauses import popcount, popcounts
 from bsi_sklearn.likelihood import depends_on_conjuncts, log_likelihood, splits_by_label
 
 __all__ = ["StructureSide", "SubsetSide", "Likelihoods", "likelihood_tables", "pair_ll",
-           "pair_ll_many", "log_evidence", "group_masses", "MAX_CELLS"]
+           "pair_ll_many", "pair_lls", "group_pair_lls", "log_evidence", "group_masses",
+           "MAX_CELLS"]
 
 #: Largest (satisfied positives x satisfied negatives) table of the passes' caches; above it
 #: every pair of groups pays a log and an exp instead.
@@ -99,6 +100,25 @@ def pair_ll_many(lik, k, ps, ns):
     out = np.empty(k.shape[0])
     _pair_ll_many(lik, k, ps, ns, out)
     return out
+
+
+def pair_lls(lik, k, ps, ns):
+    """:func:`pair_ll` of arrays of pairs, in numpy where a table holds it.
+
+    A call into numba per structure group would cost more than the lookups.
+    """
+    if lik.joint.shape[0] == 0:
+        return lik.pos[k, ps] + lik.neg[k, ns]
+    if lik.joint.shape[1] > 0:
+        return lik.joint[np.minimum(k, lik.joint.shape[0] - 1), ps, ns]
+    return pair_ll_many(lik, k.astype(np.int64), ps.astype(np.int64), ns.astype(np.int64))
+
+
+def group_pair_lls(ss, g, hs, lik):
+    """The log-likelihood of structure group ``g`` with every subset-pair group (numpy)."""
+    ps = popcounts(hs.pos, ss.bits[g])
+    ns = popcounts(hs.neg, ss.bits[g])
+    return pair_lls(lik, ss.size[g] + hs.size, ps, ns)
 
 
 @njit(cache=True, nogil=True)

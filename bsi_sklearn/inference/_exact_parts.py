@@ -18,7 +18,7 @@ from bsi_sklearn.inference._structures import whole_kind
 from bsi_sklearn.priors import log_prior_subset
 
 __all__ = ["PartTable", "SubsetGroups", "subset_table", "group_subsets", "top_entries",
-           "structure_groups", "ROW_COST", "PAIR_COST"]
+           "structure_groups", "subset_items", "ROW_COST", "PAIR_COST"]
 
 #: Work units (evaluations of a pair of groups, about 5-10 ns) of one row of a subset table
 #: (built, then grouped by sorting) and of one pair of (global, eventual) subset groups.
@@ -111,6 +111,13 @@ def group_subsets(clause_bits, full, model, spend=None, allocate=None):
     pair_start, pairs = _members(pair_gid, len(groups.size))
     return SubsetGroups(groups, pair_start, a[pairs], b[pairs], tg, t_start, t_items, t_tab.lp,
                         eg, e_start, e_items, e_tab.lp, lw[pairs])
+
+
+def subset_items(subsets):
+    """How many (global subset, eventual subset) pairs each subset-pair group holds (float)."""
+    n_in = np.diff(subsets.t_start).astype(float)[subsets.pair_t] * \
+        np.diff(subsets.e_start).astype(float)[subsets.pair_e]
+    return np.add.reduceat(n_in, subsets.pair_start[:-1]) if len(n_in) else n_in
 
 
 def top_entries(tables, model):

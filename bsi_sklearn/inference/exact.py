@@ -38,14 +38,15 @@ from bsi_sklearn.inference._exact_kernels import (
     StructureSide,
     SubsetSide,
     group_masses,
+    group_pair_lls,
     likelihood_tables,
     log_evidence,
-    pair_ll_many,
 )
 from bsi_sklearn.inference._exact_parts import (
     PartTable,
     group_subsets,
     structure_groups,
+    subset_items,
     subset_table,
     top_entries,
 )
@@ -53,6 +54,7 @@ from bsi_sklearn.inference._exact_ungrouped import LabelMasks, ungrouped_kernel
 from bsi_sklearn.inference._exact_ungrouped import structure_tables as ungrouped_structures
 from bsi_sklearn.inference._grouping import Groups
 from bsi_sklearn.inference._listing import Listing, list_hypotheses, members, walk_scratch
+from bsi_sklearn.inference._listing_bound import listing_work_lower_bound, log_evidence_upper
 from bsi_sklearn.inference._structure_walk import descend
 from bsi_sklearn.inference._structures import STEP_COST, StructureTables, structure_tables
 from bsi_sklearn.priors import PRIORS, count_hypotheses, format_count, support_structures
@@ -195,14 +197,11 @@ class _Found(NamedTuple):
     offset: float
 
 
-def _pair_lls(lik, k, ps, ns):
-    # pair_ll over arrays, in numpy where a table holds it (a call into numba per structure
-    # group would cost more than the lookups).
-    if lik.joint.shape[0] == 0:
-        return lik.pos[k, ps] + lik.neg[k, ns]
-    if lik.joint.shape[1] > 0:
-        return lik.joint[np.minimum(k, lik.joint.shape[0] - 1), ps, ns]
-    return pair_ll_many(lik, k.astype(np.int64), ps.astype(np.int64), ns.astype(np.int64))
+def _sorted_members(found):
+    # The number of structures of each group, in the passes' (StructureSide) order.
+    members = np.zeros(len(found.ss.weight))
+    members[found.rank] = found.members
+    return members
 
 
 def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
@@ -212,20 +211,13 @@ def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
     flagged = np.flatnonzero(flag)
     budget.spend(len(flagged) * len(hs.lw), "the pairs of the flagged groups")
     budget.allocate(16.0 * len(flagged) * len(hs.lw), "the pairs of the flagged groups")
-    n_in = np.diff(subsets.t_start).astype(float)[subsets.pair_t] * \
-        np.diff(subsets.e_start).astype(float)[subsets.pair_e]
-    items = np.add.reduceat(n_in, subsets.pair_start[:-1]) if len(n_in) else n_in
-    items = items[h_order]  # SubsetSide order
-    members = np.zeros(len(ss.weight))
-    members[found.rank] = found.members
+    items = subset_items(subsets)[h_order]  # SubsetSide order
+    members = _sorted_members(found)
     pass_start = np.zeros(len(ss.weight) + 1, dtype=np.int64)
     pass_h, pass_ll = [], []
     work = n_list = 0.0
     for g in flagged:
-        ps = popcounts(hs.pos, ss.bits[g])
-        ns = popcounts(hs.neg, ss.bits[g])
-        k = ss.size[g] + hs.size
-        ll = _pair_lls(lik, k, ps, ns)
+        ll = group_pair_lls(ss, g, hs, lik)
         ok = np.flatnonzero(hs.best + ss.best[g] + ll >= keep)
         pass_h.append(ok)
         pass_ll.append(ll[ok])
@@ -238,6 +230,39 @@ def _listing(found, hs, h_order, subsets, lik, flag, keep, budget):
     pass_h = np.concatenate(pass_h).astype(np.int64) if pass_h else np.empty(0, np.int64)
     pass_ll = np.concatenate(pass_ll) if pass_ll else np.empty(0)
     return np.cumsum(pass_start), pass_h, pass_ll, n_list
+
+
+def _listing_floor(first, hs, h_order, subsets, lik, n_pos, log_keep, margin, stop=np.inf):
+    # A lower bound of _listing's charge from the first grouping, and of the number of
+    # hypotheses it lists (_listing_bound; stops once the charge passes stop).
+    n = first.tables.lo.shape[1].bit_length() - 1
+    upper = log_evidence_upper(first.log_z_rel + first.sg.ref,
+                               math.log(first.ss.weight.sum()) + first.sg.ref, hs, lik, n_pos,
+                               margin)
+    return listing_work_lower_bound(first.ss, _sorted_members(first), first.sg.ref, hs,
+                                    subset_items(subsets)[h_order], lik, log_keep + upper,
+                                    _LIST_COST * (n + 1), _EMIT_COST + _KEPT_COST, stop=stop)
+
+
+def _give_up_early(first, hs, h_order, subsets, lik, n_pos, log_keep, margin, budget):
+    # Before the second grouping of the structures (most of a failed attempt's time): when
+    # the listing's charge is bound to pass what is left of the budget, the attempt would
+    # fail there anyway, so it stops now instead.
+    if not (budget.left < np.inf and log_keep > -np.inf):
+        return
+    n = first.tables.lo.shape[1].bit_length() - 1
+    items = subset_items(subsets)
+    most = first.members.sum() * (_LIST_COST * (n + 1) + len(items)
+                                  + (_EMIT_COST + _KEPT_COST) * items.sum())
+    if most <= budget.left:  # even listing every hypothesis of the bound's would fit
+        return
+    work, _ = _listing_floor(first, hs, h_order, subsets, lik, n_pos, log_keep, margin,
+                             stop=budget.left)
+    if work > budget.left:
+        raise ExactWorkExceeded(
+            f"exact enumeration stopped: listing the hypotheses would take at least {work:,.0f} "
+            "units (a lower bound, before the order structures are grouped), beyond its work "
+            "budget")
 
 
 def _grouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol):
@@ -260,6 +285,7 @@ def _grouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol):
                           budget, walked=False)
         if first.log_z_rel > -np.inf:
             cut = first.log_z_rel + first.sg.ref + margin - h_total
+            _give_up_early(first, hs, h_order, subsets, lik, n_pos, log_keep, margin, budget)
     thr = int(np.searchsorted(bound, cut)) if cut > -np.inf else 0
     found = _evidence(clause_bits, full, labels, model, thr, cut, hs, lik, margin, budget,
                       walked=True)
