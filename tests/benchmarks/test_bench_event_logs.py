@@ -74,8 +74,9 @@ def test_a_row_over_its_memory_limit_is_recorded(bench):
 
 
 def test_minirocket_traces_repeat_their_last_state(rows):
-    (x,), _, name = rows._encoded([["b", "a"]], [["a"]], ["a", "b"], min_steps=9)
-    assert name == "EventLogEncoder" and x.shape == (9, 2)
+    (x,), _, name = rows._encoded([["b", "a"]], [["a"]], ["a", "b"], min_steps=9,
+                                  negations=False)
+    assert name == "EventLogEncoder(negations=False)" and x.shape == (9, 2)
     values = x[["a", "b"]].to_numpy(dtype=bool)
     assert values[:3].tolist() == [[False, False], [False, True], [True, True]]
     assert (values[3:] == values[2]).all()
