@@ -53,6 +53,10 @@ class TraceFile:
         before it lies within ``u v``). A general formula, such as a file's target, may not.
     lengths : tuple of int or None
         The trace lengths a Scarlet benchmark was generated with (its ``formulas.txt`` line).
+    target_alphabet : tuple of str or None
+        The target's alphabet as its ``formulas.txt`` line gives it. Scarlet's benchmarks
+        publish it as the letters the formula is over, which may be fewer than the file's
+        (``a,b,c`` for traces over ``a,b,c,d``); :attr:`feature_names` stay the file's.
     """
 
     positives: list
@@ -66,6 +70,7 @@ class TraceFile:
     path: str | None = None
     loop_starts: tuple = ()
     lengths: tuple | None = None
+    target_alphabet: tuple | None = None
 
     @property
     def n_props(self):
@@ -220,7 +225,9 @@ def read_trace_file(path, *, formulas="auto"):
         Where a Scarlet benchmark file ``f-NN-...`` without its own target finds it: line
         ``NN`` of this file. ``"auto"`` looks for ``formulas.txt`` in the file's folder and
         the folder above (the layout of Scarlet's benchmarks); ``None`` reads no target
-        from outside the file.
+        from outside the file. A ``formulas.txt`` line may give the target's alphabet as
+        published: the letters the formula is over, which may be a subset of the file's
+        (recorded as :attr:`TraceFile.target_alphabet`; the columns keep the file's names).
 
     Returns
     -------
@@ -231,7 +238,8 @@ def read_trace_file(path, *, formulas="auto"):
     ValueError
         For a malformed file (missing separators, uneven proposition counts, values other
         than 0/1, empty traces, a bad depth, target or alphabet), naming the file and the
-        1-based line.
+        1-based line; for a target whose ``formulas.txt`` alphabet has a letter the file's
+        alphabet does not, naming both files, the line and the letters.
 
     See Also
     --------
@@ -320,11 +328,12 @@ def _parse_trace_text(text, path, formulas="auto"):
         if unknown:
             raise lines.error(target_line, f"the target mentions {unknown}, which are not "
                                            f"among the propositions {feature_names}")
-    lengths = None
+    lengths = target_alphabet = None
     if target is None:
         found = scarlet_target(path, formulas)
         if found is not None:
             target, source, lengths = found.formula, found.source, found.lengths
+            target_alphabet = found.alphabet
             feature_names = _names_from_formulas(name, found, alphabet, feature_names)
             unknown = sorted(target.atoms - set(feature_names))
             if unknown:
@@ -333,20 +342,33 @@ def _parse_trace_text(text, path, formulas="auto"):
     return TraceFile(positives=traces[0], negatives=traces[1], feature_names=feature_names,
                      operators=operators, depth=depth, alphabet=alphabet, target=target,
                      target_source=source, path=None if path is None else str(path),
-                     loop_starts=tuple(loops), lengths=lengths)
+                     loop_starts=tuple(loops), lengths=lengths,
+                     target_alphabet=target_alphabet)
 
 
 def _names_from_formulas(name, found, alphabet, feature_names):
-    """The propositions' names when ``formulas.txt`` gives an alphabet (it must agree)."""
+    """The propositions' names given what ``formulas.txt`` says of the target's alphabet.
+
+    The file's own alphabet line names its columns; the ``formulas.txt`` alphabet is the
+    formula's, and Scarlet publishes it as a subset (``a,b,c`` over traces ``a,b,c,d``), in
+    any order. Without an alphabet line the ``formulas.txt`` one names the columns, and must
+    then have one letter per column: which columns a shorter one meant is not written down.
+    """
     if found.alphabet is None:
         return feature_names
-    if alphabet is not None and tuple(alphabet) != found.alphabet:
-        raise ValueError(f"{name}: its alphabet {list(alphabet)} differs from "
-                         f"{list(found.alphabet)} given by {found.source}")
-    if len(found.alphabet) != len(feature_names):
-        raise ValueError(f"{name}: {found.source} names {len(found.alphabet)} propositions "
-                         f"{list(found.alphabet)}, but the traces have {len(feature_names)}")
-    return list(found.alphabet)
+    if alphabet is None:
+        if len(found.alphabet) != len(feature_names):
+            raise ValueError(f"{name}: {found.source} names {len(found.alphabet)} "
+                             f"propositions {list(found.alphabet)}, but the traces have "
+                             f"{len(feature_names)} and the file has no alphabet line to "
+                             "name them")
+        return list(found.alphabet)
+    missing = [a for a in found.alphabet if a not in alphabet]
+    if missing:
+        raise ValueError(f"{name}: the target's alphabet {list(found.alphabet)} on "
+                         f"{found.source} has {missing}, which the file's alphabet "
+                         f"{list(alphabet)} does not carry")
+    return feature_names
 
 
 def load_trace_file(path, *, formulas="auto"):

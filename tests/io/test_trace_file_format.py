@@ -204,13 +204,52 @@ def test_bad_scarlet_formulas_lines_name_the_line(tmp_path, line, message):
         read_trace_file(write(tmp_path, SCARLET_PQ, "f-02-x.trace"))
 
 
-def test_scarlet_alphabet_must_agree_with_the_file(tmp_path):
-    (tmp_path / "formulas.txt").write_text("G(!(p));q,p;8\nF(a);a,b,c;8\n")
-    with pytest.raises(ValueError, match=r"its alphabet \['p', 'q'\] differs from \['q', 'p'\]"):
+def test_scarlet_alphabet_must_be_carried_by_the_file(tmp_path):
+    (tmp_path / "formulas.txt").write_text("F(a);a,b,c;8\nF(p);p,r;8\n")
+    with pytest.raises(ValueError, match=r"f-01-x.trace: the target's alphabet "
+                                         r"\['a', 'b', 'c'\] on .*formulas.txt:1 has "
+                                         r"\['a', 'b', 'c'\], which the file's alphabet "
+                                         r"\['p', 'q'\] does not carry"):
         read_trace_file(write(tmp_path, SCARLET_PQ, "f-01-x.trace"))
+    with pytest.raises(ValueError, match=r"formulas.txt:2 has \['r'\], which"):
+        read_trace_file(write(tmp_path, SCARLET_PQ, "f-02-x.trace"))
     no_alphabet = SCARLET_PQ.rsplit("\n---\n", 1)[0]
-    with pytest.raises(ValueError, match=r"names 3 propositions .* but the traces have 2"):
-        read_trace_file(write(tmp_path, no_alphabet, "f-02-x.trace"))
+    with pytest.raises(ValueError, match=r"names 3 propositions .* but the traces have 2 "
+                                         r"and the file has no alphabet line"):
+        read_trace_file(write(tmp_path, no_alphabet, "f-01-y.trace"))
+
+
+SCARLET_ABCD = ("1,0,0,0;0,1,0,0;0,0,0,1\n0,0,0,1;1,0,0,0\n---\n0,0,0,1;0,1,0,0\n---\n"
+                "G,F,X,!,&,|\n---\na,b,c,d")
+
+
+def test_scarlet_target_alphabet_may_be_a_subset_of_the_files(tmp_path):
+    # Issue 28: Scarlet's Varying_size folder publishes 'F(...);a,b,c' for traces over
+    # a,b,c,d: the formula's alphabet, not the file's.
+    (tmp_path / "formulas.txt").write_text("&(F(a),F(b));a,b,c\nF(a);c,b,a;8\n")
+    tf = read_trace_file(write(tmp_path, SCARLET_ABCD, "f-01-nw-3-ml-3-0.trace"))
+    assert tf.feature_names == ["a", "b", "c", "d"] and tf.alphabet == ("a", "b", "c", "d")
+    assert tf.target_alphabet == ("a", "b", "c") and tf.n_props == 4
+    assert tf.target == parse_ltl("F(a) & F(b)")
+    np.testing.assert_array_equal(tf.target.evaluate(tf.X), [True, False, False])
+    # the formula's alphabet is a set of letters: its order does not rename columns
+    tf = read_trace_file(write(tmp_path, SCARLET_ABCD, "f-02-nw-3-ml-3-0.trace"))
+    assert tf.feature_names == ["a", "b", "c", "d"] and tf.target_alphabet == ("c", "b", "a")
+    assert tf.lengths == (8,)
+    # a file without a formulas.txt alphabet records none
+    (tmp_path / "formulas.txt").write_text("F(a)\n")
+    assert read_trace_file(tmp_path / "f-01-nw-3-ml-3-0.trace").target_alphabet is None
+
+
+def test_scarlet_target_alphabet_letters_the_formula_needs(tmp_path):
+    # the formula may only mention letters of its own alphabet, which the file must carry
+    (tmp_path / "formulas.txt").write_text("F(d);a,b,c\nF(e)\n")
+    with pytest.raises(ValueError, match=r"formulas.txt, line 1: the formula mentions "
+                                         r"\['d'\], which are not in its alphabet"):
+        read_trace_file(write(tmp_path, SCARLET_ABCD, "f-01-x.trace"))
+    with pytest.raises(ValueError, match=r"the target .*formulas.txt:2 mentions \['e'\], "
+                                         r"which are not among the propositions"):
+        read_trace_file(write(tmp_path, SCARLET_ABCD, "f-02-x.trace"))
 
 
 # ------------------------------------------------------------------ samples2LTL lasso traces
