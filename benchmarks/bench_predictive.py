@@ -1,36 +1,39 @@
-"""The posterior predictive against the paper's vote on held-out LFE missions (issue 31).
+"""The posterior predictive and its label noise, on held-out LFE missions (issue 31).
 
-A first measurement for issue 31's second part (which likelihood should be the default): the
-probabilities of ``BSIClassifier(vote="predictive")`` (label noise included) against the
-paper's vote (``vote="satisfaction"``, the posterior mass satisfied), from the *same* fits,
-under the default likelihood (CB with the paper's epsilon) and under
-``likelihood="ci", flip_prior=(1, 9)`` (the flip prior the documentation suggests). The
+Issue 31's second part (a default that learns the label noise, if it earns it): the
+probabilities of ``BSIClassifier`` read three ways from the *same* fit -- the paper's vote
+(``vote="satisfaction"``, the posterior mass satisfied), the predictive with the likelihood's
+``epsilon`` (``label_noise="likelihood"``) and the predictive with each formula's flip rate
+learned from the training labels (``label_noise="learned"``, the default) -- under the default
+likelihood (CB with the paper's epsilon), and under ``likelihood="ci", flip_prior=(1, 9)``
+(the flip prior the documentation suggests: the noise learned inside the likelihood). The
 classifier is fitted as a new user fits it: ``BSIClassifier(random_state=...)``, no roles
 (inferred), every other default. Missions come from the study's simulator
-(:func:`lfe.study.simulate_repeat`: the paper's propositions through the extractor, 4 %
-judgement noise, training sets drawn stratified by :func:`lfe.study.draw_training_set`) at a
-study seed not used elsewhere in the repository; each repeat fits on 12 and on 36 of its
-missions and is scored on its own held-out missions, one classifier per mission objective. A
-logistic regression on five plain features per proposition
-(:class:`baselines.practitioner.TemporalLogisticRegression`, the practitioner row of
-``bsi-lfe study``) is the reference.
+(:func:`lfe.study.simulate_repeat`: the paper's propositions through the extractor, the
+study's two judgement-noise rates, training sets drawn stratified by
+:func:`lfe.study.draw_training_set`) at a study seed not used elsewhere in the repository;
+each repeat fits on 12, 36 and 72 of its missions and is scored on its own held-out missions,
+one classifier per mission objective. A logistic regression on five plain features per
+proposition (:class:`baselines.practitioner.TemporalLogisticRegression`, the practitioner row
+of ``bsi-lfe study``) is the reference.
 
-Reported per row and training size: log loss (scikit-learn's, probabilities clipped to
-``[eps, 1 - eps]`` with ``eps`` the float epsilon, 2.2e-16), the log loss unclipped (from
-``predict_log_proba``; infinite when a probability is exactly 0), the Brier score and the
-accuracy of ``predict``; each the mean over the three objectives in a repeat, then the mean
-over repeats with a Student-t 95 % interval (:func:`lfe.study.t_interval`); and a reliability
-diagram of every test mission pooled over repeats and objectives, with the largest gap to the
-diagonal over the bins holding at least 5 % of them (issue 31's calibration target).
+Reported per row, noise rate and training size: log loss (scikit-learn's, probabilities
+clipped to ``[eps, 1 - eps]`` with ``eps`` the float epsilon, 2.2e-16), the log loss unclipped
+(from ``predict_log_proba``; infinite when a probability is exactly 0), the Brier score and
+the accuracy of ``predict``; each the mean over the three objectives in a repeat, then the
+mean over repeats with a Student-t 95 % interval (:func:`lfe.study.t_interval`); paired
+differences repeat by repeat; and a reliability diagram of every test mission pooled over
+repeats and objectives, with the largest gap to the diagonal over the bins holding at least
+5 % of them (issue 31's calibration target).
 
-Run from the repository root (about 5 minutes on one core)::
+Run from the repository root (about 15 minutes on one core)::
 
-    python benchmarks/bench_predictive.py             # 10 repeats, 12 and 36 missions
+    python benchmarks/bench_predictive.py             # 10 repeats, 12/36/72 missions, 0/4 %
     python benchmarks/bench_predictive.py --quick     # 2 repeats, for a smoke test
 
 Writes ``benchmarks/RESULTS_predictive.md`` and ``benchmarks/predictive/`` (``runs.csv``: every
-row, repeat, size and objective; ``summary.csv``: the table; ``reliability.csv``: the bins;
-``reliability.png``: the diagram). Every warning is counted per fit, none is silenced.
+row, repeat, noise, size and objective; ``summary.csv``: the table; ``reliability.csv``: the
+bins; ``reliability.png``: the diagram). Every warning is counted per fit, none is silenced.
 """
 
 from __future__ import annotations
@@ -59,13 +62,22 @@ from lfe.study import (  # noqa: E402
     t_interval,
 )
 
-#: BSI settings: name -> parameters (on top of ``random_state``; no roles: inferred).
-SETTINGS = {"CB (default)": {}, "CI, flip_prior=(1, 9)": {"likelihood": "ci",
-                                                         "flip_prior": (1, 9)}}
-VOTES = ("satisfaction", "predictive")
+#: BSI settings: name -> (parameters on top of ``random_state``, no roles: inferred; the
+#: readings of each fit, below).
+SETTINGS = {"CB (default)": ({}, ("satisfaction", "predictive, epsilon", "predictive, learned")),
+            "CI, flip_prior=(1, 9)": ({"likelihood": "ci", "flip_prior": (1, 9)},
+                                      ("satisfaction", "predictive"))}
+#: How one fit is read (parameters read at prediction time, so one fit gives every reading):
+#: the paper's vote; the predictive with the likelihood's epsilon; with the flip rate learned
+#: (the default); with a flip prior the two predictives coincide.
+READINGS = {"satisfaction": {"vote": "satisfaction"},
+            "predictive": {"vote": "predictive"},
+            "predictive, epsilon": {"vote": "predictive", "label_noise": "likelihood"},
+            "predictive, learned": {"vote": "predictive", "label_noise": "learned"}}
 REFERENCE = "Logistic regression (reference)"
 #: The rows, in the table's order.
-ROWS = tuple(f"{s}, {v}" for s in SETTINGS for v in VOTES) + (REFERENCE,)
+ROWS = tuple(f"{s}, {r}" for s, (_, readings) in SETTINGS.items() for r in readings) \
+    + (REFERENCE,)
 N_BINS = 10
 
 
@@ -77,19 +89,19 @@ def _scores(y, p1, log_p, pred):
                 brier=brier_score_loss(y, p1, pos_label=1), accuracy=accuracy_score(y, pred))
 
 
-def _fit_bsi(X_train, y_train, X_test, params, seed):
-    """Both votes of one fit: ``{vote: (P(acceptable), log proba, predict)}`` and the fit's
-    facts (inference, specifications, dropped mass, flip rate, warnings, seconds)."""
+def _fit_bsi(X_train, y_train, X_test, params, readings, seed):
+    """Every reading of one fit: ``{reading: (P(acceptable), log proba, predict)}`` and the
+    fit's facts (inference, specifications, dropped mass, flip rate, warnings, seconds)."""
     start = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")  # count every warning (recorded, not silenced)
         clf = BSIClassifier(random_state=seed, **params).fit(X_train, y_train)
         out = {}
-        for vote in VOTES:
-            clf.set_params(vote=vote)  # read at prediction: one fit, both votes
+        for reading in readings:
+            clf.set_params(**READINGS[reading])  # read at prediction: one fit, every reading
             with np.errstate(divide="ignore"):  # the vote's log of an exact 0 is -inf
                 log_p = clf.predict_log_proba(X_test)
-            out[vote] = (clf.predict_proba(X_test)[:, 1], log_p, clf.predict(X_test))
+            out[reading] = (clf.predict_proba(X_test)[:, 1], log_p, clf.predict(X_test))
     facts = dict(inference=clf.inference_, n_specifications=len(clf.posterior_),
                  dropped_mass=clf.posterior_.dropped_mass, flip_rate=clf.flip_rate_,
                  warnings=len(caught), fit_s=time.perf_counter() - start)
@@ -116,11 +128,22 @@ def run_repeat(repeat, config):
     seed = config["seed"]
     n_pool = max(config["sizes"])
     data = simulate_repeat(n_pool=n_pool, test_size=config["test_size"],
-                           noises=[config["noise"]], propositions=["paper"],
+                           noises=config["noise"], propositions=["paper"],
                            **repeat_seeds(seed, repeat))
-    props, y = data["props"]["paper"], data["labels"][config["noise"]]
+    props = data["props"]["paper"]
     test = np.arange(n_pool, len(data["clean"]))
     X_test = [props[i] for i in test]
+    runs, preds = [], []
+    for noise in config["noise"]:
+        r, p = _run_noise(repeat, config, data, noise, props, test, X_test)
+        runs += r
+        preds += p
+    return runs, preds
+
+
+def _run_noise(repeat, config, data, noise, props, test, X_test):
+    seed, n_pool = config["seed"], max(config["sizes"])
+    y = data["labels"][noise]
     runs, preds = [], []
     for n_train in config["sizes"]:
         train = draw_training_set(data["clean"], n_pool, n_train,
@@ -129,33 +152,37 @@ def run_repeat(repeat, config):
         X_train = [props[i] for i in train]
         for k, objective in enumerate(MISSION_OBJECTIVES):
             y_train, y_test = y[train, k], y[test, k]
-            cell = dict(repeat=repeat, n_train=n_train, objective=objective,
+            cell = dict(repeat=repeat, noise=noise, n_train=n_train, objective=objective,
                         n_acceptable_train=int(y_train.sum()))
             results = {}
-            for name, params in SETTINGS.items():
+            for name, (params, readings) in SETTINGS.items():
                 if not np.any(y_train == 1):
                     raise RuntimeError(f"repeat {repeat}, {n_train} missions, {objective}: no "
                                        "acceptable training mission (BSI needs one)")
-                votes, facts = _fit_bsi(X_train, y_train, X_test, params, model_seed)
-                for vote, result in votes.items():
-                    results[f"{name}, {vote}"] = (*result, facts)
+                out, facts = _fit_bsi(X_train, y_train, X_test, params, readings, model_seed)
+                for reading, result in out.items():
+                    results[f"{name}, {reading}"] = (*result, facts)
             p, log_p, pred, n_warn = _fit_reference(X_train, y_train, X_test, model_seed)
             results[REFERENCE] = (p, log_p, pred, dict(warnings=n_warn))
             for row, (p, log_p, pred, facts) in results.items():
                 runs.append(dict(row=row, **cell, **_scores(y_test, p, log_p, pred), **facts))
-                preds.append(pd.DataFrame(dict(row=row, repeat=repeat, n_train=n_train,
-                                               objective=objective, p=p, y=y_test)))
+                preds.append(pd.DataFrame(dict(row=row, repeat=repeat, noise=noise,
+                                               n_train=n_train, objective=objective, p=p,
+                                               y=y_test)))
     return runs, preds
 
 
+KEYS = ["noise", "n_train"]
+
+
 def summary(runs):
-    """Per training size and row: each metric's mean over repeats (of the mean over the
-    objectives) with its 95 % interval; and predictive minus satisfaction, paired."""
-    per_repeat = runs.groupby(["n_train", "row", "repeat"], sort=False)[
+    """Per noise rate, training size and row: each metric's mean over repeats (of the mean
+    over the objectives) with its 95 % interval."""
+    per_repeat = runs.groupby(KEYS + ["row", "repeat"], sort=False)[
         ["log_loss", "log_loss_unclipped", "brier", "accuracy"]].mean()
     out = []
-    for (n_train, row), group in per_repeat.groupby(level=["n_train", "row"], sort=False):
-        entry = dict(n_train=n_train, row=row, n_repeats=len(group))
+    for (noise, n_train, row), group in per_repeat.groupby(level=KEYS + ["row"], sort=False):
+        entry = dict(noise=noise, n_train=n_train, row=row, n_repeats=len(group))
         for metric in group.columns:
             values = group[metric].to_numpy()
             if np.isfinite(values).all():
@@ -166,19 +193,30 @@ def summary(runs):
         out.append(entry)
     table = pd.DataFrame(out)
     table["row"] = pd.Categorical(table["row"], ROWS, ordered=True)
-    return table.sort_values(["n_train", "row"]).reset_index(drop=True)
+    return table.sort_values(KEYS + ["row"]).reset_index(drop=True)
+
+
+#: Paired differences: (name, row, minus row).
+PAIRS = [("CB: predictive, learned - satisfaction", "CB (default), predictive, learned",
+          "CB (default), satisfaction"),
+         ("CB: predictive, learned - predictive, epsilon", "CB (default), predictive, learned",
+          "CB (default), predictive, epsilon"),
+         ("CI flip prior: predictive - satisfaction", "CI, flip_prior=(1, 9), predictive",
+          "CI, flip_prior=(1, 9), satisfaction"),
+         ("CB: predictive, learned - logistic regression", "CB (default), predictive, learned",
+          REFERENCE)]
 
 
 def paired(runs):
-    """Predictive minus satisfaction, repeat by repeat, per setting, size and metric."""
-    per_repeat = runs.groupby(["n_train", "row", "repeat"])[
-        ["log_loss", "brier", "accuracy"]].mean()
+    """The :data:`PAIRS`, repeat by repeat, per noise rate, size and metric."""
+    per_repeat = runs.groupby(KEYS + ["row", "repeat"])[["log_loss", "brier", "accuracy"]].mean()
     out = []
-    for setting in SETTINGS:
-        for n_train in sorted(runs["n_train"].unique()):
-            a = per_repeat.loc[(n_train, f"{setting}, predictive")]
-            b = per_repeat.loc[(n_train, f"{setting}, satisfaction")]
-            entry = dict(setting=setting, n_train=n_train)
+    for name, row_a, row_b in PAIRS:
+        for noise, n_train in runs[KEYS].drop_duplicates().sort_values(KEYS).itertuples(
+                index=False):
+            a = per_repeat.loc[(noise, n_train, row_a)]
+            b = per_repeat.loc[(noise, n_train, row_b)]
+            entry = dict(pair=name, noise=noise, n_train=n_train)
             for metric in a.columns:
                 entry[metric], entry[f"{metric}_low"], entry[f"{metric}_high"] = t_interval(
                     a[metric] - b[metric])
@@ -187,56 +225,66 @@ def paired(runs):
 
 
 def reliability(preds, n_bins=N_BINS):
-    """Equal-width bins of P(acceptable), per row and size, every test mission pooled.
+    """Equal-width bins of P(acceptable), per row, noise rate and size, every test mission
+    pooled.
 
     Returns one line per non-empty bin: its share of the missions, the mean predicted
     probability and the observed fraction acceptable.
     """
     out = []
-    for (row, n_train), group in preds.groupby(["row", "n_train"], sort=False):
+    for (row, noise, n_train), group in preds.groupby(["row"] + KEYS, sort=False):
         bins = np.minimum((group["p"].to_numpy() * n_bins).astype(int), n_bins - 1)
         for b in np.unique(bins):
             inside = group[bins == b]
-            out.append(dict(row=row, n_train=n_train, bin=int(b), n=len(inside),
+            out.append(dict(row=row, noise=noise, n_train=n_train, bin=int(b), n=len(inside),
                             share=len(inside) / len(group), predicted=inside["p"].mean(),
                             observed=inside["y"].mean()))
     return pd.DataFrame(out)
 
 
 def worst_gap(bins, min_share=0.05):
-    """Largest |observed - predicted| over the bins holding at least ``min_share``."""
     big = bins[bins["share"] >= min_share]
     gap = (big["observed"] - big["predicted"]).abs()
-    return big.assign(gap=gap).groupby(["row", "n_train"], sort=False)["gap"].max()
+    return big.assign(gap=gap).groupby(["row"] + KEYS, sort=False)["gap"].max()
+
+
+#: The rows drawn in the reliability figure (the epsilon reading lies on the vote).
+FIGURE_ROWS = ("CB (default), satisfaction", "CB (default), predictive, learned",
+               "CI, flip_prior=(1, 9), predictive", REFERENCE)
 
 
 def figure(bins, path):
-    """Reliability diagrams, one panel per training size; marker area ~ the bin's share."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    sizes = sorted(bins["n_train"].unique())
-    fig, axes = plt.subplots(1, len(sizes), figsize=(5.2 * len(sizes), 5), squeeze=False)
+    noises, sizes = sorted(bins["noise"].unique()), sorted(bins["n_train"].unique())
+    fig, axes = plt.subplots(len(noises), len(sizes), figsize=(4.6 * len(sizes),
+                                                                4.6 * len(noises)),
+                             squeeze=False)
     styles = {row: (f"C{i}", "--" if row.endswith("satisfaction") else "-")
-              for i, row in enumerate(ROWS)}
-    for ax, n_train in zip(axes[0], sizes):
-        ax.plot([0, 1], [0, 1], color="grey", lw=0.8)
-        for row in ROWS:
-            part = bins[(bins["row"] == row) & (bins["n_train"] == n_train)]
-            color, ls = styles[row]
-            ax.plot(part["predicted"], part["observed"], ls, color=color, lw=1.2, label=row)
-            ax.scatter(part["predicted"], part["observed"], s=400 * part["share"],
-                       color=color, alpha=0.6)
-        ax.set(title=f"{n_train} training missions", xlabel="predicted P(acceptable)",
-               ylabel="observed fraction acceptable", xlim=(-0.02, 1.02), ylim=(-0.02, 1.02))
-        ax.set_aspect("equal")
+              for i, row in enumerate(FIGURE_ROWS)}
+    for i, noise in enumerate(noises):
+        for ax, n_train in zip(axes[i], sizes):
+            ax.plot([0, 1], [0, 1], color="grey", lw=0.8)
+            for row in FIGURE_ROWS:
+                part = bins[(bins["row"] == row) & (bins["n_train"] == n_train)
+                            & (bins["noise"] == noise)]
+                color, ls = styles[row]
+                ax.plot(part["predicted"], part["observed"], ls, color=color, lw=1.2,
+                        label=row)
+                ax.scatter(part["predicted"], part["observed"], s=400 * part["share"],
+                           color=color, alpha=0.6)
+            ax.set(title=f"{noise:.0%} noise, {n_train} training missions",
+                   xlabel="predicted P(acceptable)", ylabel="observed fraction acceptable",
+                   xlim=(-0.02, 1.02), ylim=(-0.02, 1.02))
+            ax.set_aspect("equal")
     axes[0][0].legend(fontsize=7, loc="upper left")
     fig.suptitle("LFE missions, held out: reliability of P(acceptable) "
-                 "(bins of 0.1; marker area ~ share of missions)", fontsize=9)
+                 "(marker area: share of the missions)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=100)
     plt.close(fig)
 
 
@@ -251,22 +299,26 @@ def _ci(row, metric, digits=3):
 def report(runs, table, diffs, gaps, config, seconds, command):
     """The Markdown of RESULTS_predictive.md."""
     info = machine_info()
-    bsi = runs[runs["row"].str.endswith(", predictive")]  # one line per fit
-    how = bsi.assign(setting=bsi["row"].str.removesuffix(", predictive")).groupby(
-        ["setting", "n_train"], sort=False).agg(
+    first = [f"{s}, {readings[0]}" for s, (_, readings) in SETTINGS.items()]
+    bsi = runs[runs["row"].isin(first)]  # one line per fit
+    how = bsi.assign(setting=bsi["row"].str.rsplit(", ", n=1).str[0]).groupby(
+        ["setting"] + KEYS, sort=False).agg(
         fits=("fit_s", "size"), exact=("inference", lambda s: int((s == "exact").sum())),
         specs=("n_specifications", "median"), dropped=("dropped_mass", "max"),
         flip=("flip_rate", "mean"), warnings=("warnings", "sum"), fit_s=("fit_s", "median"))
+    sizes = ", ".join(str(n) for n in config["sizes"])
+    noises = " and ".join(f"{r:.0%}" for r in config["noise"])
     lines = [
-        "# The posterior predictive against the vote: held-out LFE missions (issue 31)", "",
+        "# The posterior predictive and the label noise: held-out LFE missions (issue 31)", "",
         "Generated by `benchmarks/bench_predictive.py` (its docstring has the protocol). "
-        "Missions from the study's simulator (paper propositions, "
-        f"{config['noise']:.0%} judgement noise) at study seed {config['seed']}, "
-        f"{config['repeats']} repeats; each fits `BSIClassifier(random_state=...)` with no "
-        "roles on 12 and 36 of its missions and is scored on its "
-        f"{config['test_size']} held-out missions, one classifier per objective (MO1-MO3). "
-        "`satisfaction` and `predictive` are the two votes of the *same* fit. Means over "
-        "repeats of the mean over the three objectives, Student-t 95 % intervals.", "",
+        f"Missions from the study's simulator (paper propositions, {noises} judgement "
+        f"noise) at study seed {config['seed']}, {config['repeats']} repeats; each fits "
+        f"`BSIClassifier(random_state=...)` with no roles on {sizes} of its missions and is "
+        f"scored on its {config['test_size']} held-out missions, one classifier per "
+        "objective (MO1-MO3). The readings of a setting (`satisfaction`: the paper's vote; "
+        "`predictive, epsilon`: `label_noise=\"likelihood\"`; `predictive, learned`: "
+        "`label_noise=\"learned\"`, the default) are of the *same* fit. Means over repeats "
+        "of the mean over the three objectives, Student-t 95 % intervals.", "",
         f"- Command: `{command}`",
         f"- Machine: {info['cpu']} (`lscpu | grep 'Model name'`), {info['usable_cores']} "
         f"usable cores, load {info.get('load_average')}; commit {info['commit']}",
@@ -281,34 +333,36 @@ def report(runs, table, diffs, gaps, config, seconds, command):
         "bins (width 0.1) holding at least 5 % of the pooled test missions.", ""]
     rows = []
     for _, r in table.iterrows():
-        rows.append([int(r.n_train), r.row, _ci(r, "log_loss"), _ci(r, "log_loss_unclipped"),
-                     _ci(r, "brier"), _ci(r, "accuracy"),
-                     f"{gaps.get((r.row, r.n_train), np.nan):.3f}"])
-    lines += [md_table(["missions", "row", "log loss", "log loss, unclipped", "Brier",
-                        "accuracy", "worst bin"], rows), ""]
-    rows = [[d.setting, int(d.n_train), _ci(d, "log_loss"), _ci(d, "brier"),
+        rows.append([f"{r.noise:.0%}", int(r.n_train), r.row, _ci(r, "log_loss"),
+                     _ci(r, "log_loss_unclipped"), _ci(r, "brier"), _ci(r, "accuracy"),
+                     f"{gaps.get((r.row, r.noise, r.n_train), np.nan):.3f}"])
+    lines += [md_table(["noise", "missions", "row", "log loss", "log loss, unclipped",
+                        "Brier", "accuracy", "worst bin"], rows), ""]
+    rows = [[d.pair, f"{d.noise:.0%}", int(d.n_train), _ci(d, "log_loss"), _ci(d, "brier"),
              _ci(d, "accuracy")] for _, d in diffs.iterrows()]
-    lines += ["## Predictive minus satisfaction (paired, repeat by repeat)", "",
-              md_table(["setting", "missions", "log loss", "Brier", "accuracy"], rows), "",
+    lines += ["## Paired differences (repeat by repeat)", "",
+              md_table(["difference", "noise", "missions", "log loss", "Brier", "accuracy"],
+                       rows), "",
               "![reliability](predictive/reliability.png)", "",
               "## How the BSI fits were made", "",
-              md_table(["setting", "missions", "fits", "exact", "median specifications",
-                        "largest dropped mass", "mean flip_rate_", "warnings",
-                        "median fit + predict, s"],
-                       [[s, int(n), int(r.fits), int(r.exact), f"{r.specs:,.0f}",
+              md_table(["setting", "noise", "missions", "fits", "exact",
+                        "median specifications", "largest dropped mass", "mean flip_rate_",
+                        "warnings", "median fit + predict, s"],
+                       [[s, f"{r_:.0%}", int(n), int(r.fits), int(r.exact), f"{r.specs:,.0f}",
                          f"{r.dropped:.2g}", "-" if not np.isfinite(r.flip) else
                          f"{r.flip:.3f}", int(r.warnings), f"{r.fit_s:.2f}"]
-                        for (s, n), r in how.iterrows()]), "",
+                        for (s, r_, n), r in how.iterrows()]), "",
               "## Reading the rows", "",
-              "- CB's two rows are one fit read twice: the predictive is `eps + (1 - 2 eps) s`, "
-              "the vote `s` moved by at most the paper's `eps` (`e^-55` for five global "
-              "candidates and five subtasks), so they coincide up to rounding, and the "
-              "figure's CB lines lie on each other. Where the clipped log loss differs, the "
-              "vote's `1 - s` carries the rounding of the posterior's sum (about 1e-14 when every "
-              "formula accepts a mission), which scikit-learn's clipping scores as a smaller "
-              "loss than the predictive's exact `eps`, clipped to 2.2e-16: not a better "
-              "probability. Unclipped, a mission every formula labels wrongly costs "
-              "`-log eps` = 55 nats under the predictive and infinitely many under the vote.",
+              "- `predictive, epsilon` is the vote `s` moved by at most the paper's `eps` "
+              "(`e^-55` for five global candidates and five subtasks): `eps + (1 - 2 eps) s`, "
+              "so it coincides with the vote up to rounding. Unclipped, a mission every "
+              "formula labels wrongly costs `-log eps` = 55 nats under it and infinitely "
+              "many under the vote.",
+              "- `predictive, learned` (the default) labels with each formula's flip rate "
+              "given the training missions it misclassifies, `(1 + v) / (n + 2)` (uniform "
+              "prior, `docs/likelihoods.md`); the posterior over formulas is CB's, unchanged, "
+              "so the decisions are the vote's wherever the posterior's formulas misclassify "
+              "equally many training missions.",
               "- With the flip prior the posterior is nearly flat: the exact enumeration lists "
               "at most 1,000,000 specifications (`inference.exact.MAX_KEPT`) and renormalises "
               "them; *largest dropped mass* is what it left out, so those rows' probabilities "
@@ -322,8 +376,8 @@ def report(runs, table, diffs, gaps, config, seconds, command):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=10)
-    parser.add_argument("--sizes", default="12,36")
-    parser.add_argument("--noise", type=float, default=0.04)
+    parser.add_argument("--sizes", default="12,36,72")
+    parser.add_argument("--noise", default="0,0.04", help="judgement-noise rates (the study's)")
     parser.add_argument("--test-size", type=int, default=120)
     parser.add_argument("--seed", type=int, default=2031,
                         help="study seed (the repository's study runs use 0)")
@@ -334,7 +388,8 @@ def main(argv=None):
     if args.quick:
         args.repeats = 2
     config = dict(repeats=args.repeats, sizes=[int(s) for s in args.sizes.split(",")],
-                  noise=args.noise, test_size=args.test_size, seed=args.seed)
+                  noise=[float(r) for r in args.noise.split(",")], test_size=args.test_size,
+                  seed=args.seed)
     start = time.perf_counter()
     runs, preds = [], []
     for repeat in range(args.repeats):

@@ -28,7 +28,7 @@ from bsi_sklearn.param_validation import (
     validate_params,
 )
 from bsi_sklearn.posterior import Posterior
-from bsi_sklearn.predictive import PosteriorPredictiveMixin, label_noise
+from bsi_sklearn.predictive import PosteriorPredictiveMixin, misclassified
 from bsi_sklearn.priors import PRIORS, count_hypotheses, format_count
 from bsi_sklearn.roles import resolve_roles
 from bsi_sklearn.traces import check_labels, check_traces
@@ -92,6 +92,15 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
         with its flip rate: ``epsilon``, or with ``flip_prior`` the flip rate's posterior mean
         given the formula; ``docs/likelihoods.md``). ``"satisfaction"``: the paper's vote, the
         posterior mass of the formulas a demonstration satisfies. Read at prediction time.
+    label_noise : {"learned", "likelihood"}, default="learned"
+        The flip rate of each formula in the predictive (``vote="predictive"``).
+        ``"learned"``: its posterior mean given the training demonstrations the formula
+        misclassifies, ``(a + v) / (a + b + n)``, with ``(a, b)`` the ``flip_prior`` or, without
+        one, the uniform prior ``(1, 1)``: the specification is inferred by the likelihood, the
+        noise from the labels given the specification (a cut model, ``docs/likelihoods.md``).
+        ``"likelihood"``: the likelihood's ``epsilon`` (CB's default ``epsilon`` is a penalty of
+        about ``e^-55``, not a rate, so its probabilities are nearly 0 or 1). Read at
+        prediction time.
     inference : {"auto", "exact", "mcmc"}, default="auto"
         ``"auto"`` enumerates the posterior exactly when the enumeration needs at most about a
         second of work on a 2020s CPU core or, if more, what the MCMC it would fall back to
@@ -243,9 +252,9 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
     def __init__(self, *, prior="sets_of_chains", likelihood="cb", global_candidates=None,
                  subtasks=None, conditions=None, roles="infer", p_global=0.8, p_eventual=0.8,
                  p_part=0.3, n_new=5.0, epsilon=None, flip_prior=None, vote="predictive",
-                 inference="auto", n_samples="auto", burn_in=100, n_chains=4,
-                 n_temperatures="auto", max_exact_hypotheses=None, tol=1e-9, binarize=None,
-                 pos_label=None, n_jobs=None, random_state=None, verbose=0):
+                 label_noise="learned", inference="auto", n_samples="auto", burn_in=100,
+                 n_chains=4, n_temperatures="auto", max_exact_hypotheses=None, tol=1e-9,
+                 binarize=None, pos_label=None, n_jobs=None, random_state=None, verbose=0):
         self.prior = prior
         self.likelihood = likelihood
         self.global_candidates = global_candidates
@@ -259,6 +268,7 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
         self.epsilon = epsilon
         self.flip_prior = flip_prior
         self.vote = vote
+        self.label_noise = label_noise
         self.inference = inference
         self.n_samples = n_samples
         self.burn_in = burn_in
@@ -299,6 +309,7 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
         "epsilon": [Interval(Real, 0.0, 1.0, closed="neither"), None],
         "flip_prior": [None, Satisfies(is_flip_prior, "a pair (a, b) of positive numbers")],
         "vote": [StrOptions(_VOTES)],
+        "label_noise": [StrOptions({"learned", "likelihood"})],
         "inference": [StrOptions(_INFERENCE)],
         "n_samples": [StrOptions({"auto"}), Interval(Integral, 1, None, closed="left")],
         "burn_in": [Interval(Integral, 0, None, closed="left")],
@@ -422,7 +433,8 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
         post = Posterior(res.structures, res.tau_masks, res.w1_masks, probs, roles,
                          clause_marginals=res.clause_marginals, dropped_mass=res.dropped_mass)
         # The engine counts misclassified demonstrations by mass, not per listed formula.
-        self._label_noise = label_noise(post._masks, model.log_eps, self.flip_prior, truth, y01)
+        self._noise_data = (misclassified(post._masks, truth, y01), len(y01), model.log_eps,
+                            self.flip_prior)
         return post, None
 
     def _fit_mcmc(self, truth, y01, roles, model, seeds):
@@ -432,8 +444,9 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
         self.flip_rate_, self.flip_rate_interval_ = flip_rate_posterior(
             res.violations, res.probabilities, len(y01), self.flip_prior)
         post = Posterior(res.structures, res.tau_masks, res.w1_masks, res.probabilities, roles)
-        self._label_noise = label_noise(post._masks, model.log_eps, self.flip_prior, truth, y01,
-                                        violations=res.violations)
+        violations = (misclassified(post._masks, truth, y01) if res.violations is None
+                      else np.asarray(res.violations, dtype=float))
+        self._noise_data = (violations, len(y01), model.log_eps, self.flip_prior)
         return post, res.diagnostics
 
     # ------------------------------------------------------------------ monitoring

@@ -25,8 +25,8 @@ from bsi_sklearn.param_validation import validate_params
 from bsi_sklearn.satisfaction import satisfied_masses, satisfies
 from bsi_sklearn.traces import check_consistent_traces, check_traces
 
-__all__ = ["LabelNoise", "fixed_noise", "learned_noise", "misclassified", "label_noise",
-           "predictive_log_proba", "PosteriorPredictiveMixin"]
+__all__ = ["LabelNoise", "LEARNED_PRIOR", "fixed_noise", "learned_noise", "misclassified",
+           "label_noise", "predictive_log_proba", "PosteriorPredictiveMixin"]
 
 
 class LabelNoise(NamedTuple):
@@ -117,18 +117,31 @@ def misclassified(masks, truth, y01):
     return _misclassified(masks, np.ascontiguousarray(rows), w_pos, w_neg)
 
 
-def label_noise(masks, log_eps, flip_prior, truth, y01, violations=None):
+#: The flip rate's prior of ``label_noise="learned"`` without a flip prior: uniform (Laplace).
+LEARNED_PRIOR = (1.0, 1.0)
+
+
+def label_noise(violations, n_demos, log_eps, flip_prior, mode="learned"):
     """The :class:`LabelNoise` of a fitted posterior.
 
-    ``log_eps`` without a flip prior; with ``flip_prior``, the flip rate given each
-    specification, from ``violations`` (MCMC counts them for its flip-rate posterior) or, when
-    ``None``, counted here from ``masks``, ``truth`` and ``y01``.
+    ``mode="learned"``: each specification's flip rate given the training demonstrations it
+    misclassifies (``violations``, per specification), under the prior ``flip_prior`` where
+    the likelihood has one and the uniform Beta(1, 1) otherwise. ``mode="likelihood"``: the
+    likelihood's own, ``epsilon`` (or, with ``flip_prior``, the same as ``"learned"``).
+
+    Examples
+    --------
+    >>> learned = label_noise([0, 1], 8, -55.0, None)            # Beta(1, 1): (1 + v) / 10
+    >>> np.exp(learned.log_rho).round(3).tolist()
+    [0.1, 0.2]
+    >>> float(label_noise([0, 1], 8, -55.0, None, "likelihood").log_rho[0])
+    -55.0
     """
-    if flip_prior is None:
-        return fixed_noise(masks.shape[0], log_eps)
-    if violations is None:
-        violations = misclassified(masks, truth, y01)
-    return learned_noise(violations, len(y01), flip_prior)
+    violations = np.asarray(violations, dtype=float)
+    if mode == "likelihood" and flip_prior is None:
+        return fixed_noise(len(violations), log_eps)
+    return learned_noise(violations, n_demos,
+                         LEARNED_PRIOR if flip_prior is None else flip_prior)
 
 
 def predictive_log_proba(masks, probs, truth_words, noise):
@@ -180,8 +193,10 @@ def predictive_log_proba(masks, probs, truth_words, noise):
 class PosteriorPredictiveMixin:
     """The predictions of :class:`~bsi_sklearn.BSIClassifier`.
 
-    ``predict_proba``, ``predict_log_proba`` and ``predict``, from ``posterior_``, the label
-    noise ``fit`` stored (``_label_noise``) and the ``vote`` parameter.
+    ``predict_proba``, ``predict_log_proba`` and ``predict``, from ``posterior_``, what
+    ``fit`` stored of the label noise (``_noise_data``: each specification's misclassified
+    training demonstrations, their number, ``log epsilon`` and the flip prior) and the ``vote``
+    and ``label_noise`` parameters, both read here, so that changing them needs no refit.
     """
 
     def _validated(self, X):
@@ -193,9 +208,15 @@ class PosteriorPredictiveMixin:
 
     def _by_satisfaction(self):
         # vote is read at prediction time (set_params needs no refit): checked here too.
-        validate_params({"vote": self.vote}, {"vote": self._parameter_constraints["vote"]},
-                        type(self).__name__)
+        names = ("vote", "label_noise")
+        validate_params({k: getattr(self, k) for k in names},
+                        {k: self._parameter_constraints[k] for k in names}, type(self).__name__)
         return self.vote == "satisfaction"
+
+    def _noise(self):
+        """The :class:`LabelNoise` of the fitted posterior under ``label_noise``."""
+        violations, n_demos, log_eps, flip_prior = self._noise_data
+        return label_noise(violations, n_demos, log_eps, flip_prior, self.label_noise)
 
     def predict_proba(self, X):
         """Probability that each demonstration is acceptable.
@@ -253,7 +274,7 @@ class PosteriorPredictiveMixin:
                 return np.log(self.posterior_.predict_proba(traces))
         post = self.posterior_
         return predictive_log_proba(post._masks, post.probabilities, post._truth_words(traces),
-                                    self._label_noise)
+                                    self._noise())
 
     def predict(self, X):
         """The Bayes decision: the class :meth:`predict_proba` favours, acceptable on a tie.

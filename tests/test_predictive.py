@@ -1,4 +1,4 @@
-"""The posterior predictive (issue 31, part 1): ``predict_proba`` includes the label noise.
+"""The posterior predictive (issue 31): ``predict_proba`` includes the label noise.
 
 Checked against references written independently of ``bsi_sklearn.predictive``: every
 specification enumerated from first principles (``_reference.brute_force_posterior``) and, with
@@ -53,7 +53,8 @@ def _reference(X, y, roles, prior, likelihood, names=None, **kw):
 def test_fixed_epsilon_predictive_from_first_principles(prior, likelihood, epsilon):
     X, y, roles = _small_problem()
     clf = BSIClassifier(prior=prior, likelihood=likelihood, epsilon=epsilon,
-                        inference="exact", tol=0.0, **roles).fit(X, y)
+                        label_noise="likelihood", inference="exact", tol=0.0,
+                        **roles).fit(X, y)
     log_eps = clf.log_epsilon_
     ref = _reference(X, y, roles, prior, likelihood, log_eps=log_eps)
     X_new = X + _new_demos()
@@ -76,6 +77,34 @@ def test_fixed_epsilon_predictive_from_first_principles(prior, likelihood, epsil
     np.testing.assert_allclose(clf.predict_log_proba(X_new),
                                np.log(np.column_stack([want_0, want_1])), rtol=1e-9,
                                atol=1e-15)
+
+
+@pytest.mark.parametrize("prior", ["sets_of_chains", "forest"])
+@pytest.mark.parametrize("likelihood, epsilon", [("cb", None), ("ci", 0.2), ("calibrated", None)])
+def test_learned_noise_predictive_from_first_principles(prior, likelihood, epsilon):
+    # label_noise="learned" (the default): every specification of the exact posterior keeps
+    # its posterior mass and labels with the flip rate Beta(1 + v, 1 + n - v)'s mean, v the
+    # training demonstrations it misclassifies, counted here from the traces.
+    X, y, roles = _small_problem()
+    clf = BSIClassifier(prior=prior, likelihood=likelihood, epsilon=epsilon,
+                        inference="exact", tol=0.0, **roles).fit(X, y)
+    ref = _reference(X, y, roles, prior, likelihood, log_eps=clf.log_epsilon_)
+    names = list(X[0].columns)
+    labels = np.asarray(y) == 1
+    X_new = X + _new_demos()
+    want = np.zeros(len(X_new))
+    for spec, p in ref.items():
+        v = int((_satisfied(spec, X, names) != labels).sum())
+        rho = (1.0 + v) / (2.0 + len(y))
+        want += p * np.where(_satisfied(spec, X_new, names), 1.0 - rho, rho)
+    proba = clf.predict_proba(X_new)
+    np.testing.assert_allclose(proba[:, 1], want, rtol=1e-9)
+    np.testing.assert_allclose(proba[:, 0], 1.0 - want, rtol=1e-9)
+    # No probability below the smallest flip rate, 1 / (n + 2), on either side.
+    assert proba.min() >= 1.0 / (2.0 + len(y)) * (1 - 1e-12)
+    # The likelihood's own epsilon is one set_params away, without a refit.
+    fixed = clf.set_params(label_noise="likelihood").predict_proba(X_new)
+    assert not np.allclose(fixed, proba)
 
 
 def _joint_predictive(X, y, roles, prior, a, b, X_new):
@@ -126,7 +155,7 @@ def test_flip_rates_per_specification_match_the_engines_violation_mass():
     X, y, roles = _small_problem(seed=5)
     clf = BSIClassifier(likelihood="ci", flip_prior=(1.0, 4.0), inference="exact", tol=0.0,
                         **roles).fit(X, y)
-    noise = clf._label_noise
+    noise = clf._noise()
     names = list(X[0].columns)
     post = clf.posterior_
     labels = np.asarray(y) == 1
@@ -142,7 +171,8 @@ def poi():
     return make_poi_problem(n_demos=50, n_negative=10, seed=11)
 
 
-@pytest.mark.parametrize("likelihood, flip_prior", [("cb", None), ("ci", (1.0, 9.0))])
+@pytest.mark.parametrize("likelihood, flip_prior", [("cb", None), ("ci", (1.0, 9.0)),
+                                                   ("calibrated", None)])
 def test_mcmc_predictive_agrees_with_exact(poi, likelihood, flip_prior):
     X, y, roles = poi
     y = y.copy()
@@ -242,7 +272,8 @@ def test_a_demonstration_every_formula_accepts_has_log_proba_log_epsilon():
     # every formula accepts the demonstration: P(unacceptable) = epsilon = 1e-300, which
     # 1 - P(acceptable) would round to 0, is kept, and its log is exact.
     X, y, roles = _small_problem()
-    clf = BSIClassifier(likelihood="ci", epsilon=1e-300, inference="exact", **roles).fit(X, y)
+    clf = BSIClassifier(likelihood="ci", epsilon=1e-300, label_noise="likelihood",
+                        inference="exact", **roles).fit(X, y)
     x = X[0].copy()
     x.loc[:, :] = False
     x[["tau_0", "tau_1"]] = True
@@ -265,6 +296,15 @@ def test_pickle_preserves_predictions(poi, kw):
     assert np.array_equal(clf.predict_proba(X), again.predict_proba(X))
     assert np.array_equal(clf.predict_log_proba(X), again.predict_log_proba(X))
     assert np.array_equal(clf.predict(X), again.predict(X))
+
+
+def test_a_bad_label_noise_is_a_clear_error(poi):
+    X, y, roles = poi
+    with pytest.raises(ValueError, match="label_noise"):
+        BSIClassifier(label_noise="epsilon", **roles).fit(X, y)
+    clf = BSIClassifier(**roles).fit(X, y).set_params(label_noise=0.1)
+    with pytest.raises(ValueError, match="label_noise"):
+        clf.predict_proba(X)
 
 
 def test_a_bad_vote_is_a_clear_error(poi):
