@@ -38,28 +38,34 @@ def test_reliability_bins_and_the_worst_gap_over_the_big_bins():
     bench = _load()
     p = np.array([0.05] * 10 + [0.95] * 9 + [0.55])
     y = np.array([0] * 9 + [1] + [1] * 6 + [0] * 3 + [1])
-    preds = pd.DataFrame(dict(row="r", n_train=12, p=p, y=y))
+    preds = pd.DataFrame(dict(row="r", noise=0.04, n_train=12, p=p, y=y))
     bins = bench.reliability(preds)
     assert bins["bin"].tolist() == [0, 5, 9]
     assert bins["share"].tolist() == [0.5, 0.05, 0.45]
     assert bins["observed"].tolist() == pytest.approx([0.1, 1.0, 6 / 9])
     # the 0.55 bin holds exactly 5 %: counted, its gap 0.45 the largest
-    assert bench.worst_gap(bins)[("r", 12)] == pytest.approx(0.45)
-    assert bench.worst_gap(bins, min_share=0.1)[("r", 12)] == pytest.approx(0.95 - 6 / 9)
+    assert bench.worst_gap(bins)[("r", 0.04, 12)] == pytest.approx(0.45)
+    assert bench.worst_gap(bins, min_share=0.1)[("r", 0.04, 12)] == pytest.approx(0.95 - 6 / 9)
 
 
 def test_paired_differences_are_taken_repeat_by_repeat():
     bench = _load()
     rows = []
-    for setting in bench.SETTINGS:
-        for repeat, (sat, pred) in enumerate([(1.0, 0.5), (2.0, 1.0), (3.0, 2.5)]):
-            for vote, value in (("satisfaction", sat), ("predictive", pred)):
-                rows.append(dict(row=f"{setting}, {vote}", n_train=12, repeat=repeat,
-                                 objective="MO1", log_loss=value, brier=value / 10,
-                                 accuracy=0.5))
+    # Every row of the table; each pair's first row is the second's value minus 0.5, 1, 0.5.
+    base = {0: 1.0, 1: 2.0, 2: 3.0}
+    for noise in (0.0, 0.04):
+        for row in bench.ROWS:
+            for repeat, value in base.items():
+                first = any(row == a for _, a, _ in bench.PAIRS)
+                v = value - (0.5, 1.0, 0.5)[repeat] if first else value
+                rows.append(dict(row=row, noise=noise, n_train=12, repeat=repeat,
+                                 objective="MO1", log_loss=v, brier=v / 10, accuracy=0.5))
     diffs = bench.paired(pd.DataFrame(rows))
+    assert len(diffs) == 2 * len(bench.PAIRS)
     d = np.array([-0.5, -1.0, -0.5])
     half = 4.302652729911275 * d.std(ddof=1) / np.sqrt(3)  # t(0.975, 2)
+    # No pair's second row is another pair's first, so every difference is d.
+    assert not {b for _, _, b in bench.PAIRS} & {a for _, a, _ in bench.PAIRS}
     for _, r in diffs.iterrows():
         assert r.log_loss == pytest.approx(d.mean())
         assert (r.log_loss_low, r.log_loss_high) == pytest.approx((d.mean() - half,
