@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+from sklearn.base import clone
 from _reference import brute_force_posterior
 from poi_problems import make_poi_problem
 
@@ -65,10 +66,21 @@ def test_exact_matches_first_principles(prior, likelihood):
     for key, value in marg.items():
         expected = sum(p for s, p in ref.items() if key in s.clauses())
         assert value == pytest.approx(expected, abs=1e-9)
-    # posterior voting equals the mass of satisfied specifications
-    proba = clf.predict_proba(X)[:, 1]
+    # the paper's vote equals the mass of satisfied specifications
+    vote = clone(clf).set_params(vote="satisfaction").fit(X, y).predict_proba(X)[:, 1]
     for i, x in enumerate(X):
         expected = sum(p for s, p in ref.items() if s.satisfied_by(x))
+        assert vote[i] == pytest.approx(expected, abs=1e-9)
+    # the default predictive: each specification labels with its own flip rate, learned from
+    # the v of n training demonstrations it misclassifies as (v + 1) / (n + 2)
+    proba = clf.predict_proba(X)[:, 1]
+    n = len(X)
+    for i, x in enumerate(X):
+        expected = 0.0
+        for s, p in ref.items():
+            v = sum(s.satisfied_by(xj) != bool(yj) for xj, yj in zip(X, y))
+            rate = (v + 1) / (n + 2)
+            expected += p * ((1 - rate) if s.satisfied_by(x) else rate)
         assert proba[i] == pytest.approx(expected, abs=1e-9)
 
 
