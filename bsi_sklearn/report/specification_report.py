@@ -41,6 +41,8 @@ class SpecificationReport:
     readable : str
         The MAP specification as the report shows it (:meth:`Specification.readable`): the
         orders implied by others left out, the untested clauses set apart.
+    negations : None, False or mapping
+        Which propositions negate others in the readable texts (``explain``'s argument).
     vacuous_clauses : frozenset of clause keys
         The classifier's ``vacuous_clauses_``: candidate clauses every training
         demonstration satisfies, acceptable or not.
@@ -194,7 +196,8 @@ class SpecificationReport:
                      f"and the {info['likelihood']} likelihood ({info['method']} inference).")
         doc.add("pre", self.readable)
         doc.add("formula", unicode_ltl(self.specification, chains=True,
-                                       vacuous=self.vacuous_clauses))
+                                       vacuous=self.vacuous_clauses,
+                                       negations=getattr(self, "negations", None)))
         if not len(self.clauses):
             doc.add("p", "The MAP specification is 'true': it accepts every demonstration.")
             return
