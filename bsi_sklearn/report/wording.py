@@ -403,10 +403,10 @@ def describe_specification(specification, descriptions=None, *, chains=False,
                            negations=None):
     """One sentence per clause of a specification, in :func:`ordered_clauses` order.
 
-    See :func:`clause_sentence` for the phrasing (and ``negations``). The empty specification (``true``) has no
-    clauses and gives an empty list. ``chains=True`` leaves out the orders the others imply
-    (:meth:`Specification.implied_orders`): "a before c" when "a before b" and "b before c"
-    are said.
+    See :func:`clause_sentence` for the phrasing (and ``negations``). The empty specification
+    (``true``) has no clauses and gives an empty list. ``chains=True`` leaves out the orders the
+    others imply (:meth:`Specification.implied_orders`): "a before c" when "a before b" and
+    "b before c" are said.
 
     Examples
     --------
