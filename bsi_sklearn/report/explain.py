@@ -112,6 +112,8 @@ def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=Non
             "kind": [_KINDS[k[0]] for k in keys],
             "ltl": [clause_specification(k, conds).to_ltl() for k in keys],
             "latex": [clause_specification(k, conds).to_ltl(latex=True) for k in keys],
+            "readable": [clause_specification(k, conds).readable(negations=negations)
+                         for k in keys],
             "sentence": [clause_sentence(k, conds, descriptions, negations=negations)
                          for k in keys],
             "inclusion_probability": [float(marginal.get(k, np.nan)) for k in keys],
@@ -126,7 +128,7 @@ def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=Non
          "readable": [s.readable(vacuous, negations=negations)
                       for s in frame["specification"]],
          "n_clauses": (frame["n_globals"] + frame["n_eventuals"] + frame["n_orders"]).to_numpy(),
-         "difference": [_difference(s, spec) for s in frame["specification"]]},
+         "difference": [_difference(s, spec, negations) for s in frame["specification"]]},
         index=pd.RangeIndex(1, len(frame) + 1, name="rank"),
     )
     diagnostics = getattr(classifier, "mcmc_diagnostics_", None)

@@ -473,12 +473,12 @@ def _clause_condition(clause, conditions):
     return conditions.get(clause[1])
 
 
-def _difference(spec, reference):
+def _difference(spec, reference, negations=None):
     """Clauses added to (+) and removed from (-) ``reference`` to obtain ``spec``."""
     mine, ref = spec.clauses(), reference.clauses()
-    added = [f"+ {clause_specification(k, spec.conditions).to_ltl()}"
+    added = [f"+ {clause_specification(k, spec.conditions).readable(negations=negations)}"
              for k in ordered_clauses(spec) if k not in ref]
-    removed = [f"- {clause_specification(k, reference.conditions).to_ltl()}"
+    removed = [f"- {clause_specification(k, reference.conditions).readable(negations=negations)}"
                for k in ordered_clauses(reference) if k not in mine]
     return "; ".join(added + removed)
 
