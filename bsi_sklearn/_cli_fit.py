@@ -385,21 +385,27 @@ def run(args):
         # Readable: orders as chains, clauses every demonstration satisfies set apart as
         # untested; the full formula beneath when it differs (and in the --save file).
         spec = clf.map_specification_
-        print(f"MAP        : {spec.readable(clf.vacuous_clauses_)}")
-        if spec.readable(clf.vacuous_clauses_) != spec.to_ltl():
+        # An event log's negated columns are the encoder's "!a" (none with --no-negations:
+        # an activity named "!x" is then an atom); other inputs follow that naming.
+        negations = None if not is_log else (
+            {f"!{n}": n for n in names if f"!{n}" in names} if args.negations else {})
+        readable = spec.readable(clf.vacuous_clauses_, negations=negations)
+        print(f"MAP        : {readable}")
+        if readable != spec.to_ltl():
             print(f"full MAP   : {spec.to_ltl()}")
         if is_log:  # the MAP's clauses as Declare constraints on the cases
             from bsi_sklearn.report.wording import describe_event_log_specification
 
             for i, line in enumerate(describe_event_log_specification(
-                    spec, clf.vacuous_clauses_)):
+                    spec, clf.vacuous_clauses_, negations=negations)):
                 print(f"{'reading    :' if i == 0 else '':<12} {line}")
         print(f"accuracy   : {clf.score(X, y):.3f} (training set)")
         if flip is not None:
             low, high = clf.flip_rate_interval_
             print(f"flip rate  : {clf.flip_rate_:.3f} [{low:.3f}, {high:.3f}] (posterior mean, "
                   "95 % interval)")
-        frame = clf.posterior_.to_frame(k=args.top)[["probability", "readable"]]
+        frame = clf.posterior_.to_frame(k=args.top, negations=negations)[["probability",
+                                                                          "readable"]]
         width = int(frame["readable"].str.len().max())
         print(frame.to_string(justify="left", formatters={
             "probability": "{:.4f}".format, "readable": f"{{:<{width}}}".format}))

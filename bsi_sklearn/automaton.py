@@ -16,6 +16,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from bsi_sklearn._literals import Literal, literal, negation_reader
 from bsi_sklearn._trace_values import trace_columns
 from bsi_sklearn.param_validation import StrOptions, validate_params
 
@@ -100,7 +101,7 @@ def _atom_table(idents, dialect, atoms):
     return table
 
 
-def to_ltlf(specification, dialect="spot", atoms=None):
+def to_ltlf(specification, dialect="spot", atoms=None, *, negations=None):
     r"""The specification as formula text for Spot or LTLf2DFA (flloat reads the latter).
 
     Parameters
@@ -117,13 +118,24 @@ def to_ltlf(specification, dialect="spot", atoms=None):
         raises a ``ValueError`` for any other name: rename it with ``atoms``.
     atoms : mapping, default=None
         Proposition identifier -> atom text, for identifiers the dialect cannot write; the
-        same rules apply to the text given.
+        same rules apply to the text given. An identifier given here is written as that atom,
+        never as a negation.
+    negations : None, False or mapping, default=None
+        Which propositions are negations of others (see :meth:`Specification.readable`): by
+        default a column ``"!q"`` (:class:`~bsi_sklearn.preprocessing.NegationAugmenter`,
+        :class:`~bsi_sklearn.io.EventLogEncoder`) is written as the negation ``!q`` of the
+        atom ``q``, and an order on it, ``(!"!q" U a)``, as ``((q) U (a))``, never ``!!``; a
+        mapping ``{negated: proposition}`` (their ``negations_``) names exactly those;
+        ``False`` writes every column as an atom of its own (Spot then quotes ``"!q"``,
+        LTLf2DFA refuses it).
 
     Returns
     -------
     text : str
         ``true`` for the empty specification. Parsed by Spot or flloat, it is the same
-        formula over the same atoms.
+        formula over the same atoms (over ``q`` for a negated ``"!q"``: on traces where the
+        column ``"!q"`` is the negation of ``q``, the formula holds where the specification
+        does).
 
     Raises
     ------
@@ -141,22 +153,41 @@ def to_ltlf(specification, dialect="spot", atoms=None):
     'G("0") & G("Fuel") & G("Threat-1")'
     >>> to_ltlf(Specification(globals=[0], eventuals=[1, 2]), dialect="ltlf2dfa")
     'G(p0) & F(p1) & F(p2)'
+    >>> to_ltlf(Specification(globals=["!r"], orders=[("a", "!q")]), dialect="ltlf2dfa")
+    'G(!r) & ((q) U (a))'
     """
     validate_params({"dialect": dialect}, {"dialect": [StrOptions(DIALECTS)]}, "to_ltlf")
     if atoms is not None and not isinstance(atoms, Mapping):
         raise ValueError(f"to_ltlf: atoms must be a mapping identifier -> atom text, got "
                          f"{type(atoms).__name__}")
+    negates = negation_reader(negations, "to_ltlf")
+
+    def lit(ident):
+        if atoms is not None and ident in atoms:
+            return Literal(ident)
+        return literal(ident, negates)
+
     cond = specification.conditions
     idents = (set(specification.globals) | set(specification.eventuals)
               | {x for o in specification.orders for x in o} | set(cond.values()))
-    table = _atom_table(sorted(idents, key=_key), dialect, atoms)
+    literals = {ident: lit(ident) for ident in idents}
+    table = _atom_table(sorted({x.atom for x in literals.values()}, key=_key), dialect, atoms)
+
+    def text(ident):
+        x = literals[ident]
+        return table[x.atom] if x.positive else f"!{table[x.atom]}"
 
     def guarded(w, body):
-        return f"({table[cond[w]]} -> {body})" if w in cond else body
+        return f"({text(cond[w])} -> {body})" if w in cond else body
 
-    parts = [f"G({table[p]})" for p in sorted(specification.globals, key=_key)]
-    parts += [guarded(w, f"F({table[w]})") for w in sorted(specification.eventuals, key=_key)]
-    parts += [guarded(a, f"(!({table[b]}) U ({table[a]}))")
+    def until(a, b):
+        x = literals[b]  # !b, without a double negation
+        left = f"!({table[x.atom]})" if x.positive else f"({table[x.atom]})"
+        return f"({left} U ({text(a)}))"
+
+    parts = [f"G({text(p)})" for p in sorted(specification.globals, key=_key)]
+    parts += [guarded(w, f"F({text(w)})") for w in sorted(specification.eventuals, key=_key)]
+    parts += [guarded(a, until(a, b))
               for a, b in sorted(specification.orders, key=lambda p: (_key(p[0]), _key(p[1])))]
     return " & ".join(parts) if parts else "true"
 
@@ -210,7 +241,7 @@ class SpecificationAutomaton:
         idents |= set(spec.conditions.values())
         self.propositions = sorted(idents, key=_key)
         self._atoms = {ident: f"p{k}" for k, ident in enumerate(self.propositions)}
-        self.formula = to_ltlf(spec, dialect="ltlf2dfa", atoms=self._atoms)
+        self.formula = to_ltlf(spec, dialect="ltlf2dfa", atoms=self._atoms, negations=False)
         self.dfa = specification_dfa(spec)
 
     def __repr__(self):

@@ -119,17 +119,21 @@ class Posterior:
         return [(self._build_spec(i), float(self.probabilities[i]))
                 for i in range(min(k, len(self)))]
 
-    def to_frame(self, k=None):
+    def to_frame(self, k=None, *, negations=None):
         """The posterior as a DataFrame: rank, LTL formula, probability, conjunct counts.
 
         Columns: ``specification``, ``ltl`` (the full formula), ``readable`` (orders as chains,
-        :attr:`vacuous_clauses` set apart: :meth:`Specification.readable`), ``probability``,
-        ``n_globals``, ``n_eventuals``, ``n_orders``.
+        :attr:`vacuous_clauses` set apart, negations without ``!!``:
+        :meth:`Specification.readable`), ``probability``, ``n_globals``, ``n_eventuals``,
+        ``n_orders``.
 
         Parameters
         ----------
         k : int, default=None
             Keep only the ``k`` most probable specifications.
+        negations : None, False or mapping, default=None
+            Which propositions negate others, for ``readable``
+            (:meth:`Specification.readable`; by default ``"!p"`` negates ``p``).
         """
         n = len(self) if k is None else min(int(k), len(self))
         specs = [self._build_spec(i) for i in range(n)]
@@ -137,7 +141,8 @@ class Posterior:
             {
                 "specification": specs,
                 "ltl": [s.to_ltl() for s in specs],
-                "readable": [s.readable(self.vacuous_clauses) for s in specs],
+                "readable": [s.readable(self.vacuous_clauses, negations=negations)
+                             for s in specs],
                 "probability": self.probabilities[:n],
                 "n_globals": [len(s.globals) for s in specs],
                 "n_eventuals": [len(s.eventuals) for s in specs],

@@ -47,6 +47,12 @@ class NegationAugmenter(TransformerMixin, BaseEstimator, auto_wrap_output_keys=N
         Proposition names seen in fit (only when the traces had string column names).
     negated_ : ndarray of int
         Column indices of the negated propositions.
+    negations_ : dict
+        Each new column -> the column it negates, as a :class:`~bsi_sklearn.Specification`
+        names them (``{"!b": "b"}``; for unnamed input the column indices,
+        ``{n_features_in_ + k: i}``): the ``negations`` argument of
+        :meth:`Specification.readable` and the other renderings, which then write ``!b`` (or
+        ``b`` for an order on it, never ``!!b``) whatever the prefix.
 
     See Also
     --------
@@ -74,6 +80,8 @@ class NegationAugmenter(TransformerMixin, BaseEstimator, auto_wrap_output_keys=N
     1  False  False   True
     >>> aug.get_feature_names_out().tolist()
     ['a', 'b', '!b']
+    >>> aug.negations_
+    {'!b': 'b'}
     """
 
     # propositions are resolved against the data in fit.
@@ -127,6 +135,12 @@ class NegationAugmenter(TransformerMixin, BaseEstimator, auto_wrap_output_keys=N
                     f"the negation column {name!r} already exists; choose another prefix"
                 )
             seen.add(name)
+        if names is not None:
+            self.negations_ = {str(n): str(names[i])
+                               for n, i in zip(out[self.n_features_in_:], self.negated_)}
+        else:
+            self.negations_ = {self.n_features_in_ + k: int(i)
+                               for k, i in enumerate(self.negated_)}
         return self
 
     def get_feature_names_out(self, input_features=None):

@@ -6,6 +6,7 @@ from collections.abc import Hashable, Iterable, Mapping
 
 import numpy as np
 
+from bsi_sklearn._literals import clause_form, negation_reader, readable_atom, render_clause
 from bsi_sklearn._trace_values import trace_columns
 
 __all__ = ["Specification", "transitive_closure"]
@@ -263,7 +264,7 @@ class Specification:
         """
         return _join(self.clause_strings(latex=latex, chains=chains), latex)
 
-    def readable(self, vacuous=()):
+    def readable(self, vacuous=(), *, negations=None):
         """The formula as a person reads it: orders as chains, untested clauses set apart.
 
         Parameters
@@ -272,6 +273,11 @@ class Specification:
             Clauses the data could not test (``("G", p)``, ``("F", w)``, ``("U", a, b)``;
             ``BSIClassifier.vacuous_clauses_``: satisfied by every training demonstration,
             acceptable or not). Keys of clauses the formula does not have are ignored.
+        negations : None, False or mapping, default=None
+            Which propositions are negations of others: by default a name ``"!p"`` is the
+            negation of ``p`` (the columns of :class:`~bsi_sklearn.preprocessing.NegationAugmenter`
+            and :class:`~bsi_sklearn.io.EventLogEncoder`); a mapping ``{negated: proposition}``
+            (their ``negations_``) names exactly those; ``False`` none.
 
         Returns
         -------
@@ -279,7 +285,14 @@ class Specification:
             ``to_ltl(chains=True)`` without the vacuous clauses, followed, when the formula has
             some, by ``"  [untested: ...]"`` listing them joined by ``&``. The shown formula
             and the untested one together are the full formula: ``to_ltl()`` gives it in one
-            piece.
+            piece. A negation is written ``!p``, never ``!!p``: an order on a negated
+            column, ``(!"!p" U a)``, reads ``(p U a)``, and an order between a proposition and
+            its own negation is written as the simpler formula it equals, ``(!!p U p)`` as
+            ``p`` (``p`` at the first step) and ``(!p U !p)`` as ``!p``
+            (:mod:`bsi_sklearn._literals` lists the rules). A proposition named ``!x`` that
+            ``negations`` does not make a negation is written in quotes, ``"!x"``. The text
+            reads back with :func:`bsi_sklearn.ltl.parse_ltl` as the same formula over the
+            propositions themselves.
 
         Examples
         --------
@@ -289,25 +302,42 @@ class Specification:
         G(safe) & F(a) & F(b) & (!b U a) & (!c U b)
         >>> print(spec.readable(vacuous=[("G", "safe"), ("F", "b")]))
         F(a) & (!b U a) & (!c U b)  [untested: G(safe) & F(b)]
+        >>> negated = Specification(globals=["!r"], orders=[("a", "!p"), ("p", "!p")])
+        >>> print(negated.to_ltl())
+        G(!r) & (!!p U a) & (!!p U p)
+        >>> print(negated.readable())
+        G(!r) & (p U a) & p
         """
         untested = _clause_keys(vacuous)
-        texts = self._clause_texts(chains=True)
+        texts = self._readable_texts(negations)
         shown = _join([t for k, t in texts if k not in untested], False)
         apart = [t for k, t in texts if k in untested]
         return f"{shown}  [untested: {' & '.join(apart)}]" if apart else shown
 
+    def _readable_texts(self, negations):
+        """``(clause key, text)`` of the chain form over literals (see :meth:`readable`)."""
+        negates = negation_reader(negations, "readable")
+        cond = self.conditions
+        keys = ([("G", p) for p in sorted(self.globals, key=_sort_key)]
+                + [("F", w) for w in sorted(self.eventuals, key=_sort_key)]
+                + [("U", a, b) for a, b in sorted(self.orders - self.implied_orders(),
+                                                  key=_pair_key)])
+        return [(key, render_clause(clause_form(key, cond, negates), readable_atom, _ASCII))
+                for key in keys]
+
     def __str__(self):
         return self.to_ltl(chains=True)
 
-    def to_ltlf(self, dialect="spot", atoms=None):
+    def to_ltlf(self, dialect="spot", atoms=None, *, negations=None):
         """The formula as text for Spot (``"spot"``) or LTLf2DFA / flloat (``"ltlf2dfa"``).
 
-        See :func:`bsi_sklearn.automaton.to_ltlf`; on this template the text means the same
+        See :func:`bsi_sklearn.automaton.to_ltlf` (a negated column ``"!q"`` is written
+        ``!q``, the negation of the atom ``q``); on this template the text means the same
         under LTLf (the finite trace) and LTL (the last state repeating forever).
         """
         from bsi_sklearn.automaton import to_ltlf
 
-        return to_ltlf(self, dialect=dialect, atoms=atoms)
+        return to_ltlf(self, dialect=dialect, atoms=atoms, negations=negations)
 
     def to_automaton(self):
         """The minimal DFA accepting exactly the traces that satisfy the formula.
@@ -421,6 +451,9 @@ def _clause_keys(keys):
             raise ValueError(f"vacuous: {key!r} is not a clause key ('G', p), ('F', w) or "
                              "('U', a, b)")
     return keys
+
+
+_ASCII = {"G": "G", "F": "F", "U": " U ", "not": "!", "implies": " -> ", "true": "true"}
 
 
 def _fmt(ident, latex):

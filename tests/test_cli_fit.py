@@ -184,6 +184,23 @@ def test_event_log_negations_read_as_absence_and_the_encoding_options(tmp_path, 
     assert "--encoding: invalid choice: 'sometimes'" in capsys.readouterr().err
 
 
+def test_an_activity_named_with_a_bang_is_no_negation_in_the_readable_map(tmp_path, capsys):
+    # The encoder's negations are its "!a" columns only: an activity "!late" is an atom
+    # (quoted), never the negation of a "late", with or without --negations.
+    path = _xes(tmp_path / "log.xes", [
+        ("c1", ["order", "!late", "ship"], "accepted"), ("c2", ["order", "!late", "ship"],
+                                                         "accepted"),
+        ("c3", ["order", "ship"], "rejected"), ("c4", ["ship", "order"], "rejected")])
+    args = ["fit", str(path), "--label", "outcome", "--pos-label", "accepted",
+            "--subtasks", "order", "!late", "ship"]
+    for extra in ([], ["--no-negations"]):
+        assert main(args + extra) == 0
+        out = capsys.readouterr().out
+        assert 'MAP        : F("!late") & (!ship U "!late")  [untested: F(order) & F(ship) & ' \
+            '(!"!late" U order)]' in out
+        assert "!!" not in out.split("full MAP")[0]
+
+
 def test_fit_an_event_log_csv_told_by_its_case_column(tmp_path, capsys):
     rows = ["case:concept:name,concept:name,time:timestamp,case:outcome"]
     for cid, acts, label in LOG:

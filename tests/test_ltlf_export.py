@@ -155,3 +155,45 @@ def test_flloat_reads_the_same_formula_or_the_name_is_refused(names, trace):
     assert formula.find_labels() == set(names)
     word = [dict(zip(names, step)) for step in trace]
     assert formula.truth(word, 0) is spec.satisfied_by(np.array(trace), feature_names=names)
+
+
+# --------------------------------------------------------------------- negated columns
+def test_a_negated_column_is_exported_as_the_negation_of_its_atom():
+    spec = Specification(globals=["!r"], eventuals=["!q"], orders=[("a", "!p"), ("!q", "b")],
+                         conditions={"a": "!c"})
+    text = "G(!r) & F(!q) & (!(b) U (!q)) & (!c -> ((p) U (a)))"
+    assert to_ltlf(spec, dialect="ltlf2dfa") == to_ltlf(spec, dialect="spot") == text
+    assert _flloat_atoms(text) == {"a", "b", "c", "p", "q", "r"}
+    # Spot reads every atom of the text plain: no quoted "!q" is left
+    assert spot_scan_atom("r") == "r" and '"' not in text
+    # before: Spot got atoms named "!q", LTLf2DFA refused them; negations=False keeps that
+    assert to_ltlf(Specification(globals=["!q"]), negations=False) == 'G("!q")'
+    with pytest.raises(ValueError, match="proposition '!q' is not an LTLf2DFA"):
+        to_ltlf(Specification(globals=["!q"]), dialect="ltlf2dfa", negations=False)
+
+
+def test_the_negation_of_a_spot_name_is_quoted_and_atoms_given_win():
+    spec = Specification(globals=["!Fuel"], orders=[("a", "!GPS")])
+    assert to_ltlf(spec) == 'G(!"Fuel") & (("GPS") U (a))'
+    # an identifier given in atoms is that atom, not a negation
+    assert to_ltlf(spec, atoms={"!Fuel": "nofuel"}) == 'G(nofuel) & (("GPS") U (a))'
+    # a mapping names the negations of any prefix, and only those
+    other = Specification(globals=["not_r", "!x"])
+    assert to_ltlf(other, negations={"not_r": "r"}) == 'G("!x") & G(!r)'
+
+
+@settings(max_examples=40, deadline=None)
+@given(trace=st.lists(st.lists(st.booleans(), min_size=3, max_size=3), min_size=1, max_size=5))
+def test_flloat_reads_the_negations_as_the_augmented_columns_mean(trace):
+    from flloat.parser.ltlf import LTLfParser
+
+    from bsi_sklearn.preprocessing import add_negations
+
+    names = ["a", "b", "c"]
+    spec = Specification(globals=["!c"], eventuals=["a"],
+                         orders=[("a", "!b"), ("!a", "b"), ("b", "!b")], conditions={"a": "!b"})
+    formula = LTLfParser()(to_ltlf(spec, dialect="ltlf2dfa"))
+    word = [dict(zip(names, step)) for step in trace]
+    augmented = add_negations(np.array([trace]))[0]  # columns a, b, c, !a, !b, !c
+    assert formula.truth(word, 0) is spec.satisfied_by(
+        augmented, feature_names=names + ["!a", "!b", "!c"])

@@ -73,6 +73,11 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
     feature_names_out_ : ndarray of str
         The propositions: the activities, then the names of ``attributes``, then (with
         ``negations=True``) the same names prefixed with ``!``.
+    negations_ : dict
+        Each negated proposition -> the proposition it negates (``{"!pay": "pay", ...}``,
+        empty with ``negations=False``): the ``negations`` argument of
+        :meth:`Specification.readable` and the sentences of
+        :func:`bsi_sklearn.report.wording.describe_event_log_specification`.
 
     See Also
     --------
@@ -225,6 +230,7 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
                              f"{clash[0][1:]!r} {clash[0]!r}, which is already a proposition "
                              "(an activity or attribute of that name)")
         self.feature_names_out_ = np.array([*positive, *negated], dtype=object)
+        self.negations_ = dict(zip(negated, positive))
 
     def _events(self, X):
         validate_params(self.get_params(deep=False), self._parameter_constraints,

@@ -30,7 +30,7 @@ _CONSTRAINTS = {"top_k": [Interval(numbers.Integral, 1, None, closed="left")],
                 "title": [str, None]}
 
 def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=None,
-            demo_names=None):
+            demo_names=None, negations=None):
     """Explain a fitted classifier: its MAP specification, posterior and verdicts.
 
     Parameters
@@ -54,6 +54,11 @@ def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=Non
         Report title; ``"BSI specification report"`` when omitted.
     demo_names : sequence of str, default=None
         A name per demonstration of ``X``; their indices when omitted.
+    negations : None, False or mapping, default=None
+        Which propositions negate others in the readable formulas and the sentences
+        (:meth:`Specification.readable`): by default ``"!q"`` negates ``q``; a mapping
+        ``{negated: proposition}`` (``NegationAugmenter.negations_``,
+        ``EventLogEncoder.negations_``) names exactly those; ``False`` none.
 
     Returns
     -------
@@ -107,7 +112,10 @@ def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=Non
             "kind": [_KINDS[k[0]] for k in keys],
             "ltl": [clause_specification(k, conds).to_ltl() for k in keys],
             "latex": [clause_specification(k, conds).to_ltl(latex=True) for k in keys],
-            "sentence": [clause_sentence(k, conds, descriptions) for k in keys],
+            "readable": [clause_specification(k, conds).readable(negations=negations)
+                         for k in keys],
+            "sentence": [clause_sentence(k, conds, descriptions, negations=negations)
+                         for k in keys],
             "inclusion_probability": [float(marginal.get(k, np.nan)) for k in keys],
             "implied": [k in implied for k in keys],
             "vacuous": [k in vacuous for k in keys],
@@ -117,9 +125,10 @@ def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=Non
     frame = posterior.to_frame(k=top_k)
     top = pd.DataFrame(
         {"probability": frame["probability"].to_numpy(), "ltl": frame["ltl"].to_numpy(),
-         "readable": [s.readable(vacuous) for s in frame["specification"]],
+         "readable": [s.readable(vacuous, negations=negations)
+                      for s in frame["specification"]],
          "n_clauses": (frame["n_globals"] + frame["n_eventuals"] + frame["n_orders"]).to_numpy(),
-         "difference": [_difference(s, spec) for s in frame["specification"]]},
+         "difference": [_difference(s, spec, negations) for s in frame["specification"]]},
         index=pd.RangeIndex(1, len(frame) + 1, name="rank"),
     )
     diagnostics = getattr(classifier, "mcmc_diagnostics_", None)
@@ -134,7 +143,8 @@ def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=Non
     }
     fields = dict(
         title=title, specification=spec, ltl=spec.to_ltl(), ltl_latex=spec.to_ltl(latex=True),
-        readable=spec.readable(vacuous), vacuous_clauses=frozenset(vacuous),
+        readable=spec.readable(vacuous, negations=negations), negations=negations,
+        vacuous_clauses=frozenset(vacuous),
         clauses=clauses, descriptions=descriptions, top=top,
         map_probability=float(posterior.probabilities[0]), entropy=posterior.entropy(),
         n_unique_specifications=len(posterior), clause_marginals=marginals,

@@ -18,7 +18,6 @@ from bsi_sklearn.report.document import (
 from bsi_sklearn.report.wording import (
     _short_label,
     _sort_key,
-    clause_specification,
     unicode_ltl,
 )
 
@@ -41,12 +40,16 @@ class SpecificationReport:
     readable : str
         The MAP specification as the report shows it (:meth:`Specification.readable`): the
         orders implied by others left out, the untested clauses set apart.
+    negations : None, False or mapping
+        Which propositions negate others in the readable texts (``explain``'s argument).
     vacuous_clauses : frozenset of clause keys
         The classifier's ``vacuous_clauses_``: candidate clauses every training
         demonstration satisfies, acceptable or not.
     clauses : pandas.DataFrame
         One row per MAP clause (index: clause keys, reading order): ``kind`` (global,
-        eventual, order), ``ltl``, ``latex``, ``sentence``, ``inclusion_probability``,
+        eventual, order), ``ltl``, ``latex``, ``readable`` (the clause as
+        :meth:`Specification.readable` writes it: what the documents show), ``sentence``,
+        ``inclusion_probability``,
         ``implied`` (an order the other orders imply; not listed in the documents) and
         ``vacuous`` (untested: every training demonstration satisfies it; marked).
     descriptions : dict
@@ -103,6 +106,12 @@ class SpecificationReport:
         return (f"SpecificationReport(title={self.title!r}, map={self.ltl!r}, "
                 f"n_clauses={len(self.clauses)})")
 
+    def _clause_text(self):
+        # clause key -> the text the documents show (a report pickled before the readable
+        # column existed shows the LTL)
+        column = "readable" if "readable" in self.clauses.columns else "ltl"
+        return dict(zip(self.clauses.index, self.clauses[column]))
+
     # ------------------------------------------------------------------ sentences
     @property
     def sentences(self):
@@ -134,7 +143,6 @@ class SpecificationReport:
         return keys, [m[k] for k in keys], [k in in_map for k in keys]
 
     def _render_figures(self):
-        conds = self.specification.conditions
         pngs = {}
         keys, values, in_map = self._marginal_rows()
         if keys:
@@ -154,7 +162,7 @@ class SpecificationReport:
         if self.clause_states is not None and len(self.clauses):
             states = self.clause_states.to_numpy()
             overall = self.map_satisfied.astype(int)[None, :]
-            rows = [clause_specification(k, conds).to_ltl() for k in self.clauses.index]
+            rows = [self._clause_text()[k] for k in self.clauses.index]
             cols = []
             for j, name in enumerate(self.demo_names):
                 label = name
@@ -194,7 +202,8 @@ class SpecificationReport:
                      f"and the {info['likelihood']} likelihood ({info['method']} inference).")
         doc.add("pre", self.readable)
         doc.add("formula", unicode_ltl(self.specification, chains=True,
-                                       vacuous=self.vacuous_clauses))
+                                       vacuous=self.vacuous_clauses,
+                                       negations=getattr(self, "negations", None)))
         if not len(self.clauses):
             doc.add("p", "The MAP specification is 'true': it accepts every demonstration.")
             return
@@ -210,7 +219,7 @@ class SpecificationReport:
                              "apart (every training demonstration, acceptable or not, "
                              "satisfies them: the data could not show they are needed)")
             doc.add("p", f"Shown with {' and '.join(notes)}. The full formula:")
-            doc.add("pre", self.ltl)
+            doc.add("pre", " & ".join(self._clause_text().values()))
         groups = (("global", "Always (global clauses)"), ("eventual", "Eventually"),
                   ("order", "Ordering"))
         shown = self._shown_clauses()
@@ -218,10 +227,11 @@ class SpecificationReport:
             rows = shown[shown["kind"] == kind]
             if len(rows):
                 doc.add("h", 3, heading)
-                doc.add("ul", [[f"{s} ", Code(ltl),
+                text = self._clause_text()
+                doc.add("ul", [[f"{s} ", Code(text[k]),
                                 f" (p = {p:.2f}{'; untested' if vacuous else ''})"]
-                               for s, ltl, p, vacuous in zip(
-                                   rows["sentence"], rows["ltl"],
+                               for k, s, p, vacuous in zip(
+                                   rows.index, rows["sentence"],
                                    rows["inclusion_probability"], rows["vacuous"])])
         doc.add("p", "\"A before B\" means that A does happen, and B does not happen at an "
                      "earlier step than A. Conditions are read at the first step. p is the "
@@ -276,7 +286,7 @@ class SpecificationReport:
             return
         doc.add("h", 3, "Why demonstrations are predicted unacceptable")
         sentence = dict(zip(self.clauses.index, self.clauses["sentence"]))
-        ltl = dict(zip(self.clauses.index, self.clauses["ltl"]))
+        ltl = self._clause_text()
         rows = []
         for j, name in enumerate(self.demo_names):
             if self.predicted_acceptable[j]:

@@ -4,6 +4,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+from bsi_sklearn._literals import (
+    clause_form,
+    literal,
+    negation_reader,
+    readable_atom,
+    render_clause,
+)
 from bsi_sklearn.specification import Specification
 
 __all__ = [
@@ -18,6 +25,8 @@ __all__ = [
 ]
 
 _KINDS = {"G": "global", "F": "eventual", "U": "order"}
+_ASCII = {"G": "G", "F": "F", "U": " U ", "not": "!", "implies": " -> ", "true": "true"}
+_UNICODE = {"G": "□", "F": "◇", "U": " U ", "not": "¬", "implies": " → ", "true": "⊤"}
 
 
 def _sort_key(x):
@@ -47,7 +56,7 @@ def ordered_clauses(specification):
     )
 
 
-def unicode_ltl(specification, *, chains=False, vacuous=()):
+def unicode_ltl(specification, *, chains=False, vacuous=(), negations=None):
     """The specification in temporal-logic symbols, as plain Unicode text.
 
     ``□`` is *always* (G), ``◇`` *eventually* (F), ``U`` *until*, ``¬`` *not*, ``→``
@@ -62,6 +71,10 @@ def unicode_ltl(specification, *, chains=False, vacuous=()):
     vacuous : iterable of clause keys, default=()
         Clauses set apart after the formula, as ``[untested: ...]`` (see
         :meth:`Specification.readable`).
+    negations : None, False or mapping, default=None
+        Which propositions negate others, as for :meth:`Specification.readable`: by default
+        ``"!q"`` is ``¬q``, never ``¬!q``, and an order between a proposition and its own
+        negation is written as the simpler formula it equals (``(¬!p U p)`` as ``p``).
 
     Returns
     -------
@@ -79,8 +92,11 @@ def unicode_ltl(specification, *, chains=False, vacuous=()):
     >>> chain = Specification(orders=[("a", "b"), ("b", "c")])
     >>> print(unicode_ltl(chain, chains=True, vacuous=[("U", "a", "b")]))
     (¬c U b)  [untested: (¬b U a)]
+    >>> print(unicode_ltl(Specification(globals=["!r"], orders=[("a", "!p"), ("!q", "q")])))
+    □(¬r) ∧ ¬q ∧ (p U a)
     """
     spec = _check_spec(specification)
+    negates = negation_reader(negations, "unicode_ltl")
     cond = spec.conditions
     implied = {("U", a, b) for a, b in spec.implied_orders()} if chains else set()
     vacuous = set(vacuous)
@@ -88,12 +104,7 @@ def unicode_ltl(specification, *, chains=False, vacuous=()):
     for key in ordered_clauses(spec):
         if key in implied:
             continue
-        if key[0] == "G":
-            text = f"□({key[1]})"
-        else:
-            subtask = key[1]
-            body = f"◇({subtask})" if key[0] == "F" else f"(¬{key[2]} U {subtask})"
-            text = f"({cond[subtask]} → {body})" if subtask in cond else body
+        text = render_clause(clause_form(key, cond, negates), readable_atom, _UNICODE)
         (apart if key in vacuous else parts).append(text)
     shown = " ∧ ".join(parts) if parts else "⊤"
     return f"{shown}  [untested: {' ∧ '.join(apart)}]" if apart else shown
@@ -166,7 +177,30 @@ def _capitalised(ident, descriptions):
     return text
 
 
-def clause_sentence(clause, conditions=None, descriptions=None):
+def _said(lit, d, column=None):
+    """The phrase of a literal, ``(text, described)``: the column's own description first."""
+    if column is not None and column in d:
+        return d[column], True
+    if lit.positive:
+        return _phrase(lit.atom, d), lit.atom in d
+    if lit.atom in d:
+        return f"it is not the case that {d[lit.atom]}", True
+    return f"{lit.atom} does not hold", False
+
+
+def _upper(said):
+    text, described = said
+    return text[0].upper() + text[1:] if described and text[:1].islower() else text
+
+
+def _form(clause, cond, negates):
+    # A clause the condition makes true at once is said as it is ("If w holds, eventually w
+    # holds."): a sentence for "true" would hide what the formula has.
+    form = clause_form(clause, cond, negates)
+    return form if form[1] != ("true",) else clause_form(clause, cond, negates, simplify=False)
+
+
+def clause_sentence(clause, conditions=None, descriptions=None, *, negations=None):
     """One plain-English sentence for a clause.
 
     Every proposition is read through its phrase: ``descriptions[p]`` when given (a short
@@ -181,11 +215,20 @@ def clause_sentence(clause, conditions=None, descriptions=None):
     ``pi_w -> F(w)``            ``If C, eventually W.``
     ``!b U a``                  ``A before B.`` (first letter capitalised)
     ``pi_a -> (!b U a)``        ``If C, A before B.``
+    ``G(!q)``                   ``q never holds.`` (``Never, Q.`` when ``q`` is described)
+    ``q U a`` (order on ``!q``) ``Q until A.``
+    ``p`` (``(!!p U p)``)       ``P at the first step.``
     ==========================  =============================================
 
     "A before B" is the strong until of the template: A does happen, and B does not happen
-    at an earlier step than A (both at the same step is fine). Conditions are read at the
-    first step of a demonstration.
+    at an earlier step than A (both at the same step is fine); "Q until A" likewise: A does
+    happen, and Q holds at every earlier step. Conditions are read at the first step of a
+    demonstration.
+
+    A negation ``!q`` (see ``negations``) reads "not q": ``descriptions["!q"]`` when given,
+    else ``"q does not hold"``, or ``"it is not the case that Q"`` when ``q`` is described;
+    never "!q holds" nor a double negation. Orders between a proposition and its own negation
+    are said as the simpler clause they equal (:meth:`Specification.readable`).
 
     Parameters
     ----------
@@ -195,6 +238,10 @@ def clause_sentence(clause, conditions=None, descriptions=None):
         Subtask -> condition proposition.
     descriptions : mapping, default=None
         Proposition -> short phrase.
+    negations : None, False or mapping, default=None
+        Which propositions negate others: by default ``"!q"`` negates ``q``; a mapping
+        ``{negated: proposition}`` names exactly those; ``False`` none (see
+        :meth:`Specification.readable`).
 
     Returns
     -------
@@ -213,29 +260,47 @@ def clause_sentence(clause, conditions=None, descriptions=None):
     'POI 1 is visited before POI 3 is visited.'
     >>> clause_sentence(("F", "omega_2"))
     'Eventually, omega_2 holds.'
+    >>> clause_sentence(("G", "!q")), clause_sentence(("F", "!q"))
+    ('q never holds.', 'Eventually, q does not hold.')
+    >>> clause_sentence(("U", "omega_1", "!pi_1"), descriptions=d)
+    'POI 1 is accessible until POI 1 is visited.'
     """
-    kind = _check_clause(clause)
+    _check_clause(clause)
     d = _check_descriptions(descriptions)
     cond = dict(conditions) if conditions is not None else {}
+    negates = negation_reader(negations, "clause_sentence")
+    c, body = _form(clause, {k: v for k, v in cond.items() if v is not None}, negates)
+    kind, subject = body[0], clause[1]
     if kind == "G":
-        return f"Always, {_phrase(clause[1], d)}."
+        lit = body[1]
+        if lit.positive or subject in d:
+            return f"Always, {_said(lit, d, subject)[0]}."
+        return f"Never, {d[lit.atom]}." if lit.atom in d else f"{lit.atom} never holds."
+    said = _said(body[-1], d, subject)  # the subtask (the right of U)
+    first = said  # the phrase that opens the sentence
     if kind == "F":
-        w = clause[1]
-        if w in cond and cond[w] is not None:
-            return f"If {_phrase(cond[w], d)}, eventually {_phrase(w, d)}."
-        return f"Eventually, {_phrase(w, d)}."
-    a, b = clause[1], clause[2]
-    if a in cond and cond[a] is not None:
-        return f"If {_phrase(cond[a], d)}, {_phrase(a, d)} before {_phrase(b, d)}."
-    return f"{_capitalised(a, d)} before {_phrase(b, d)}."
+        if c is None:
+            return f"Eventually, {said[0]}."
+        text = f"eventually {said[0]}."
+    elif kind == "now":
+        text = f"{said[0]} at the first step."
+    elif body[1].positive:  # q U a: an order on a negated b
+        first = _said(body[1], d)
+        text = f"{first[0]} until {said[0]}."
+    else:
+        text = f"{said[0]} before {_said(literal(clause[2], negates), d, clause[2])[0]}."
+    if c is not None:
+        return f"If {_said(c, d, cond[subject])[0]}, {text}"
+    return _upper((text, first[1]))
 
 
-def event_log_sentence(clause, conditions=None):
+def event_log_sentence(clause, conditions=None, *, negations=None):
     """One sentence for a clause over event-log propositions, with its Declare name.
 
     Under :class:`bsi_sklearn.io.EventLogEncoder`'s default encoding a proposition ``a`` reads
-    "activity a has occurred so far" (false at the first step), so the template's clauses are
-    Declare constraints on the case:
+    "activity a has occurred so far" (false at the first step), its negation ``!a`` "a has
+    not occurred yet" (true at the first step), so the template's clauses are Declare
+    constraints on the case:
 
     ==========================  =====================================================
     clause                      sentence
@@ -249,6 +314,11 @@ def event_log_sentence(clause, conditions=None):
                                 encoded case: its first step is empty)
     ==========================  =====================================================
 
+    The other clauses on negated columns hold in every case or in none, as the sentence
+    says: ``F(!a)``, and an order whose subtask is ``!a``, in every case (a has not occurred at
+    its start); an order on ``!b`` (``b U a``) in none. ``negations`` says which propositions
+    are negations (by default ``"!a"`` negates ``a``; see :meth:`Specification.readable`).
+
     A condition ``pi`` (read at the first step, where nothing has occurred yet) is said as
     "if pi has occurred at the start".
 
@@ -260,30 +330,47 @@ def event_log_sentence(clause, conditions=None):
     'existence(pay) and precedence(pay, ship): pay occurs, and no ship before the first pay.'
     >>> event_log_sentence(("G", "!refund"))
     'absence(refund): refund never occurs.'
+    >>> event_log_sentence(("F", "!refund"))
+    'refund has not occurred at some step: true of every case (at its start).'
     """
-    kind = _check_clause(clause)
-    cond = dict(conditions) if conditions is not None else {}
-    subject = clause[1]
-    if kind == "G" and str(subject).startswith("!"):
-        text = f"absence({subject[1:]}): {subject[1:]} never occurs."
-    elif kind == "G":
-        text = f"{clause[1]} has occurred from the start."
+    _check_clause(clause)
+    cond = {k: v for k, v in (conditions or {}).items() if v is not None}
+    negates = negation_reader(negations, "event_log_sentence")
+    c, body = _form(clause, cond, negates)
+    kind, lit = body[0], body[-1]
+    a = lit.atom
+    none = "true of no case (nothing has occurred at its start)"
+    if kind == "G":
+        text = (f"{a} has occurred from the start." if lit.positive
+                else f"absence({a}): {a} never occurs.")
     elif kind == "F":
-        text = f"existence({subject}): {subject} occurs."
+        text = f"existence({a}): {a} occurs." if lit.positive else \
+            f"{a} has not occurred at some step: true of every case (at its start)."
+    elif kind == "now":
+        text = (f"{a} has occurred at the start: {none}." if lit.positive
+                else f"{a} has not occurred at the start: true of every case.")
+    elif not lit.positive:
+        text = (f"{render_clause((None, body), readable_atom, _ASCII)}: true of every case "
+                f"({a} has not occurred at its start).")
+    elif body[1].positive:  # q U a
+        text = f"{body[1].atom} has occurred from the start until {a} occurs: {none}."
     else:
-        subject, b = clause[1], clause[2]
-        text = (f"existence({subject}) and precedence({subject}, {b}): {subject} occurs, "
-                f"and no {b} before the first {subject}.")
-    if kind != "G" and cond.get(subject) is not None:
-        text = f"If {cond[subject]} has occurred at the start, {text}"
+        b = body[1].atom
+        text = (f"existence({a}) and precedence({a}, {b}): {a} occurs, and no {b} before "
+                f"the first {a}.")
+    if c is not None:
+        text = f"If {c.atom} has {'' if c.positive else 'not '}occurred at the start, {text}"
     return text
 
 
-def describe_event_log_specification(specification, vacuous=(), *, chains=True):
+def describe_event_log_specification(specification, vacuous=(), *, chains=True,
+                                     negations=None):
     """:func:`event_log_sentence` for every clause, in :func:`ordered_clauses` order.
 
     Clauses in ``vacuous`` (``BSIClassifier.vacuous_clauses_``: untested by the data) are
-    left out; ``chains=True`` (the default) leaves out the orders the others imply.
+    left out; ``chains=True`` (the default) leaves out the orders the others imply;
+    ``negations`` (``EventLogEncoder.negations_``, by default every ``"!a"``) as for
+    :func:`event_log_sentence`.
 
     Examples
     --------
@@ -296,7 +383,10 @@ def describe_event_log_specification(specification, vacuous=(), *, chains=True):
     existence(order) and precedence(order, pay): order occurs, and no pay before the first order.
     existence(pay) and precedence(pay, ship): pay occurs, and no ship before the first pay.
     """
-    return _sentences(specification, event_log_sentence, chains, vacuous)
+    return _sentences(specification,
+                      lambda clause, conditions: event_log_sentence(clause, conditions,
+                                                                    negations=negations),
+                      chains, vacuous)
 
 
 def _sentences(specification, sentence, chains, skip=()):
@@ -309,13 +399,14 @@ def _sentences(specification, sentence, chains, skip=()):
     return [sentence(c, spec.conditions) for c in ordered_clauses(spec) if c not in leave]
 
 
-def describe_specification(specification, descriptions=None, *, chains=False):
+def describe_specification(specification, descriptions=None, *, chains=False,
+                           negations=None):
     """One sentence per clause of a specification, in :func:`ordered_clauses` order.
 
-    See :func:`clause_sentence` for the phrasing. The empty specification (``true``) has no
-    clauses and gives an empty list. ``chains=True`` leaves out the orders the others imply
-    (:meth:`Specification.implied_orders`): "a before c" when "a before b" and "b before c"
-    are said.
+    See :func:`clause_sentence` for the phrasing (and ``negations``). The empty specification
+    (``true``) has no clauses and gives an empty list. ``chains=True`` leaves out the orders the
+    others imply (:meth:`Specification.implied_orders`): "a before c" when "a before b" and
+    "b before c" are said.
 
     Examples
     --------
@@ -331,7 +422,8 @@ def describe_specification(specification, descriptions=None, *, chains=False):
     ['a holds before b holds.', 'b holds before c holds.']
     """
     return _sentences(specification,
-                      lambda clause, conditions: clause_sentence(clause, conditions, descriptions),
+                      lambda clause, conditions: clause_sentence(clause, conditions, descriptions,
+                                                                 negations=negations),
                       chains)
 
 
@@ -381,12 +473,12 @@ def _clause_condition(clause, conditions):
     return conditions.get(clause[1])
 
 
-def _difference(spec, reference):
+def _difference(spec, reference, negations=None):
     """Clauses added to (+) and removed from (-) ``reference`` to obtain ``spec``."""
     mine, ref = spec.clauses(), reference.clauses()
-    added = [f"+ {clause_specification(k, spec.conditions).to_ltl()}"
+    added = [f"+ {clause_specification(k, spec.conditions).readable(negations=negations)}"
              for k in ordered_clauses(spec) if k not in ref]
-    removed = [f"- {clause_specification(k, reference.conditions).to_ltl()}"
+    removed = [f"- {clause_specification(k, reference.conditions).readable(negations=negations)}"
                for k in ordered_clauses(reference) if k not in mine]
     return "; ".join(added + removed)
 

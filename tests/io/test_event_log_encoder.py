@@ -191,3 +191,14 @@ def test_negations_with_attributes_and_a_name_clash():
     assert trace["!by_x"].tolist() == [True, False, False]
     with pytest.raises(ValueError, match=r"negation of 'a' '!a', which is already a proposition"):
         EventLogEncoder(negations=True).fit([["a", "!a"]])
+
+
+def test_negations_name_the_negated_activities():
+    enc = EventLogEncoder().fit([["order", "pay"], ["order"]])
+    assert enc.negations_ == {"!order": "order", "!pay": "pay"}
+    assert EventLogEncoder(negations=False).fit([["order"]]).negations_ == {}
+    spec = Specification(globals=["!pay"], orders=[("order", "!pay")])
+    assert spec.readable(negations=enc.negations_) == "G(!pay) & (pay U order)"
+    # an activity whose name starts with "!" is no negation without them
+    plain = EventLogEncoder(negations=False).fit([["!x", "y"]])
+    assert Specification(globals=["!x"]).readable(negations=plain.negations_) == 'G("!x")'

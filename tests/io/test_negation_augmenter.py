@@ -145,3 +145,13 @@ def test_pipeline_learns_an_absence_pattern():
     # Without negations the learner cannot separate the classes.
     plain = BSIClassifier(random_state=0, n_jobs=1).fit(X, y)
     assert plain.score(X, y) < 1.0
+
+
+def test_negations_name_each_new_column_and_the_map_reads_without_double_negations():
+    aug = NegationAugmenter().fit(frames())
+    assert aug.negations_ == {f"!{n}": n for n in aug.feature_names_in_}
+    assert NegationAugmenter(prefix="no_", propositions=[0]).fit(frames()).negations_ == {
+        "no_a": "a"}
+    assert NegationAugmenter().fit(np.zeros((2, 3, 2))).negations_ == {2: 0, 3: 1}
+    spec = Specification(globals=["!a"], orders=[("b", "!a"), ("a", "!a")])
+    assert spec.readable(negations=aug.negations_) == spec.readable() == "G(!a) & a & (a U b)"

@@ -73,3 +73,32 @@ def test_unicode_ltl_readable():
     assert unicode_ltl(spec, chains=True) == "□(s) ∧ (p → (¬b U a)) ∧ (¬c U b)"
     assert unicode_ltl(spec, chains=True, vacuous={("G", "s")}) == \
         "(p → (¬b U a)) ∧ (¬c U b)  [untested: □(s)]"
+
+
+def test_a_report_on_negated_columns_never_shows_a_double_negation(tmp_path):
+    import pandas as pd
+
+    from bsi_sklearn.preprocessing import NegationAugmenter
+
+    def demo(a_at, b_until, T=4):  # b holds until a comes in the acceptable ones
+        a, b = np.zeros(T, bool), np.zeros(T, bool)
+        a[a_at:], b[:b_until] = True, True
+        return pd.DataFrame({"a": a, "b": b})
+
+    X, y = [demo(2, 3), demo(1, 2), demo(2, 1), demo(3, 1)], [1, 1, 0, 0]
+    aug = NegationAugmenter(propositions=["b"]).fit(X)
+    Xa = aug.transform(X)
+    clf = BSIClassifier(global_candidates=[], subtasks=["a", "!b"], random_state=0).fit(Xa, y)
+    assert clf.map_specification_.to_ltl() == "F(!b) & F(a) & (!!b U a)"  # recorded form
+    for negations in (None, aug.negations_):
+        rep = explain(clf, Xa, y, negations=negations)
+        assert rep.readable == "(b U a)  [untested: F(!b) & F(a)]"
+        assert rep.sentences == ["Eventually, b does not hold.", "Eventually, a holds.",
+                                 "b holds until a holds."]
+        md = rep.to_markdown(tmp_path).read_text(encoding="utf-8")
+        assert "!!" not in md and "¬!" not in md
+        assert "```text\nF(!b) & F(a) & (b U a)\n```" in md
+        assert "(b U a)  \\[untested: ◇(¬b) ∧ ◇(a)\\]" in md
+    plain = explain(clf, negations=False)
+    assert plain.readable == '(!"!b" U a)  [untested: F("!b") & F(a)]'
+    assert plain.sentences[-1] == "a holds before !b holds."

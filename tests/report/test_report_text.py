@@ -1,5 +1,7 @@
 """Clause sentences, LTL strings and violated clauses of hand-built specifications."""
 
+import itertools
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -171,3 +173,79 @@ def test_order_edges_are_the_orders_not_implied():
     assert sorted(closed.orders - closed.implied_orders()) == [
         ("a", "b"), ("a", "e"), ("b", "c"), ("c", "d"), ("x", "d")]
     assert Specification().implied_orders() == frozenset()
+
+
+# ------------------------------------------------------------------ negated propositions
+@pytest.mark.parametrize("clause, conditions, expected", [
+    (("G", "!q"), None, "q never holds."),
+    (("G", "!omega_3"), None, "Never, POI 3 is visited."),
+    (("G", "!!q"), None, "Always, q holds."),
+    (("F", "!q"), None, "Eventually, q does not hold."),
+    (("F", "!omega_3"), None, "Eventually, it is not the case that POI 3 is visited."),
+    (("F", "w"), {"w": "!c"}, "If c does not hold, eventually w holds."),
+    (("F", "w"), {"w": "!w"}, "Eventually, w holds."),               # (!w -> F(w)) = F(w)
+    (("U", "a", "!q"), None, "q holds until a holds."),              # (!!q U a) = (q U a)
+    (("U", "omega_1", "!pi_1"), None, "POI 1 is accessible until POI 1 is visited."),
+    (("U", "!q", "b"), None, "q does not hold before b holds."),
+    (("U", "p", "!p"), None, "p holds at the first step."),          # (!!p U p) = p
+    (("U", "!p", "p"), None, "p does not hold at the first step."),  # (!p U !p) = !p
+    (("U", "omega_3", "!omega_3"), None, "POI 3 is visited at the first step."),
+    (("U", "a", "!p"), {"a": "!c"}, "If c does not hold, p holds until a holds."),
+])
+def test_negations_read_as_not(clause, conditions, expected):
+    assert clause_sentence(clause, conditions, DESC) == expected
+    assert "!" not in expected
+
+
+def test_a_negation_may_have_its_own_description_and_the_mapping_decides():
+    d = {"!door": "the door is shut", "door": "the door is open"}
+    assert clause_sentence(("G", "!door"), descriptions=d) == "Always, the door is shut."
+    assert clause_sentence(("F", "!door"), descriptions=d) == "Eventually, the door is shut."
+    # with no negations known "!x" is a proposition like any other
+    assert clause_sentence(("G", "!x"), negations=False) == "Always, !x holds."
+    assert clause_sentence(("G", "not_x"), negations={"not_x": "x"}) == "x never holds."
+    # a condition that makes its clause hold at the first step is said as it is
+    assert clause_sentence(("F", "w"), {"w": "!!w"}) == "If w holds, eventually w holds."
+    spec = Specification(globals=["!r"], orders=[("a", "!p")])
+    assert describe_specification(spec) == ["r never holds.", "p holds until a holds."]
+    assert describe_specification(spec, negations=False) == [
+        "Always, !r holds.", "a holds before !p holds."]
+
+
+def _every_case(max_len=3, activities=("a", "b", "c")):
+    return [list(s) for t in range(1, max_len + 1)
+            for s in itertools.product(activities, repeat=t)]
+
+
+@pytest.mark.parametrize("encoding", ["occurred", "current"])
+def test_event_log_sentences_on_negations_say_what_every_case_does(encoding):
+    from bsi_sklearn.io import EventLogEncoder
+    from bsi_sklearn.report.wording import event_log_sentence
+
+    cases = _every_case()
+    enc = EventLogEncoder(encoding=encoding).fit(cases)
+    traces = enc.transform(cases)
+    claims = [
+        (("F", "!a"), {}, "a has not occurred at some step: true of every case (at its start)."),
+        (("U", "!a", "b"), {}, "(!b U !a): true of every case (a has not occurred at its start)."),
+        (("U", "!a", "!b"), {}, "(b U !a): true of every case (a has not occurred at its start)."),
+        (("U", "a", "!b"), {}, "b has occurred from the start until a occurs: true of no case "
+                               "(nothing has occurred at its start)."),
+        (("U", "!a", "a"), {}, "a has not occurred at the start: true of every case."),
+        (("U", "a", "!a"), {}, "a has occurred at the start: true of no case (nothing has "
+                               "occurred at its start)."),
+        (("F", "a"), {"a": "!a"}, "existence(a): a occurs."),
+        (("G", "!a"), {}, "absence(a): a never occurs."),
+    ]
+    for clause, conds, text in claims:
+        assert event_log_sentence(clause, conds, negations=enc.negations_) == text
+        assert event_log_sentence(clause, conds) == text  # the encoder's naming
+        held = [clause_specification(clause, conds).satisfied_by(t) for t in traces]
+        if "true of every case" in text:
+            assert all(held), clause
+        elif "true of no case" in text:
+            assert not any(held), clause
+    # F(a) with the condition !a is F(a): existence, true exactly where a occurs
+    held = [clause_specification(("F", "a"), {"a": "!a"}).satisfied_by(t) for t in traces]
+    assert held == ["a" in c for c in cases]
+    assert event_log_sentence(("G", "!x"), negations={}) == "!x has occurred from the start."
