@@ -1,10 +1,12 @@
 """``bsi-lfe compare``: the paper's LFE comparison, on --quick runs (a few seconds each)."""
 
 import contextlib
+import copy
 import io
 import re
 from pathlib import Path
 
+import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 import pytest
@@ -91,6 +93,25 @@ def test_quick_run_prints_table_beside_papers(quick_run):
         assert re.search(rf"^{re.escape(name)}\s+\d\.\d{{3}}", printed, re.M), name
     assert "0.674" in printed and "0.877" in printed  # the paper's BSI numbers
     assert "--quick" in printed  # a quick run says it is not the paper's setting
+
+
+def test_quick_run_files_say_they_are_a_smoke_test(quick_run, small_run):
+    # the --quick files look like the recorded ones: each human-read file says what it is
+    out = quick_run[0]
+    md = (out / "f1_table.md").read_text(encoding="utf-8")
+    tex = (out / "f1_table.tex").read_text(encoding="utf-8")
+    assert md.startswith("> QUICK RUN (bsi-lfe compare --quick): a smoke test, not the "
+                         "recorded result.")
+    assert tex.startswith("% QUICK RUN (bsi-lfe compare --quick)")
+    fig = small_run.plot()
+    try:
+        assert "(--quick: a smoke test)" in fig.axes[0].get_title()
+    finally:
+        plt.close(fig)
+    # a full run's files carry no such notice
+    full = copy.copy(small_run)
+    full.config = {**small_run.config, "quick": False}
+    assert "QUICK" not in full.to_markdown() + full.to_latex()
 
 
 def _assert_same_tables(a, b):
