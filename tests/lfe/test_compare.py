@@ -4,6 +4,7 @@ import contextlib
 import copy
 import io
 import re
+import warnings
 from pathlib import Path
 
 import matplotlib.pyplot as plt
@@ -191,6 +192,48 @@ def test_folds_are_stratified_and_seeded():
     other, _ = _folds(labels, 4, seed=1)
     assert all((a[1] == b[1]).all() for a, b in zip(folds, again))
     assert any((a[1] != b[1]).any() for a, b in zip(folds, other))
+
+
+def _labels_with_counts(counts, seed):
+    """Shuffled MO1-MO3 labels with ``counts[code]`` missions of each outcome combination."""
+    codes = np.random.RandomState(seed).permutation(np.repeat(np.arange(8), counts))
+    bits = (codes[:, None] >> np.arange(3)) & 1
+    return pd.DataFrame(bits, columns=["MO1", "MO2", "MO3"]), codes
+
+
+@pytest.mark.parametrize("counts, n_splits", [
+    ([2, 2, 2, 4, 2, 4, 0, 8], 4),   # the built-in 24 missions: four rare combinations
+    ([1, 1, 0, 0, 1, 2, 0, 3], 2),   # --quick's 8 simulated missions
+    ([6, 0, 0, 6, 0, 0, 0, 12], 4),  # no rare combination
+    ([5, 0, 3, 0, 0, 0, 0, 0], 3),   # one
+])
+@pytest.mark.parametrize("seed", [0, 1, 7])
+def test_folds_are_stratified_kfolds_without_its_warning(counts, n_splits, seed):
+    from sklearn.model_selection import StratifiedKFold
+
+    labels, codes = _labels_with_counts(counts, seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the split itself warns about nothing
+        folds, split = _folds(labels, n_splits, seed)
+    rare = min(c for c in counts if c) < n_splits
+    assert ("spread as evenly as possible" in split) == rare
+    # the same folds as scikit-learn's (which warns when a combination is rare), so the
+    # recorded tables are reproduced
+    splitter = StratifiedKFold(n_splits, shuffle=True, random_state=seed)
+    with (pytest.warns(UserWarning, match="least populated class") if rare
+          else contextlib.nullcontext()):
+        expected = list(splitter.split(codes, codes))
+    assert len(folds) == n_splits
+    for (train, test), (e_train, e_test) in zip(folds, expected):
+        np.testing.assert_array_equal(test, e_test)
+        np.testing.assert_array_equal(train, e_train)
+
+
+def test_folds_fall_back_to_kfold_when_every_combination_is_rare():
+    labels, _ = _labels_with_counts([1, 2, 0, 0, 0, 0, 0, 1], 0)
+    folds, split = _folds(labels, 3, seed=0)
+    assert split == "KFold, shuffled"
+    assert sorted(np.concatenate([te for _, te in folds]).tolist()) == list(range(4))
 
 
 @pytest.mark.parametrize("argv, message", [
