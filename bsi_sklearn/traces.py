@@ -363,25 +363,41 @@ def check_consistent_traces(traces, n_features_in, feature_names_in, estimator_n
     Raises
     ------
     ValueError
-        When the number of propositions or their names differ from those seen in fit.
+        When the number of propositions or their names differ from those seen in fit; with
+        names on both sides, naming the columns missing and those not seen in fit.
 
     Warns
     -----
     UserWarning
         When only one of fit and the new traces had proposition names.
+
+    Examples
+    --------
+    >>> import numpy as np, pandas as pd
+    >>> traces = check_traces([pd.DataFrame({"safe": [1], "placed": [0]})])
+    >>> check_consistent_traces(traces, 3, np.array(["safe", "picked", "placed"]), "BSI")
+    Traceback (most recent call last):
+    ...
+    ValueError: The feature names should match those that were passed during fit: X lacks the
+    proposition 'picked' seen in fit.
+    Fitted with: ['safe', 'picked', 'placed']
+    Got: ['safe', 'placed']
     """
-    if traces.n_props != n_features_in:
+    fitted, given = feature_names_in, traces.feature_names
+    if fitted is not None and given is not None:
+        # names on both sides: say which column is missing or new, not only how many there are
+        fitted, given = [str(n) for n in fitted], [str(n) for n in given]
+        if fitted != given:
+            raise ValueError(
+                "The feature names should match those that were passed during fit: "
+                f"{_names_difference(fitted, given, words.unit)}.\n"
+                f"Fitted with: {fitted}\nGot: {given}"
+            )
+    elif traces.n_props != n_features_in:
         raise ValueError(
             f"X has {traces.n_props} features, but {estimator_name} is expecting "
             f"{n_features_in} features as input ({words.unit}s per time step)."
         )
-    fitted, given = feature_names_in, traces.feature_names
-    if fitted is not None and given is not None:
-        if list(fitted) != list(given):
-            raise ValueError(
-                "The feature names should match those that were passed during fit.\n"
-                f"Fitted with: {list(fitted)}\nGot: {list(given)}"
-            )
     elif fitted is not None:
         warnings.warn(
             f"X does not have valid feature names, but {estimator_name} was fitted with "
@@ -395,6 +411,25 @@ def check_consistent_traces(traces, n_features_in, feature_names_in, estimator_n
             UserWarning,
             stacklevel=3,
         )
+
+
+def _names_difference(fitted, given, unit):
+    """What differs between the column names of fit and those given, in words."""
+    def listed(names, what):
+        if len(names) == 1:
+            return f"the {unit} {names[0]!r} {what}"
+        return f"the {unit}s {', '.join(map(repr, names))} {what}"
+
+    seen, now = set(fitted), set(given)
+    missing = [n for n in fitted if n not in now]
+    unseen = [n for n in given if n not in seen]
+    parts = []
+    if missing:
+        parts.append(f"X lacks {listed(missing, 'seen in fit')}")
+    if unseen:
+        parts.append(f"X has {listed(unseen, 'not seen in fit')}")
+    return "; ".join(parts) or (f"X has the {unit}s of fit in another order (select them "
+                                "in fit's order: df[list(feature_names_in_)])")
 
 
 def check_labels(y, n_demos, pos_label=None):

@@ -132,6 +132,32 @@ def test_predict_checks_propositions():
                       max_exact_hypotheses=10).fit([np.ones((2, 3))])
 
 
+@pytest.mark.parametrize("method", ["predict", "predict_proba"])
+def test_predict_names_the_missing_and_unseen_columns(method):
+    cols = ["safe", "picked", "placed"]
+    X = [pd.DataFrame([[1, 0, 0], [1, 1, 0], [1, 1, 1]], columns=cols),
+         pd.DataFrame([[1, 0, 0], [1, 0, 1], [1, 1, 1]], columns=cols)]
+    clf = BSIClassifier(random_state=0).fit(X, [1, 0])
+    predict = getattr(clf, method)
+    with pytest.raises(ValueError, match=r"X lacks the proposition 'picked' seen in fit\.\n"
+                                         r"Fitted with: \['safe', 'picked', 'placed'\]"):
+        predict([x[["safe", "placed"]] for x in X])
+    with pytest.raises(ValueError, match="X lacks the propositions 'picked', 'placed' seen"):
+        predict([x[["safe"]] for x in X])
+    with pytest.raises(ValueError, match="X has the proposition 'extra' not seen in fit"):
+        predict([x.assign(extra=0) for x in X])
+    with pytest.raises(ValueError, match="lacks the proposition 'safe' seen in fit; X has "
+                                         "the proposition 'Safe' not seen in fit"):
+        predict([x.rename(columns={"safe": "Safe"}) for x in X])
+    with pytest.raises(ValueError, match="in another order"):
+        predict([x[cols[::-1]] for x in X])
+    # a long-format frame is checked the same way
+    long = pd.concat([x.assign(demo_id=i) for i, x in enumerate(X)])
+    np.testing.assert_array_equal(getattr(clf, method)(long), predict(X))
+    with pytest.raises(ValueError, match="X lacks the proposition 'placed' seen in fit"):
+        predict(long.drop(columns="placed"))
+
+
 def test_single_dataframe_is_rejected_unless_long_format():
     df = pd.DataFrame([[1, 0], [0, 1], [1, 1]], columns=["p", "q"])
     with pytest.raises(ValueError, match=r"single DataFrame without a 'demo_id'.*Pass \[df\]"):
