@@ -14,6 +14,7 @@ from bsi_sklearn._trace_values import (
     NonNumericTraceError,
     Place,
     frame_names,
+    names_difference,
     ragged_error,
     ragged_rows_error,
     to_bool,
@@ -296,12 +297,17 @@ def _stack_list(items, convert, binarize, words):
             item_names = frame_names(item, where)
             if i == 0:
                 names = item_names
-            elif (names is None) != (item_names is None) or (
-                names is not None and list(names) != list(item_names)
-            ):
+            elif (names is None) != (item_names is None):
                 raise ValueError(
                     f"{where} has columns {list(item.columns)}, but {words.item} 0 has "
                     f"{list(names) if names is not None else 'no string names'}"
+                )
+            elif list(names) != list(item_names):
+                # e.g. demonstrations of files with different headers: name the column
+                expected, got = [str(n) for n in names], [str(n) for n in item_names]
+                raise ValueError(
+                    f"{where} has columns {got}, but {words.item} 0 has {expected}: "
+                    f"{names_difference(expected, got, unit, where, f'{words.item} 0')}"
                 )
             arr = item.to_numpy()
         else:
@@ -391,7 +397,7 @@ def check_consistent_traces(traces, n_features_in, feature_names_in, estimator_n
         if fitted != given:
             raise ValueError(
                 "The feature names should match those that were passed during fit: "
-                f"{_names_difference(fitted, given, words.unit)}.\n"
+                f"{names_difference(fitted, given, words.unit)}.\n"
                 f"Fitted with: {fitted}\nGot: {given}"
             )
     elif traces.n_props != n_features_in:
@@ -412,22 +418,3 @@ def check_consistent_traces(traces, n_features_in, feature_names_in, estimator_n
             UserWarning,
             stacklevel=3,
         )
-
-
-def _names_difference(fitted, given, unit):
-    """What differs between the column names of fit and those given, in words."""
-    def listed(names, what):
-        if len(names) == 1:
-            return f"the {unit} {names[0]!r} {what}"
-        return f"the {unit}s {', '.join(map(repr, names))} {what}"
-
-    seen, now = set(fitted), set(given)
-    missing = [n for n in fitted if n not in now]
-    unseen = [n for n in given if n not in seen]
-    parts = []
-    if missing:
-        parts.append(f"X lacks {listed(missing, 'seen in fit')}")
-    if unseen:
-        parts.append(f"X has {listed(unseen, 'not seen in fit')}")
-    return "; ".join(parts) or (f"X has the {unit}s of fit in another order (select them "
-                                "in fit's order: df[list(feature_names_in_)])")
