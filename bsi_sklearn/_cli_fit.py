@@ -62,13 +62,19 @@ Input files:
              c1,ship,2024-01-02T09:00:00,1
 The extension decides the format (any other is an error); --format reads every FILE as one.
 
-Roles: by default every proposition is a global candidate and a subtask: the support is huge
-(exact inference still finishes when the data are peaked) and the answer may hold clauses that
-every demonstration satisfies, so they say nothing; say which propositions play which role
-with --globals, --subtasks and --conditions (names, or column indices counted from 0; give
-the FILEs first, since --globals and --subtasks take every name that follows them, or end
-their list with --). A bad file or option exits with status 2 and a message naming the file,
-line or option."""
+Roles: by default (--roles infer) each role option not given is read from the
+demonstrations: the global candidates are the propositions true at every step of some
+acceptable demonstration, the subtasks those false at the first step and true later in some
+demonstration, and a subtask's condition (if any) the proposition whose initial value best
+separates the acceptable demonstrations that complete it from those that skip it
+(docs/roles.md). With --roles all, every proposition is a global candidate and a subtask,
+with no conditions (the paper's setting): the support is huge (exact inference still finishes
+when the data are peaked) and the answer may hold clauses that every demonstration
+satisfies, so they say nothing. Say which propositions play which role with --globals,
+--subtasks and --conditions (names, or column indices counted from 0; give the FILEs first,
+since --globals and --subtasks take every name that follows them, or end their list with
+--); a role given is used as is. A bad file or option exits with status 2 and a message
+naming the file, line or option."""
 
 _EXAMPLE = """\
 examples:
@@ -147,7 +153,8 @@ def add_arguments(parser):
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
     parser.error = _with_files_hint(parser.error)
     parser.add_argument("files", nargs="+", metavar="FILE",
-                        help=".trace files (samples2LTL / Scarlet) or long-format CSV files")
+                        help=".trace files (samples2LTL / Scarlet), long-format CSV files or "
+                             "event logs (XES, event-log CSV)")
     parser.add_argument("--globals", nargs="*", metavar="PROP", default=None,
                         help="propositions that may be required to hold always, G(p) "
                              "(default: by --roles; give none for no G clauses)")

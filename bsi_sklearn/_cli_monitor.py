@@ -36,11 +36,16 @@ def add_arguments(parser):
 
 def _check_propositions(posterior, X, path, posterior_path):
     """The file's propositions must be the posterior's (by name, or by number)."""
+    from bsi_sklearn._trace_values import names_difference
+
     names = posterior.feature_names_in_
     given = list(X[0].columns)
     if names is not None and given != list(names):
-        raise ValueError(f"{path}: its propositions {given} are not those of the posterior "
-                         f"{posterior_path} {list(names)} (a posterior of another task?)")
+        expected, got = [str(n) for n in names], [str(n) for n in given]
+        difference = names_difference(expected, got, "proposition", "the file", "the posterior")
+        raise ValueError(f"{path}: its propositions {got} are not those of the posterior "
+                         f"{posterior_path} {expected}: {difference} (a posterior of another "
+                         "task?)")
     if names is None and len(given) != len(posterior.roles.names):
         raise ValueError(f"{path}: {len(given)} propositions, but the posterior "
                          f"{posterior_path} is over {len(posterior.roles.names)}")

@@ -15,6 +15,7 @@ __all__ = [
     "NonNumericTraceError",
     "Place",
     "frame_names",
+    "names_difference",
     "ragged_error",
     "ragged_rows_error",
     "to_bool",
@@ -87,6 +88,37 @@ def frame_names(frame, where):
             f"{where} mixes string and non-string column names; use strings for all columns"
         )
     return None
+
+
+def names_difference(expected, given, unit, subject="X", reference="fit"):
+    """What differs between two lists of column names, in words (for a message).
+
+    Examples
+    --------
+    >>> names_difference(["a", "b", "c"], ["a", "c", "z"], "proposition")
+    "X lacks the proposition 'b' seen in fit; X has the proposition 'z' not seen in fit"
+    >>> names_difference(["a", "b"], ["a"], "proposition", "demonstration 2", "demonstration 0")
+    "demonstration 2 lacks the proposition 'b' seen in demonstration 0"
+    """
+    def listed(names):
+        if len(names) == 1:
+            return f"the {unit} {names[0]!r}"
+        return f"the {unit}s {', '.join(map(repr, names))}"
+
+    seen, now = set(expected), set(given)
+    missing = [n for n in expected if n not in now]
+    unseen = [n for n in given if n not in seen]
+    parts = []
+    if missing:
+        parts.append(f"{subject} lacks {listed(missing)} seen in {reference}")
+    if unseen:
+        parts.append(f"{subject} has {listed(unseen)} not seen in {reference}")
+    if parts:
+        return "; ".join(parts)
+    order = f"{subject} has the {unit}s of {reference} in another order"
+    if reference == "fit":
+        order += " (select them in fit's order: df[list(feature_names_in_)])"
+    return order
 
 
 def _show(value):

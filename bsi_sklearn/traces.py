@@ -8,11 +8,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bsi_sklearn._labels import check_labels
 from bsi_sklearn._long_format_split import traces_from_frame
 from bsi_sklearn._trace_values import (
     NonNumericTraceError,
     Place,
     frame_names,
+    names_difference,
     ragged_error,
     ragged_rows_error,
     to_bool,
@@ -295,12 +297,17 @@ def _stack_list(items, convert, binarize, words):
             item_names = frame_names(item, where)
             if i == 0:
                 names = item_names
-            elif (names is None) != (item_names is None) or (
-                names is not None and list(names) != list(item_names)
-            ):
+            elif (names is None) != (item_names is None):
                 raise ValueError(
                     f"{where} has columns {list(item.columns)}, but {words.item} 0 has "
                     f"{list(names) if names is not None else 'no string names'}"
+                )
+            elif list(names) != list(item_names):
+                # e.g. demonstrations of files with different headers: name the column
+                expected, got = [str(n) for n in names], [str(n) for n in item_names]
+                raise ValueError(
+                    f"{where} has columns {got}, but {words.item} 0 has {expected}: "
+                    f"{names_difference(expected, got, unit, where, f'{words.item} 0')}"
                 )
             arr = item.to_numpy()
         else:
@@ -363,25 +370,41 @@ def check_consistent_traces(traces, n_features_in, feature_names_in, estimator_n
     Raises
     ------
     ValueError
-        When the number of propositions or their names differ from those seen in fit.
+        When the number of propositions or their names differ from those seen in fit; with
+        names on both sides, naming the columns missing and those not seen in fit.
 
     Warns
     -----
     UserWarning
         When only one of fit and the new traces had proposition names.
+
+    Examples
+    --------
+    >>> import numpy as np, pandas as pd
+    >>> traces = check_traces([pd.DataFrame({"safe": [1], "placed": [0]})])
+    >>> check_consistent_traces(traces, 3, np.array(["safe", "picked", "placed"]), "BSI")
+    Traceback (most recent call last):
+    ...
+    ValueError: The feature names should match those that were passed during fit: X lacks the
+    proposition 'picked' seen in fit.
+    Fitted with: ['safe', 'picked', 'placed']
+    Got: ['safe', 'placed']
     """
-    if traces.n_props != n_features_in:
+    fitted, given = feature_names_in, traces.feature_names
+    if fitted is not None and given is not None:
+        # names on both sides: say which column is missing or new, not only how many there are
+        fitted, given = [str(n) for n in fitted], [str(n) for n in given]
+        if fitted != given:
+            raise ValueError(
+                "The feature names should match those that were passed during fit: "
+                f"{names_difference(fitted, given, words.unit)}.\n"
+                f"Fitted with: {fitted}\nGot: {given}"
+            )
+    elif traces.n_props != n_features_in:
         raise ValueError(
             f"X has {traces.n_props} features, but {estimator_name} is expecting "
             f"{n_features_in} features as input ({words.unit}s per time step)."
         )
-    fitted, given = feature_names_in, traces.feature_names
-    if fitted is not None and given is not None:
-        if list(fitted) != list(given):
-            raise ValueError(
-                "The feature names should match those that were passed during fit.\n"
-                f"Fitted with: {list(fitted)}\nGot: {list(given)}"
-            )
     elif fitted is not None:
         warnings.warn(
             f"X does not have valid feature names, but {estimator_name} was fitted with "
@@ -395,103 +418,3 @@ def check_consistent_traces(traces, n_features_in, feature_names_in, estimator_n
             UserWarning,
             stacklevel=3,
         )
-
-
-def check_labels(y, n_demos, pos_label=None):
-    """Validate labels; return ``(y01, classes)`` with ``y01`` in {0, 1}.
-
-    ``y=None`` means every demonstration is acceptable (positive-only learning).
-
-    Parameters
-    ----------
-    y : array-like of shape (n_demos,) or None
-        Labels: 0/1 or booleans, or any two values with ``pos_label`` naming the acceptable
-        one.
-    n_demos : int
-        Number of demonstrations.
-    pos_label : object, default=None
-        The acceptable label.
-
-    Returns
-    -------
-    y01 : ndarray of shape (n_demos,), dtype int8
-        1 for acceptable demonstrations, 0 for unacceptable ones.
-    classes : ndarray of shape (2,)
-        The unacceptable then the acceptable label.
-
-    Examples
-    --------
-    >>> y01, classes = check_labels(["no", "yes", "yes"], 3, pos_label="yes")
-    >>> y01.tolist(), classes.tolist()
-    ([0, 1, 1], ['no', 'yes'])
-    """
-    if y is None:
-        return np.ones(n_demos, dtype=np.int8), np.array([0, 1])
-    y_arr = np.asarray(y)
-    if y_arr.ndim == 2 and y_arr.shape[1] == 1:
-        warnings.warn(
-            "A column-vector y was passed when a 1d array was expected; it is raveled.",
-            _data_conversion_warning(),
-            stacklevel=3,
-        )
-        y_arr = y_arr.ravel()
-    if y_arr.ndim != 1:
-        raise ValueError(f"y must be 1-D (one label per demonstration), got shape {y_arr.shape}")
-    if y_arr.shape[0] != n_demos:
-        raise ValueError(
-            f"y has {y_arr.shape[0]} labels but there are {n_demos} demonstrations"
-        )
-    if y_arr.dtype.kind == "f" and not np.isfinite(y_arr).all():
-        raise ValueError(
-            f"y has a NaN or infinite label at demonstration {int(np.argmin(np.isfinite(y_arr)))}"
-        )
-    values = np.unique(y_arr)
-    if y_arr.dtype.kind == "f" and np.any(values != np.round(values)):
-        raise ValueError(
-            "Unknown label type: continuous. BSIClassifier expects binary labels "
-            "(acceptable = 1, unacceptable = 0)"
-        )
-    if len(values) > 2:
-        raise ValueError(
-            "Only binary classification is supported. The type of the target is multiclass: "
-            f"y has {len(values)} classes {values.tolist()[:10]}, while BSI separates "
-            "acceptable from unacceptable demonstrations"
-        )
-    if pos_label is not None:
-        if pos_label not in values.tolist():
-            if len(values) == 2:
-                raise ValueError(
-                    f"pos_label={pos_label!r} is not among the labels {values.tolist()}"
-                )
-            raise ValueError(
-                f"y has the single label {values[0]!r}, which is not pos_label={pos_label!r}; "
-                "at least one acceptable demonstration is required"
-            )
-        y01 = (y_arr == pos_label).astype(np.int8)
-        if len(values) == 2:
-            classes = values
-            if classes[1] != pos_label:
-                classes = classes[::-1].copy()
-        else:
-            classes = np.array([None, pos_label], dtype=object)
-        return y01, classes
-    if y_arr.dtype == bool:
-        return y_arr.astype(np.int8), np.array([False, True])
-    if not set(values.tolist()) <= {0, 1}:
-        raise ValueError(
-            f"labels must be 0/1 (or booleans); got {values.tolist()}. Pass pos_label to name "
-            "the acceptable label"
-        )
-    y01 = y_arr.astype(np.int8)
-    if not y01.any():
-        raise ValueError(
-            "y has only unacceptable (0) demonstrations; BSI needs at least one acceptable (1) "
-            "demonstration"
-        )
-    return y01, np.array([0, 1], dtype=y_arr.dtype if y_arr.dtype.kind in "iu" else int)
-
-
-def _data_conversion_warning():
-    from sklearn.exceptions import DataConversionWarning
-
-    return DataConversionWarning

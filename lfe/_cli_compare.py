@@ -24,7 +24,7 @@ def add_arguments(parser):
                              "a smoke test, not the paper's result")
     parser.add_argument("--dataset", metavar="DIR", default=None,
                         help="a dataset written by 'bsi-lfe simulate' (default: the built-in "
-                             "24 scenarios)")
+                             f"24 scenarios; --quick: {QUICK['n_scenarios']} simulated, seed 0)")
     parser.add_argument("--n-scenarios", type=int, default=None, metavar="N",
                         help="simulate N scenarios (seed 0) instead of the built-in dataset")
     parser.add_argument("--folds", type=int, default=None, metavar="K",

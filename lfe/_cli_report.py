@@ -28,17 +28,28 @@ def add_arguments(parser):
                              "--dataset) and a short MCMC run: a smoke test, not the paper's "
                              "result")
     parser.add_argument("--dataset", metavar="DIR", default=None,
-                        help="a dataset written by 'bsi-lfe simulate' (default: built-in)")
+                        help="a dataset written by 'bsi-lfe simulate' (default: the built-in "
+                             f"24 scenarios; --quick: {QUICK['n_scenarios']} simulated, seeded "
+                             "by --seed)")
     parser.add_argument("--objectives", nargs="+", default=list(OBJECTIVE_CHOICES),
                         metavar="MO", help="objectives to explain (default: all)")
-    parser.add_argument("--propositions", choices=PROPOSITION_SET_CHOICES, default="paper")
-    parser.add_argument("--prior", choices=PRIOR_CHOICES, default="sets_of_chains")
-    parser.add_argument("--likelihood", choices=LIKELIHOOD_CHOICES, default="cb")
-    parser.add_argument("--inference", choices=["auto", "exact", "mcmc"], default="auto")
+    parser.add_argument("--propositions", choices=PROPOSITION_SET_CHOICES, default="paper",
+                        help="proposition set (default: %(default)s)")
+    parser.add_argument("--prior", choices=PRIOR_CHOICES, default="sets_of_chains",
+                        help="prior over the order of subtasks (default: %(default)s)")
+    parser.add_argument("--likelihood", choices=LIKELIHOOD_CHOICES, default="cb",
+                        help="likelihood (default: %(default)s)")
+    parser.add_argument("--inference", choices=["auto", "exact", "mcmc"], default="auto",
+                        help="exact enumeration, MCMC, or auto: exact when the support is "
+                             "small enough (default: %(default)s; --quick: always auto)")
     parser.add_argument("--n-samples", type=int, default=10_000,
-                        help="MCMC samples per chain (when sampling)")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--n-jobs", type=int, default=None)
+                        help="MCMC samples per chain, when sampling (default: %(default)s; "
+                             f"--quick: {QUICK['n_samples']})")
+    parser.add_argument("--seed", type=int, default=0,
+                        help="random seed (default: %(default)s)")
+    parser.add_argument("--n-jobs", type=int, default=None,
+                        help="MCMC chains run in parallel threads (default: 1; -1: every "
+                             "core)")
 
 
 def run(args):

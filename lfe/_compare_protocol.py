@@ -15,7 +15,7 @@ from numbers import Integral
 import numpy as np
 import pandas as pd
 from sklearn.dummy import DummyClassifier
-from sklearn.model_selection import KFold, StratifiedKFold
+from sklearn.model_selection import KFold
 from sklearn.utils.parallel import Parallel, delayed
 
 import baselines
@@ -50,22 +50,48 @@ _QUICK_BSI = dict(inference="auto", n_samples=300, n_chains=2, burn_in=50)
 def _folds(labels, n_splits, seed):
     """Shuffled folds stratified on the combination of the three outcomes, when possible."""
     codes = labels.to_numpy() @ (1 << np.arange(labels.shape[1]))
-    n = len(labels)
-    positions = np.arange(n)
-    try:
-        # Outcome combinations with fewer missions than folds are spread as evenly as possible
-        # (scikit-learn warns about them; the split's description says so too).
-        folds = list(StratifiedKFold(n_splits, shuffle=True, random_state=seed)
-                     .split(positions, codes))
-        split = "StratifiedKFold on the MO1-MO3 outcome combination, shuffled"
-        rare = int(np.sum((np.bincount(codes) > 0) & (np.bincount(codes) < n_splits)))
-        if rare:
-            split += (f" ({rare} combination{'s' if rare > 1 else ''} with fewer missions than "
-                      "folds, spread as evenly as possible)")
-    except ValueError:  # every combination rarer than n_splits: plain shuffled folds
+    positions = np.arange(len(labels))
+    counts = np.bincount(codes)
+    counts = counts[counts > 0]
+    if (counts < n_splits).all():  # no combination fills every fold: plain shuffled folds
         folds = list(KFold(n_splits, shuffle=True, random_state=seed).split(positions))
-        split = "KFold, shuffled"
-    return [(np.sort(tr), np.sort(te)) for tr, te in folds], split
+        return [(np.sort(tr), np.sort(te)) for tr, te in folds], "KFold, shuffled"
+    test_fold = _stratified_test_folds(codes, n_splits, seed)
+    split = "StratifiedKFold on the MO1-MO3 outcome combination, shuffled"
+    rare = int(np.sum(counts < n_splits))
+    if rare:
+        split += (f" ({rare} combination{'s' if rare > 1 else ''} with fewer missions than "
+                  "folds, spread as evenly as possible)")
+    return [(positions[test_fold != f], positions[test_fold == f])
+            for f in range(n_splits)], split
+
+
+def _stratified_test_folds(codes, n_splits, seed):
+    """Each mission's test fold, by the rule of ``StratifiedKFold(shuffle=True)``.
+
+    The rule is written here rather than called because the LFE outcome combinations are
+    always rarer than the folds somewhere (the built-in 24 missions have four combinations
+    of 2 for 4 folds), and scikit-learn warns on every such split although its allocation is
+    the one this protocol wants: a combination of ``c < n_splits`` missions goes to ``c``
+    different folds. The folds are the ones scikit-learn 1.9 draws, so the recorded tables
+    stay reproducible (``tests/lfe/test_compare.py`` compares the two).
+    """
+    # combinations numbered by first appearance, as StratifiedKFold numbers its classes
+    _, first, inverse = np.unique(codes, return_index=True, return_inverse=True)
+    _, rank = np.unique(first, return_inverse=True)
+    encoded = rank[inverse]
+    n_classes = len(first)
+    # round robin over the sorted combinations: how many of each go to each test fold
+    ordered = np.sort(encoded)
+    allocation = np.array([np.bincount(ordered[f::n_splits], minlength=n_classes)
+                           for f in range(n_splits)])
+    rng = np.random.RandomState(seed)
+    test_fold = np.empty(len(codes), dtype=int)
+    for k in range(n_classes):
+        folds_k = np.repeat(np.arange(n_splits), allocation[:, k])
+        rng.shuffle(folds_k)
+        test_fold[encoded == k] = folds_k
+    return test_fold
 
 
 def _weighted_f1(y_true, y_pred):

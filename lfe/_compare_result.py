@@ -85,7 +85,9 @@ class ComparisonResult:
         mapf["map_specification"] = [f"`{s}`" for s in mapf["map_specification"]]
         times = self.times.reset_index()
         c = self.config
+        notice = _quick_notice(c, "> ")
         return "\n".join([
+            *notice, *([""] if notice else []),
             f"## Weighted F1 per mission objective ({c['n_splits']}-fold cross-validation, "
             f"{c['n_scenarios']} scenarios)",
             "",
@@ -125,6 +127,7 @@ class ComparisonResult:
         fitted = [name for name in self.table.index if name != MAJORITY]
         best = {mo: self.table.loc[fitted, mo].max() for mo in objectives}
         lines = [
+            *_quick_notice(self.config, "% "),
             "% Weighted F1 per mission objective; 'paper': Shah et al. (2019), for reference.",
             r"\begin{tabular}{l" + "rr" * len(objectives) + "}",
             r"\toprule",
@@ -183,7 +186,8 @@ class ComparisonResult:
         ax.set_ylabel("weighted F1 (out-of-fold)")
         c = self.config
         ax.set_title(f"LFE mission objectives: {c['n_splits']}-fold cross-validation, "
-                     f"{c['n_scenarios']} scenarios")
+                     f"{c['n_scenarios']} scenarios"
+                     + (" (--quick: a smoke test)" if c.get("quick") else ""))
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
         ax.grid(axis="y", alpha=0.3)
         return fig
@@ -237,6 +241,27 @@ class ComparisonResult:
             paths["map_f1"]: self.map_f1.to_csv(index=False, float_format="%.6g"),
         })
         return paths
+
+
+def _quick_notice(config, prefix):
+    """The lines that mark a ``--quick`` run's report (none for a full run).
+
+    Its files look like the recorded ones (``benchmarks/RESULTS_lfe.md``), so they say what
+    they are: a smoke test whose numbers are not the comparison's.
+
+    Examples
+    --------
+    >>> _quick_notice({"quick": True}, "% ")[0]
+    '% QUICK RUN (bsi-lfe compare --quick): a smoke test, not the recorded result.'
+    >>> _quick_notice({"quick": False}, "% ")
+    []
+    """
+    if not config.get("quick"):
+        return []
+    return [f"{prefix}QUICK RUN (bsi-lfe compare --quick): a smoke test, not the recorded "
+            "result.",
+            f"{prefix}Small baselines and short MCMC runs; its numbers are not comparable "
+            "with the paper's or with a full run."]
 
 
 def _fmt(value):

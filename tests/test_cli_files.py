@@ -223,6 +223,16 @@ def test_monitor_posterior_of_another_task_names_both_files(saved, tmp_path, cap
            f"{saved}" in err
 
 
+def test_monitor_file_lacking_a_fitted_column_names_it(saved, tmp_path, capsys):
+    lacking = tmp_path / "lacking.csv"
+    write_traces_csv([g[:, [0, 2]] for g in GOOD], None, lacking,
+                     feature_names=["safe", "placed"])
+    assert main(["monitor", str(saved), str(lacking), "--out", str(tmp_path / "o")]) == 2
+    err = _error(capsys)
+    assert "the file lacks the proposition 'picked' seen in the posterior" in err
+    assert list((tmp_path / "o").glob("*")) == []  # nothing written
+
+
 def test_monitor_out_that_is_a_file(saved, demos, tmp_path, capsys):
     assert main(["monitor", str(saved), str(demos), "--out", str(demos)]) == 2
     assert "--out " in (err := _error(capsys)) and "is a file, not a folder" in err

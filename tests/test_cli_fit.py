@@ -77,6 +77,17 @@ def test_help_documents_every_option_and_the_csv_format(capsys):
     assert all(len(b.split()) > 3 for b in blocks[1:]), blocks
 
 
+def test_help_states_the_default_roles(capsys):
+    # --roles defaults to infer: the help must not say that every proposition is in every role
+    with pytest.raises(SystemExit):
+        main(["fit", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "by default (--roles infer)" in text
+    assert "{infer,all}" in text and "(default: infer)" in text
+    assert "by default every proposition" not in text
+    assert "With --roles all, every proposition is a global candidate and a subtask" in text
+
+
 def test_errors_while_fitting_name_the_file(tmp_path, capsys):
     path = tmp_path / "only_bad.csv"
     write_traces_csv([np.array([[1, 0], [0, 1]])], [0], path, feature_names=["a", "b"])

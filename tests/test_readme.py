@@ -81,3 +81,14 @@ def test_scripts_install_cpu_torch_first_then_run_the_readme_commands():
         assert '"$ROOT/scripts/ensure-venv"' in (ROOT / name).read_text()
     ci = (ROOT / ".ci" / "run").read_text()
     assert "\n./test\n" in ci and "pip install" not in ci
+
+
+def test_readme_says_which_torch_build_pip_brings():
+    setup = " ".join(README.read_text().split("## Quick start")[0].split())
+    index = "https://download.pytorch.org/whl/cpu"
+    assert "`pip install torch==2.13.0` from PyPI brings the CUDA build" in setup
+    assert f"pip install torch==2.13.0 --index-url {index}" in setup
+    # the index the README names is the one the set-up script uses
+    assert f'TORCH_CPU_INDEX="${{TORCH_CPU_INDEX:-{index}}}"' in (
+        ROOT / "scripts" / "ensure-venv").read_text()
+    assert "*What `scripts/ensure-venv` does*" in setup

@@ -3,6 +3,7 @@ import pandas as pd
 import pytest
 
 from bsi_sklearn import BSIClassifier
+from bsi_sklearn.io import read_traces_csv, write_traces_csv
 from bsi_sklearn.roles import resolve_roles
 from bsi_sklearn.traces import check_labels, check_traces
 
@@ -56,6 +57,27 @@ def test_frames_must_agree_and_binarize():
     assert t.data.tolist() == [[0, 1]]
     with pytest.raises(ValueError, match="binarize"):
         check_traces([np.array([[0.2, 0.7]])], binarize="x")
+
+
+def test_demonstrations_of_files_with_different_headers_name_the_column(tmp_path):
+    # two CSV files of one data set, the second written without 'placed': fit must refuse
+    names = ["safe", "picked", "placed"]
+    good = [np.array([[1, 0, 0], [1, 1, 0], [1, 1, 1]])]
+    bad = [np.array([[1, 0, 0], [1, 0, 1], [1, 1, 1]])]
+    write_traces_csv(good, [1], tmp_path / "a.csv", feature_names=names)
+    write_traces_csv([b[:, :2] for b in bad], [0], tmp_path / "b.csv",
+                     feature_names=names[:2])
+    Xa, ya = read_traces_csv(tmp_path / "a.csv")
+    Xb, yb = read_traces_csv(tmp_path / "b.csv")
+    with pytest.raises(ValueError, match=r"demonstration 1 has columns \['safe', 'picked'\], "
+                                         r"but demonstration 0 has .*: demonstration 1 lacks "
+                                         r"the proposition 'placed' seen in demonstration 0"):
+        BSIClassifier(random_state=0).fit(Xa + Xb, np.concatenate([ya, yb]))
+    renamed = [x.rename(columns={"placed": "done"}) for x in Xa]
+    with pytest.raises(ValueError, match="lacks the proposition 'placed' seen in demonstration "
+                                         "0; demonstration 1 has the proposition 'done' not "
+                                         "seen in demonstration 0"):
+        check_traces(Xa + renamed)
 
 
 def test_labels():
@@ -130,6 +152,32 @@ def test_predict_checks_propositions():
     with pytest.raises(ValueError, match="inference='exact' needs"):
         BSIClassifier(roles="all", inference="exact",
                       max_exact_hypotheses=10).fit([np.ones((2, 3))])
+
+
+@pytest.mark.parametrize("method", ["predict", "predict_proba"])
+def test_predict_names_the_missing_and_unseen_columns(method):
+    cols = ["safe", "picked", "placed"]
+    X = [pd.DataFrame([[1, 0, 0], [1, 1, 0], [1, 1, 1]], columns=cols),
+         pd.DataFrame([[1, 0, 0], [1, 0, 1], [1, 1, 1]], columns=cols)]
+    clf = BSIClassifier(random_state=0).fit(X, [1, 0])
+    predict = getattr(clf, method)
+    with pytest.raises(ValueError, match=r"X lacks the proposition 'picked' seen in fit\.\n"
+                                         r"Fitted with: \['safe', 'picked', 'placed'\]"):
+        predict([x[["safe", "placed"]] for x in X])
+    with pytest.raises(ValueError, match="X lacks the propositions 'picked', 'placed' seen"):
+        predict([x[["safe"]] for x in X])
+    with pytest.raises(ValueError, match="X has the proposition 'extra' not seen in fit"):
+        predict([x.assign(extra=0) for x in X])
+    with pytest.raises(ValueError, match="lacks the proposition 'safe' seen in fit; X has "
+                                         "the proposition 'Safe' not seen in fit"):
+        predict([x.rename(columns={"safe": "Safe"}) for x in X])
+    with pytest.raises(ValueError, match="in another order"):
+        predict([x[cols[::-1]] for x in X])
+    # a long-format frame is checked the same way
+    long = pd.concat([x.assign(demo_id=i) for i, x in enumerate(X)])
+    np.testing.assert_array_equal(getattr(clf, method)(long), predict(X))
+    with pytest.raises(ValueError, match="X lacks the proposition 'placed' seen in fit"):
+        predict(long.drop(columns="placed"))
 
 
 def test_single_dataframe_is_rejected_unless_long_format():

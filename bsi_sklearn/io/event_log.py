@@ -18,6 +18,7 @@ from typing import NamedTuple
 import numpy as np
 import pandas as pd
 
+from bsi_sklearn.io._csv_rows import read_csv_rows
 from bsi_sklearn.io._xes import read_xes_columns
 
 __all__ = ["ACTIVITY", "CASE_ID", "TIMESTAMP", "EventLog", "read_event_log", "order_events"]
@@ -244,7 +245,7 @@ def _check_unique(ids, name):
 
 def _from_csv(path, case_id, activity, timestamp, name):
     try:
-        frame = pd.read_csv(path, dtype={case_id: str, activity: str, timestamp: str})
+        frame = read_csv_rows(path, name, dtype={case_id: str, activity: str, timestamp: str})
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise ValueError(f"{name}: {exc}") from None
     except OSError as exc:
@@ -336,7 +337,7 @@ def _table_labels(labels, ids, case_id, where):
 def _read_label_file(path, case_id):
     name = os.fspath(path)
     try:
-        frame = pd.read_csv(path, dtype={case_id: str})
+        frame = read_csv_rows(path, f"labels {name}", dtype={case_id: str})
     except (pd.errors.ParserError, pd.errors.EmptyDataError, OSError) as exc:
         raise ValueError(f"labels {name}: {exc}") from None
     id_col = case_id if case_id in frame.columns else frame.columns[0]

@@ -10,6 +10,7 @@ import pandas as pd
 
 from bsi_sklearn._long_format_split import traces_from_frame
 from bsi_sklearn.io._atomic import write_atomic
+from bsi_sklearn.io._csv_rows import read_csv_rows
 from bsi_sklearn.traces import check_traces
 
 __all__ = ["traces_from_frame", "traces_to_frame", "read_traces_csv", "write_traces_csv"]
@@ -99,7 +100,7 @@ def read_traces_csv(path_or_buffer, *, demo_col="demo_id", time_col="t", label_c
     ------
     ValueError
         Naming the file and the 1-based line of a bad value, duplicate or missing time step,
-        or changing label.
+        changing label, or a row with fewer or more fields than the header.
 
     Examples
     --------
@@ -111,7 +112,7 @@ def read_traces_csv(path_or_buffer, *, demo_col="demo_id", time_col="t", label_c
     name = (os.fspath(path_or_buffer) if isinstance(path_or_buffer, (str, os.PathLike))
             else getattr(path_or_buffer, "name", "<csv buffer>"))
     try:
-        df = pd.read_csv(path_or_buffer, **read_csv_kwargs)
+        df = read_csv_rows(path_or_buffer, str(name), **read_csv_kwargs)
     except (pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
         raise ValueError(f"{name}: {exc}") from None
     return traces_from_frame(df, demo_col=demo_col, time_col=time_col, label_col=label_col,

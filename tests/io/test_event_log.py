@@ -225,6 +225,23 @@ def test_frame_errors_name_the_case_and_column(change, kwargs, message):
     assert message in str(exc.value)
 
 
+def test_ragged_csv_rows_are_reported_by_line(tmp_path):
+    path = tmp_path / "log.csv"
+    path.write_text("case:concept:name,concept:name,time:timestamp,case:ok\n"
+                    "c1,order,2024-01-01T10:00:00,1\nc1,ship\n"
+                    "c2,order,2024-01-01T10:00:00,0\n")
+    # not "event 1 has no timestamp": the row lost its last two fields
+    with pytest.raises(ValueError, match=f"{path}, line 3: the row has 2 fields, the header "
+                                         "has 4"):
+        read_event_log(path, label="ok")
+    labels = tmp_path / "labels.csv"
+    labels.write_text("case:concept:name,ok\nc1,1\nc2\n")
+    good = tmp_path / "good.csv"
+    FRAME.drop(columns="case:ok").to_csv(good, index=False)
+    with pytest.raises(ValueError, match=f"labels {labels}, line 3: the row has 1 fields"):
+        read_event_log(good, labels=labels)
+
+
 def test_numeric_timestamps_and_no_timestamps():
     df = FRAME.drop(columns="time:timestamp").assign(step=[2, 1, 1, 2, 1])
     cases, _, _ = read_event_log(df, timestamp="step")

@@ -1,6 +1,8 @@
 """Long-format traces: demo_id, t, prop...[, label] in pandas and CSV."""
 
+import gzip
 import io
+import re
 
 import numpy as np
 import pandas as pd
@@ -94,6 +96,47 @@ def test_csv_errors_name_the_line(csv, message):
     buf = io.StringIO(csv)
     buf.name = "bad.csv"
     with pytest.raises(ValueError, match=rf"bad\.csv.*{message}"):
+        read_traces_csv(buf)
+
+
+@pytest.mark.parametrize("csv, message", [
+    # fewer fields: pandas would fill NaN, reported as a bad value 'nan'
+    ("demo_id,t,a,b,label\n0,0,1,0,1\n0,1,1\n0,2,1,1,1\n",
+     "bad.csv, line 3: the row has 3 fields, the header has 5 (demo_id, t, a, b, label)"),
+    ("demo_id,t,a,b\n0,0,1,0\n\n0,1,1\n",  # a blank line is skipped, and counted
+     "bad.csv, line 4: the row has 3 fields, the header has 4"),
+    ("demo_id,t,a,label\n0,0,1,1\n0,1,1\n",  # only the label is lost
+     "bad.csv, line 3: the row has 3 fields, the header has 4"),
+    # more fields in one row: pandas' tokenizer error, worded the same way
+    ("demo_id,t,a,label\n0,0,1,1\n0,1,1,0,1\n",
+     "bad.csv, line 3: the row has 5 fields, the header has 4"),
+    # one more in every row: pandas would take the first column as the index, silently
+    ("demo_id,t,a,label\n0,0,1,0,1\n0,1,1,0,1\n",
+     "bad.csv, line 2: the row has 5 fields, the header has 4"),
+])
+def test_ragged_rows_are_reported_by_line_not_as_a_bad_value(csv, message, tmp_path):
+    buf = io.StringIO(csv)
+    buf.name = "bad.csv"
+    with pytest.raises(ValueError, match=re.escape(message)):
+        read_traces_csv(buf)
+    path = tmp_path / "bad.csv"
+    path.write_text(csv)
+    with pytest.raises(ValueError) as exc:
+        read_traces_csv(path)
+    assert str(exc.value).startswith(message.replace("bad.csv", str(path)))
+    assert "nan" not in str(exc.value)
+    gz = tmp_path / "bad.csv.gz"
+    gz.write_bytes(gzip.compress(csv.encode()))
+    with pytest.raises(ValueError, match=re.escape(message.replace("bad.csv", str(gz)))):
+        read_traces_csv(gz)
+
+
+def test_empty_fields_stay_missing_values():
+    # a row with every field, one of them empty, is a missing value, not a ragged row
+    buf = io.StringIO("demo_id,t,a,b\n0,0,1,0\n0,1,1,\n")
+    buf.name = "gap.csv"
+    with pytest.raises(ValueError, match=r"gap\.csv, line 3: demonstration 0, step 1, "
+                                         r"proposition 'b' has value nan"):
         read_traces_csv(buf)
 
 

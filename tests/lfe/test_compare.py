@@ -1,10 +1,13 @@
 """``bsi-lfe compare``: the paper's LFE comparison, on --quick runs (a few seconds each)."""
 
 import contextlib
+import copy
 import io
 import re
+import warnings
 from pathlib import Path
 
+import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 import pytest
@@ -93,6 +96,25 @@ def test_quick_run_prints_table_beside_papers(quick_run):
     assert "--quick" in printed  # a quick run says it is not the paper's setting
 
 
+def test_quick_run_files_say_they_are_a_smoke_test(quick_run, small_run):
+    # the --quick files look like the recorded ones: each human-read file says what it is
+    out = quick_run[0]
+    md = (out / "f1_table.md").read_text(encoding="utf-8")
+    tex = (out / "f1_table.tex").read_text(encoding="utf-8")
+    assert md.startswith("> QUICK RUN (bsi-lfe compare --quick): a smoke test, not the "
+                         "recorded result.")
+    assert tex.startswith("% QUICK RUN (bsi-lfe compare --quick)")
+    fig = small_run.plot()
+    try:
+        assert "(--quick: a smoke test)" in fig.axes[0].get_title()
+    finally:
+        plt.close(fig)
+    # a full run's files carry no such notice
+    full = copy.copy(small_run)
+    full.config = {**small_run.config, "quick": False}
+    assert "QUICK" not in full.to_markdown() + full.to_latex()
+
+
 def _assert_same_tables(a, b):
     pd.testing.assert_frame_equal(a.table, b.table, check_exact=True)
     pd.testing.assert_frame_equal(a.map_f1, b.map_f1, check_exact=True)
@@ -170,6 +192,48 @@ def test_folds_are_stratified_and_seeded():
     other, _ = _folds(labels, 4, seed=1)
     assert all((a[1] == b[1]).all() for a, b in zip(folds, again))
     assert any((a[1] != b[1]).any() for a, b in zip(folds, other))
+
+
+def _labels_with_counts(counts, seed):
+    """Shuffled MO1-MO3 labels with ``counts[code]`` missions of each outcome combination."""
+    codes = np.random.RandomState(seed).permutation(np.repeat(np.arange(8), counts))
+    bits = (codes[:, None] >> np.arange(3)) & 1
+    return pd.DataFrame(bits, columns=["MO1", "MO2", "MO3"]), codes
+
+
+@pytest.mark.parametrize("counts, n_splits", [
+    ([2, 2, 2, 4, 2, 4, 0, 8], 4),   # the built-in 24 missions: four rare combinations
+    ([1, 1, 0, 0, 1, 2, 0, 3], 2),   # --quick's 8 simulated missions
+    ([6, 0, 0, 6, 0, 0, 0, 12], 4),  # no rare combination
+    ([5, 0, 3, 0, 0, 0, 0, 0], 3),   # one
+])
+@pytest.mark.parametrize("seed", [0, 1, 7])
+def test_folds_are_stratified_kfolds_without_its_warning(counts, n_splits, seed):
+    from sklearn.model_selection import StratifiedKFold
+
+    labels, codes = _labels_with_counts(counts, seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the split itself warns about nothing
+        folds, split = _folds(labels, n_splits, seed)
+    rare = min(c for c in counts if c) < n_splits
+    assert ("spread as evenly as possible" in split) == rare
+    # the same folds as scikit-learn's (which warns when a combination is rare), so the
+    # recorded tables are reproduced
+    splitter = StratifiedKFold(n_splits, shuffle=True, random_state=seed)
+    with (pytest.warns(UserWarning, match="least populated class") if rare
+          else contextlib.nullcontext()):
+        expected = list(splitter.split(codes, codes))
+    assert len(folds) == n_splits
+    for (train, test), (e_train, e_test) in zip(folds, expected):
+        np.testing.assert_array_equal(test, e_test)
+        np.testing.assert_array_equal(train, e_train)
+
+
+def test_folds_fall_back_to_kfold_when_every_combination_is_rare():
+    labels, _ = _labels_with_counts([1, 2, 0, 0, 0, 0, 0, 1], 0)
+    folds, split = _folds(labels, 3, seed=0)
+    assert split == "KFold, shuffled"
+    assert sorted(np.concatenate([te for _, te in folds]).tolist()) == list(range(4))
 
 
 @pytest.mark.parametrize("argv, message", [
