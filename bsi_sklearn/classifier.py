@@ -1,24 +1,17 @@
 """`BSIClassifier`: Bayesian Specification Inference as a scikit-learn classifier."""
 
 import math
-import warnings
 from numbers import Integral, Real
 
 import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin
-from sklearn.exceptions import ConvergenceWarning
-from sklearn.utils import check_random_state
 from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn._compile_progress import compile_progress
 from bsi_sklearn.clauses import clause_truth
-from bsi_sklearn.inference.auto_budget import AUTO_EXACT_BYTES, auto_work_budget
-from bsi_sklearn.inference.diagnostics import disagreement_problems
-from bsi_sklearn.inference.exact import MAX_BYTES, ExactWorkExceeded, exact_posterior
-from bsi_sklearn.inference.exact import exact_refusal as _exact_refusal
-from bsi_sklearn.inference.mcmc import sample_posterior
-from bsi_sklearn.inferred_roles import infer_roles, warn_all_roles
-from bsi_sklearn.likelihood import LIKELIHOODS, flip_rate_posterior, is_flip_prior
+from bsi_sklearn.inference.policy import InferencePolicy, infer
+from bsi_sklearn.inferred_roles import infer_roles
+from bsi_sklearn.likelihood import LIKELIHOODS, is_flip_prior
 from bsi_sklearn.model import make_model
 from bsi_sklearn.param_validation import (
     NONZERO_INTEGER,
@@ -29,7 +22,7 @@ from bsi_sklearn.param_validation import (
 )
 from bsi_sklearn.posterior import Posterior
 from bsi_sklearn.predictive import PosteriorPredictiveMixin, misclassified
-from bsi_sklearn.priors import PRIORS, count_hypotheses, format_count
+from bsi_sklearn.priors import PRIORS
 from bsi_sklearn.roles import resolve_roles
 from bsi_sklearn.traces import check_labels, check_traces
 
@@ -367,38 +360,21 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
                            n_subtasks=n, p_global=self.p_global, p_eventual=self.p_eventual,
                            p_part=self.p_part, n_new=self.n_new, epsilon=self.epsilon,
                            flip_prior=self.flip_prior)
-        n_hyp = count_hypotheses(self.prior, n_g, n)
-        inference, work = self.inference, None
-        over_cap = self.max_exact_hypotheses is not None and n_hyp > self.max_exact_hypotheses
-        if inference == "auto":
-            # The exact engine's own work count decides, whatever the support's size.
-            inference = "mcmc" if over_cap else "exact"
-            work = auto_work_budget(truth, y01, model, n_chains=int(self.n_chains),
-                                    n_samples=self.n_samples, burn_in=int(self.burn_in),
-                                    n_temperatures=self.n_temperatures)
-        elif inference == "exact" and over_cap:
-            raise ValueError(
-                f"inference='exact' needs {n_hyp:,} hypotheses ({n_g} global candidates, {n} "
-                f"subtasks, prior={self.prior!r}), above max_exact_hypotheses="
-                f"{self.max_exact_hypotheses:,}; raise max_exact_hypotheses or use 'mcmc'")
-        if inference == "exact":
-            try:
-                self.posterior_, self.mcmc_diagnostics_ = self._fit_exact(
-                    truth, y01, roles, model, work,
-                    AUTO_EXACT_BYTES if self.inference == "auto" else MAX_BYTES)
-            except ExactWorkExceeded as exc:
-                if self.inference == "exact":  # only the memory limit stops it: say so
-                    raise _exact_refusal(exc, model, n_hyp, self.prior) from exc
-                inference = "mcmc"  # "auto": its budget or its memory is spent, sample
-        if inference == "mcmc":
-            if self.inference == "auto" and self.roles == "all" and given == (None,) * 3:
-                warn_all_roles(traces.n_props, format_count(n_hyp), over_cap)
-            rng = check_random_state(self.random_state)
-            seeds = rng.randint(np.iinfo(np.int32).max, size=self.n_chains)
-            self.posterior_, self.mcmc_diagnostics_ = self._fit_mcmc(
-                truth, y01, roles, model, seeds
-            )
-            self._warn_disagreement(n_hyp)
+        policy = InferencePolicy(
+            inference=self.inference, prior=self.prior,
+            max_exact_hypotheses=self.max_exact_hypotheses, tol=self.tol,
+            n_chains=self.n_chains, n_samples=self.n_samples, burn_in=self.burn_in,
+            n_temperatures=self.n_temperatures, n_jobs=self.n_jobs, verbose=self.verbose,
+            random_state=self.random_state,
+            warn_all_roles=self.roles == "all" and given == (None,) * 3)
+        result = infer(truth, y01, model, policy)
+        self.posterior_ = Posterior.from_result(result, roles)
+        self.mcmc_diagnostics_ = result.diagnostics
+        self.flip_rate_, self.flip_rate_interval_ = result.flip_rate(len(y01), self.flip_prior)
+        violations = (misclassified(self.posterior_._masks, truth, y01)
+                      if result.violations is None
+                      else np.asarray(result.violations, dtype=float))
+        self._noise_data = (violations, len(y01), model.log_eps, self.flip_prior)
         self.classes_ = classes
         self.n_features_in_ = traces.n_props
         self.roles_ = roles.to_params()
@@ -406,48 +382,13 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
             self.feature_names_in_ = traces.feature_names
         elif hasattr(self, "feature_names_in_"):
             del self.feature_names_in_
-        self.inference_ = inference
-        self.n_hypotheses_ = n_hyp
+        self.inference_ = result.engine
+        self.n_hypotheses_ = result.n_hypotheses
         self.log_epsilon_ = model.log_eps
         self.map_specification_ = self.posterior_.specification(0)
         self.vacuous_clauses_ = self.posterior_.mark_vacuous(traces, y01)
         self.n_unique_specifications_ = len(self.posterior_)
         return self
-
-    def _warn_disagreement(self, n_hyp):
-        """ConvergenceWarnings: a better optimum than the chains found, chains that disagree."""
-        diag = self.mcmc_diagnostics_
-        now = "'auto', at most 10,000" if self.n_samples == "auto" else f"{self.n_samples:,}"
-        advice = (f"Increase n_samples (now {now}) or n_chains (now "
-                  f"{self.n_chains}), or restrict the roles (global_candidates, subtasks, "
-                  f"conditions) to shrink the support ({format_count(n_hyp)} hypotheses).")
-        for message in disagreement_problems(diag):
-            warnings.warn(f"{message} {advice}", ConvergenceWarning, stacklevel=4)
-
-    def _fit_exact(self, truth, y01, roles, model, max_work, max_bytes):
-        res = exact_posterior(truth, y01, model, tol=float(self.tol), max_work=max_work,
-                              max_bytes=max_bytes)
-        self.flip_rate_, self.flip_rate_interval_ = flip_rate_posterior(
-            np.arange(len(res.violation_mass)), res.violation_mass, len(y01), self.flip_prior)
-        probs = np.exp(res.log_prob) / np.exp(res.log_prob).sum()
-        post = Posterior(res.structures, res.tau_masks, res.w1_masks, probs, roles,
-                         clause_marginals=res.clause_marginals, dropped_mass=res.dropped_mass)
-        # The engine counts misclassified demonstrations by mass, not per listed formula.
-        self._noise_data = (misclassified(post._masks, truth, y01), len(y01), model.log_eps,
-                            self.flip_prior)
-        return post, None
-
-    def _fit_mcmc(self, truth, y01, roles, model, seeds):
-        res = sample_posterior(truth, y01, model, seeds, n_samples=self.n_samples,
-                               burn_in=int(self.burn_in), n_temperatures=self.n_temperatures,
-                               n_jobs=self.n_jobs, verbose=self.verbose)
-        self.flip_rate_, self.flip_rate_interval_ = flip_rate_posterior(
-            res.violations, res.probabilities, len(y01), self.flip_prior)
-        post = Posterior(res.structures, res.tau_masks, res.w1_masks, res.probabilities, roles)
-        violations = (misclassified(post._masks, truth, y01) if res.violations is None
-                      else np.asarray(res.violations, dtype=float))
-        self._noise_data = (violations, len(y01), model.log_eps, self.flip_prior)
-        return post, res.diagnostics
 
     # ------------------------------------------------------------------ monitoring
     def monitor(self):

@@ -179,10 +179,11 @@ def infer_roles(traces, y, global_candidates=None, subtasks=None, conditions=Non
                          traces.feature_names)
 
 
-def warn_all_roles(n_props, n_hyp, above_cap):
+def warn_all_roles(n_props, n_hyp, above_cap, stacklevel=2):
     """Say that, with every proposition in every role, exact enumeration was out of reach.
 
-    Called by ``BSIClassifier._fit`` (``stacklevel`` points at the user's ``fit``). The
+    Called by :func:`bsi_sklearn.inference.policy.infer` (its ``stacklevel`` points at the
+    user's ``fit``). The
     message does not depend on the data beyond its size, so Python's default warning filter
     shows it once per process and problem size, not once per fold.
 
@@ -195,6 +196,8 @@ def warn_all_roles(n_props, n_hyp, above_cap):
         float's range).
     above_cap : bool
         Whether the support is above ``max_exact_hypotheses`` (else the work budget was).
+    stacklevel : int, default=2
+        As :func:`warnings.warn`'s, counted from the caller of this function.
     """
     reason = ("is above max_exact_hypotheses" if above_cap
               else "needs more than inference='auto''s work budget to enumerate exactly "
@@ -208,5 +211,5 @@ def warn_all_roles(n_props, n_hyp, above_cap):
         "them from the data with roles='infer' (the default), to make the posterior smaller "
         "and exact.",
         UserWarning,
-        stacklevel=4,
+        stacklevel=stacklevel + 1,
     )

@@ -91,6 +91,24 @@ class Posterior:
         self._marginals = np.asarray(clause_marginals, dtype=float)
         self._specs = None
 
+    @classmethod
+    def from_result(cls, result, roles):
+        """The posterior of an inference result (:func:`bsi_sklearn.inference.policy.infer`).
+
+        Parameters
+        ----------
+        result : bsi_sklearn.inference.policy.InferenceResult
+        roles : Roles
+            The roles the clause truth was computed with.
+
+        Returns
+        -------
+        Posterior
+        """
+        return cls(result.structures, result.tau_masks, result.w1_masks, result.probabilities,
+                   roles, clause_marginals=result.clause_marginals,
+                   dropped_mass=result.dropped_mass)
+
     # ------------------------------------------------------------------ containers
     def __len__(self):
         return len(self.probabilities)

@@ -4,9 +4,9 @@ import math
 
 import numpy as np
 import pytest
-from sklearn.base import clone
 from _reference import brute_force_posterior
 from poi_problems import make_poi_problem
+from sklearn.base import clone
 
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.inference.diagnostics import total_variation

@@ -186,10 +186,10 @@ def test_violation_mass_is_the_posterior_of_the_misclassified_count():
         seen.append(real(*args, **kwargs))
         return seen[-1]
 
-    import bsi_sklearn.classifier as classifier_module
+    import bsi_sklearn.inference.policy as policy_module
 
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(classifier_module, "exact_posterior", recording)
+        mp.setattr(policy_module, "exact_posterior", recording)
         clf.fit(X, y)
     assert np.abs(seen[0].violation_mass - want).max() < 1e-10
 

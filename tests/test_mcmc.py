@@ -10,6 +10,7 @@ from sklearn.exceptions import ConvergenceWarning
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.inference.diagnostics import split_rhat, total_variation
 from bsi_sklearn.inference.mcmc import unique_states
+from bsi_sklearn.inference.policy import InferencePolicy, warn_disagreement
 
 
 @pytest.fixture(scope="module")
@@ -124,7 +125,7 @@ def test_convergence_warning_on_split_rhat(problem):
         clf.mcmc_diagnostics_.update(rhat=rhat, max_missed_mass=0.0)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            clf._warn_disagreement(1e6)
+            warn_disagreement(clf.mcmc_diagnostics_, InferencePolicy(n_samples=200), 1e6)
         assert len(caught) == n_warnings
         if n_warnings:
             assert caught[0].category is ConvergenceWarning

@@ -60,7 +60,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))  # run as a script from
 
 from poi_problems import make_poi_problem  # noqa: E402
 
-import bsi_sklearn.classifier as _classifier_module  # noqa: E402
+import bsi_sklearn.inference.policy as _policy_module  # noqa: E402
 from bsi_sklearn import BSIClassifier  # noqa: E402
 
 FIXTURE = Path(__file__).resolve().parent / "data" / "posterior_values.json"
@@ -102,13 +102,13 @@ def _exact_results():
     the classifier calls the enumeration.
     """
     seen = []
-    real = _classifier_module.exact_posterior
+    real = _policy_module.exact_posterior
 
     def recording(*args, **kwargs):
         seen.append(real(*args, **kwargs))
         return seen[-1]
 
-    with mock.patch.object(_classifier_module, "exact_posterior", recording):
+    with mock.patch.object(_policy_module, "exact_posterior", recording):
         yield seen
 
 
