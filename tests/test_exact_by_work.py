@@ -8,9 +8,9 @@ traces (roles given or not, conditions, negatives, propositions that never chang
 
 import numpy as np
 import pytest
+from _exact_checks import _assert_same_posterior
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from test_exact_grouped import _assert_same_posterior
 
 import bsi_sklearn.inference._budget as _budget
 import bsi_sklearn.inference.auto_budget as auto_budget
