@@ -211,7 +211,8 @@ def test_auto_samples_when_the_enumeration_is_over_its_budget(monkeypatch):
     truth_x = [np.array([[1, 0, 1], [1, 1, 1]]), np.array([[1, 0, 0], [1, 1, 1]])]
     monkeypatch.setattr(auto_budget, "AUTO_EXACT_WORK", 1.0)
     monkeypatch.setattr(auto_budget, "SAMPLING_TO_EXACT", 0.0)
-    clf = BSIClassifier(global_candidates=[0], subtasks=[1, 2], n_samples=50,
+    # 200 samples: enough for 4 chains to agree on these 24 hypotheses (50 left one short)
+    clf = BSIClassifier(global_candidates=[0], subtasks=[1, 2], n_samples=200,
                         random_state=0).fit(truth_x)
     assert clf.inference_ == "mcmc"
     with pytest.raises(ValueError, match="max_exact_hypotheses"):
