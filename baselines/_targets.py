@@ -8,6 +8,7 @@ import warnings
 import numpy as np
 from sklearn.exceptions import DataConversionWarning
 from sklearn.model_selection import train_test_split
+from sklearn.utils import assert_all_finite
 from sklearn.utils.class_weight import compute_class_weight
 from sklearn.utils.multiclass import type_of_target
 
@@ -50,6 +51,8 @@ def check_targets(y, n_sequences, estimator_name):
     for k in range(y_arr.shape[1]):
         col = y_arr[:, k]
         where = f"objective {k} of y" if multi else "y"
+        # before type_of_target, which would cast NaN or infinity to int on the way
+        assert_all_finite(col, input_name=where)
         kind = type_of_target(col, input_name="y")
         if kind not in ("binary", "multiclass"):
             raise ValueError(f"Unknown label type: {kind} in {where}; labels must be binary")

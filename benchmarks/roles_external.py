@@ -15,10 +15,10 @@ training part, scored on the test part:
 
 Files are split into those the project has *seen*, meaning a test or a development benchmark of
 the repository fits BSI on them one by one (``tests/test_default_map_on_published_files.py``,
-``tests/io/test_external_eval.py``, ``bench_mcmc_mixing.py``, ``external.py --quick``), and the
-rest. Every file was scored once by ``external.py`` (RESULTS_external.md), so the screened
-protocol's settings were chosen with the aggregate over all files in view: "not seen" means not
-looked at one by one, not never evaluated.
+``tests/benchmarks/test_external_eval.py``, ``bench_mcmc_mixing.py``, ``external.py --quick``),
+and the rest. Every file was scored once by ``external.py`` (RESULTS_external.md), so the
+screened protocol's settings were chosen with the aggregate over all files in view: "not seen"
+means not looked at one by one, not never evaluated.
 """
 
 from __future__ import annotations

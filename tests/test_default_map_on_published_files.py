@@ -6,20 +6,19 @@ as a user would: every proposition and its negation (``NegationAugmenter``), eve
 ``G(p) & G(!p)`` on such files, rejecting every trace.
 """
 
-from pathlib import Path
-
 import numpy as np
 import pytest
+from _shared_data import BENCHMARKS_DATA
 
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.io import load_trace_file
 from bsi_sklearn.preprocessing import NegationAugmenter
 
-DATA = Path(__file__).parents[1] / ".." / "shared" / "benchmarks-data"
+DATA = BENCHMARKS_DATA
 FILES = sorted(DATA.rglob("*.trace"))[::40] if DATA.is_dir() else []
 
 
-@pytest.mark.skipif(not DATA.is_dir(), reason="../shared/benchmarks-data is absent")
+@pytest.mark.shared_data
 @pytest.mark.parametrize("path", FILES, ids=lambda p: str(p.relative_to(DATA)))
 def test_the_default_map_satisfies_some_acceptable_demonstration(path):
     X, y, _ = load_trace_file(path)

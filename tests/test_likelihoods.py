@@ -10,13 +10,13 @@ import pickle
 
 import numpy as np
 import pytest
+from _exact_checks import _assert_same_posterior
+from _exact_checks import _problem as _grouped_problem
 from _reference import brute_force_posterior
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from poi_problems import make_poi_problem
 from scipy import integrate, stats
-from test_exact_grouped import _assert_same_posterior
-from test_exact_grouped import _problem as _grouped_problem
 
 import bsi_sklearn.inference._exact_kernels as kernels
 from bsi_sklearn import BSIClassifier

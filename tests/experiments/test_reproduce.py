@@ -5,6 +5,7 @@ import json
 import numpy as np
 import pandas as pd
 import pytest
+from sklearn.exceptions import ConvergenceWarning
 
 from bsi_sklearn.cli import main
 from bsi_sklearn.datasets import dinner_table_specification, poi_threat_specification
@@ -14,6 +15,9 @@ from bsi_sklearn.experiments.synthetic import synthetic_claims
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 STATUSES = {"PASS", "FALL SHORT", "NOT MEASURED"}
 FILES = ("results.csv", "summary.csv", "claims.csv", "claims.md", "config.json", "report.md")
+#: The quick dinner grid samples its flattest posteriors (2.45e9 hypotheses) with 2 chains of
+#: 1,000 draws: too few for the chains to agree, and the classifier says so.
+DINNER_UNDER_SAMPLED = "MCMC chains disagree"
 
 
 @pytest.fixture(scope="module")
@@ -27,8 +31,9 @@ def synthetic_run(tmp_path_factory):
 @pytest.fixture(scope="module")
 def dinner_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("dinner")
-    status = main(["reproduce", "dinner", "--quick", "--out", str(out), "--n-jobs", "1",
-                   "--verbose", "0"])
+    with pytest.warns(ConvergenceWarning, match=DINNER_UNDER_SAMPLED):
+        status = main(["reproduce", "dinner", "--quick", "--out", str(out), "--n-jobs", "1",
+                       "--verbose", "0"])
     return status, out
 
 
@@ -221,16 +226,18 @@ def test_fork_spoon_violations_follow_the_placements():
 
 def test_same_seed_same_results_whatever_n_jobs(tmp_path, dinner_run):
     _, out = dinner_run
-    assert main(["reproduce", "dinner", "--quick", "--out", str(tmp_path), "--n-jobs", "2",
-                 "--verbose", "0"]) == 0
+    with pytest.warns(ConvergenceWarning, match=DINNER_UNDER_SAMPLED):
+        assert main(["reproduce", "dinner", "--quick", "--out", str(tmp_path), "--n-jobs", "2",
+                     "--verbose", "0"]) == 0
     a = pd.read_csv(out / "dinner_results.csv").drop(columns="fit_time")
     b = pd.read_csv(tmp_path / "dinner_results.csv").drop(columns="fit_time")
     pd.testing.assert_frame_equal(a, b)
 
 
 def test_prints_the_claims_table(tmp_path, capsys):
-    assert main(["reproduce", "dinner", "--quick", "--out", str(tmp_path), "--sizes", "3",
-                 "5", "--repeats", "2", "--no-supervised"]) == 0
+    with pytest.warns(ConvergenceWarning, match=DINNER_UNDER_SAMPLED):
+        assert main(["reproduce", "dinner", "--quick", "--out", str(tmp_path), "--sizes", "3",
+                     "5", "--repeats", "2", "--no-supervised"]) == 0
     captured = capsys.readouterr()
     assert "DIN-P2-top5" in captured.out and "claims pass" in captured.out
     assert "dinner fits" not in captured.err  # no progress bar off a terminal

@@ -2,21 +2,21 @@
 
 import io
 from collections import Counter
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from _shared_data import BENCHMARKS_DATA
 
 from bsi_sklearn.io import load_trace_file, read_trace_file, write_trace_file
 from bsi_sklearn.ltl import parse_ltl
 from bsi_sklearn.preprocessing import add_negations
 
-DATA = Path(__file__).parents[2] / ".." / "shared" / "benchmarks-data"
+DATA = BENCHMARKS_DATA
 SAMPLES = DATA / "samples2LTL" / "traces" / "finite"
 SCARLET = DATA / "scarlet" / "All_benchmarks" / "RQ2-benchmarks" / "Varying_form"
 
-pytestmark = pytest.mark.skipif(not DATA.is_dir(), reason="../shared/benchmarks-data is absent")
+pytestmark = pytest.mark.shared_data
 
 # Targets the BSI template expresses (G(!x0) only with negated propositions).
 IN_TEMPLATE = {"G(x0)", "F(x0)", "G(!(x0))", "F(a)", "&(F(a),F(b))", "&(&(F(a),F(b)),F(c))",

@@ -9,11 +9,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from _shared_data import BENCHMARKS_DATA
 
 from bsi_sklearn.ltl import Atom, parse_ltl
 
 ROOT = Path(__file__).parents[2]
-DATA = ROOT / ".." / "shared" / "benchmarks-data"
+DATA = BENCHMARKS_DATA
 SAMPLES = DATA / "samples2LTL" / "traces" / "finite"
 SCARLET = DATA / "scarlet" / "All_benchmarks" / "RQ2-benchmarks" / "Varying_form" / "TracesFiles"
 BENCH = ROOT / "benchmarks"
@@ -25,7 +26,7 @@ import external_bsi as B  # noqa: E402
 import external_report as R  # noqa: E402
 import external_scarlet as S  # noqa: E402
 
-needs_data = pytest.mark.skipif(not DATA.is_dir(), reason="../shared/benchmarks-data is absent")
+needs_data = pytest.mark.shared_data
 
 
 # -- Scarlet's formulas -------------------------------------------------------------------
