@@ -192,7 +192,7 @@ LAYERS = [
      "io", "ltl", "param_validation", "preprocessing", "specification", "automaton", "dfa",
      "_literals",
      "_compile_progress", "_numba_cache", "_lazy", "_jit"},
-    {"clauses"},
+    {"clauses", "patterns", "_pattern_kernels", "_ltlf_program"},
     {"priors", "likelihood", "model"},
     {"inference"},
     {"satisfaction", "posterior", "predictive", "metrics", "monitor", "monitor_figure",
