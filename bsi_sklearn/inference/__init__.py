@@ -1,8 +1,8 @@
 """Inference: the posterior over specifications from clause truth and a model.
 
-One entry, :func:`bsi_sklearn.inference.policy.infer`, which chooses the engine and returns one
-:class:`~bsi_sklearn.inference.policy.InferenceResult` that :meth:`bsi_sklearn.Posterior.from_result`
-turns into a posterior; two engines behind it:
+One entry, :func:`bsi_sklearn.inference.policy.infer`, which chooses the engine and returns
+one :class:`~bsi_sklearn.inference.policy.InferenceResult` that
+:meth:`bsi_sklearn.Posterior.from_result` turns into a posterior; two engines behind it:
 
 - :mod:`bsi_sklearn.inference.exact`: the exact posterior, by a bounded enumeration of the
   prior's support over groups of interchangeable parts (the reference everything else is
