@@ -342,3 +342,16 @@ def test_precedence_as_flloat_reads_it(bare, bracketed):
     for tr, g in zip(traces, pattern_truth(bare, data, offsets, cols)[:, 0]):
         sets = _as_sets(tr, ("x", "y", "z"))
         assert flloat_formula.truth([{s: (s in st_) for s in "xyz"} for st_ in sets], 0) == bool(g)
+
+
+def test_the_docs_list_every_template_as_defined_and_their_example_runs():
+    import doctest
+    from pathlib import Path
+
+    doc = Path(__file__).resolve().parents[1] / "docs" / "patterns.md"
+    text = doc.read_text(encoding="utf-8")
+    for t in TEMPLATES.values():
+        assert f"| `{t.name}` | {', '.join(t.slots)} | `{t.formula}` | {t.sentence} | " \
+               f"{t.family} |" in text, t.name
+    result = doctest.testfile(str(doc), module_relative=False, verbose=False)
+    assert result.attempted >= 4 and result.failed == 0
