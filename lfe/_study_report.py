@@ -6,6 +6,7 @@ import numpy as np
 import pandas as pd
 
 from bsi_sklearn.experiments.tables import markdown_table
+from lfe._probability_scores import NOT_AVAILABLE
 from lfe._study_cells import (
     BSI_CV,
     BSI_ROWS,
@@ -105,7 +106,8 @@ def _protocol(c):
         f"{', '.join(f'{n:g}' for n in c['noise'])} (`make_lfe_dataset`'s default is 0.04); "
         "phase times carry 10 s of Gaussian error. The test labels carry the same noise.",
         "- Score: weighted F1 over both outcomes of each objective on the test set (and "
-        "accuracy, in study.csv).",
+        "accuracy, in study.csv); for the rows whose model gives probabilities, the log loss "
+        "and Brier score of P(label 1) on the same test set.",
         "- Intervals: 95 % Student-t intervals over the repeats (independent datasets), "
         "`mean ± t(0.975, n-1) sd / sqrt(n)`. Paired differences: BSI minus the best network "
         "(highest mean F1 of the four at that size, noise and set) and BSI minus the best "
@@ -229,11 +231,30 @@ def study_markdown(table, paired, config, warned=None):
     ]
     for ps in c["propositions"]:
         lines.append(f"- *{ps}*: {EXPRESSIBILITY.get(ps, '')}")
-    lines += ["", "## Mean weighted F1 [95 % interval]", ""]
-    f1 = table[table["metric"] == "f1"]
-    for (noise, ps), block in f1.groupby(["noise", "propositions"], sort=False):
+    lines += ["", *_mean_tables(table, "f1", "Mean weighted F1 [95 % interval]")]
+    lines += ["Rows: " + ", ".join((*NETWORKS, *PRACTITIONER, *BSI_ROWS, BSI_CV))
+              + f", {MAJORITY}, {CEILING}.", ""]
+    note = [f"scikit-learn's `log_loss` (labels 0 and 1, its own clipping) and "
+            "`brier_score_loss` of P(label 1) on the test missions; lower is better. "
+            f"{NOT_AVAILABLE}: the row gives no probabilities (MiniRocket's ridge "
+            "classifier, the noise-free rule), or some repeat had none (a BSI fit with no "
+            "acceptable training mission).", ""]
+    for metric, title, notes in (("log_loss", "Mean log loss [95 % interval]", note),
+                                 ("brier", "Mean Brier score [95 % interval]", ())):
+        if metric in set(table["metric"]):  # a study from before they were scored has none
+            lines += _mean_tables(table, metric, title, notes)
+    lines += _warnings_section(warned)
+    return "\n".join(lines)
+
+
+def _mean_tables(table, metric, title, note=()):
+    """A section of ``study.md``: ``metric``'s mean [interval], a table per noise and set."""
+    lines = [f"## {title}", "", *note]
+    for (noise, ps), block in table[table["metric"] == metric].groupby(
+            ["noise", "propositions"], sort=False):
         lines += [f"### Noise {noise:g}, {ps} propositions", ""]
-        wide = block.assign(cell=[f"{m:.3f} [{lo:.3f}, {hi:.3f}]" if not np.isnan(lo)
+        wide = block.assign(cell=[NOT_AVAILABLE if np.isnan(m)
+                                  else f"{m:.3f} [{lo:.3f}, {hi:.3f}]" if not np.isnan(lo)
                                   else f"{m:.3f}" for m, lo, hi in
                                   zip(block["mean"], block["ci_low"], block["ci_high"])])
         wide = wide.pivot_table(index="classifier", columns=["objective", "n_train"],
@@ -241,7 +262,4 @@ def study_markdown(table, paired, config, warned=None):
         wide = wide.reindex([r for r in ROWS if r in wide.index])
         wide.columns = [f"{mo} n={n}" for mo, n in wide.columns]
         lines += [markdown_table(wide.reset_index()), ""]
-    lines += ["Rows: " + ", ".join((*NETWORKS, *PRACTITIONER, *BSI_ROWS, BSI_CV))
-              + f", {MAJORITY}, {CEILING}.", ""]
-    lines += _warnings_section(warned)
-    return "\n".join(lines)
+    return lines

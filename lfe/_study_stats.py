@@ -21,8 +21,9 @@ __all__ = ["KEYS", "METRICS", "paired_differences", "summarise", "t_interval"]
 
 #: Columns that identify a cell of the study (besides the repeat).
 KEYS = ["objective", "n_train", "noise", "propositions"]
-#: Scores per run: weighted F1 over both outcomes, and accuracy.
-METRICS = ("f1", "accuracy")
+#: Scores per run: weighted F1 over both outcomes, accuracy, and the log loss and Brier score
+#: of the rows with probabilities (``nan`` for the others, and so their means and intervals).
+METRICS = ("f1", "accuracy", "log_loss", "brier")
 
 
 def t_interval(values, confidence=0.95):
@@ -38,7 +39,8 @@ def t_interval(values, confidence=0.95):
     -------
     mean, low, high : float
         ``low`` and ``high`` are ``nan`` with fewer than two values; with no spread at all
-        they equal the mean.
+        they equal the mean. All three are ``nan`` when a value is (a repeat without the
+        score: a mean over the other repeats would not be the same cell's).
     """
     values = np.asarray(values, dtype=float)
     mean = float(values.mean())
@@ -64,8 +66,10 @@ def summarise(runs):
         ci_high, n_runs``.
     """
     rows = []
+    # cells written before the log loss was scored have none: those metrics are left out
+    metrics = [metric for metric in METRICS if metric in runs.columns]
     for key, group in runs.groupby(["classifier", *KEYS], sort=False):
-        for metric in METRICS:
+        for metric in metrics:
             mean, low, high = t_interval(group[metric])
             rows.append(dict(zip(["classifier", *KEYS], key), metric=metric, mean=mean,
                              ci_low=low, ci_high=high, n_runs=len(group)))

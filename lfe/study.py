@@ -152,7 +152,9 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
     Prior 2 and Prior 3, BSI with Prior 2 and the CI likelihood, BSI with
     ``GridSearchCV``-chosen hyperparameters (inner cross-validation on the training set only),
     the majority class, and the noise-free commander rule as a ceiling -- and the test set
-    scores them (weighted F1 and accuracy per objective). Every warning raised while a row is
+    scores them (weighted F1 and accuracy per objective; the log loss and Brier score of
+    P(label 1) for the rows whose model gives probabilities, "n/a" for the others, with the
+    same intervals in ``study.csv`` and ``study.md``). Every warning raised while a row is
     fitted and scored is counted per cell and row (``study_warnings.csv``, the ``warnings``
     column of ``study_runs.csv``, ``study.md``), never silenced.
 
