@@ -89,6 +89,8 @@ def plot_learning_curves(table, objective, metric="f1"):
 
 
 def _fmt_ci(mean, low, high):
+    if np.isnan(mean):  # a BSI row without the score in some repeat
+        return NOT_AVAILABLE
     if np.isnan(low):
         return f"{mean:+.3f} (one repeat: no interval)"
     return f"{mean:+.3f} [{low:+.3f}, {high:+.3f}]"
@@ -144,22 +146,23 @@ def _protocol(c):
     ]
 
 
-def _headline(paired):
+def _headline(paired, score="weighted F1", sign=1):
+    """Which paired differences hold; ``sign=-1`` for a loss (BSI better below 0)."""
     lines = ["## Is BSI better than the best network, and than the best of all baselines? "
-             "(weighted F1, paired)", ""]
+             f"({score}, paired)", ""]
     if paired["ci_low"].isna().all():
         return lines + ["One repeat only: no interval, nothing can be called significant.", ""]
     for versus, prefix, best in (("the best network", "", "best_network"),
                                  ("the best baseline", "baseline_", "best_baseline")):
         flag = paired[f"{prefix}significant"]
-        better = int((flag & (paired[f"{prefix}mean"] > 0)).sum())
-        worse = int((flag & (paired[f"{prefix}mean"] < 0)).sum())
+        better = int((flag & (sign * paired[f"{prefix}mean"] > 0)).sum())
+        worse = int((flag & (sign * paired[f"{prefix}mean"] < 0)).sum())
         lines.append(f"- Against {versus}: BSI significantly better in {better}, "
                      f"significantly worse in {worse}, not significantly different in "
                      f"{len(paired) - better - worse} of {len(paired)} comparisons.")
         for _, r in paired[flag].iterrows():
             mean, low, high = (r[f"{prefix}{k}"] for k in ("mean", "ci_low", "ci_high"))
-            word = "better" if mean > 0 else "worse"
+            word = "better" if sign * mean > 0 else "worse"
             lines.append(f"  - {r['bsi']} is significantly {word} than {r[best]} on "
                          f"{r['objective']} with {r['n_train']} missions (noise "
                          f"{r['noise']:g}, {r['propositions']}): {_fmt_ci(mean, low, high)}.")
@@ -198,13 +201,16 @@ def _warnings_section(warned):
                     "in study_warnings.csv):", "", markdown_table(pd.DataFrame(rows)), ""]
 
 
-def study_markdown(table, paired, config, warned=None):
+def study_markdown(table, paired, config, warned=None, paired_loss=None):
     """``study.md``: the protocol, the disclosure, the tables and which differences hold.
 
     Parameters
     ----------
     table, paired : DataFrame
         ``study.csv`` and ``study_paired.csv``.
+    paired_loss : DataFrame, default=None
+        ``study_paired_log_loss.csv`` (the same differences of the log loss; lower is
+        better), when the cells scored it.
     config : dict
         The study's settings (``config.json``).
     warned : DataFrame, default=None
@@ -222,6 +228,8 @@ def study_markdown(table, paired, config, warned=None):
                                          if c["quick"] else ""),
         "",
         *_headline(paired),
+        *([] if paired_loss is None or paired_loss.empty
+          else _headline(paired_loss, "log loss, lower is better", sign=-1)),
         "## Protocol",
         "",
         *_protocol(c),

@@ -15,7 +15,8 @@ from lfe._study_stats import t_interval
 from lfe.cli import main
 
 TINY = ["--quick", "--sizes", "4", "--test-size", "6", "--repeats", "2", "--verbose", "0"]
-TABLES = ("study.csv", "study_paired.csv", "study_runs.csv", "study_warnings.csv")
+TABLES = ("study.csv", "study_paired.csv", "study_paired_log_loss.csv", "study_runs.csv",
+          "study_warnings.csv")
 RAN = list(ROWS)
 
 
@@ -369,6 +370,25 @@ def test_log_loss_is_scikit_learns_on_the_rows_probabilities(tiny_run):
     assert "| MiniRocket | n/a | n/a | n/a |" in section
     assert "| Noise-free rule (ceiling) | n/a | n/a | n/a |" in section
     assert re.search(r"\| Logistic regression \| \d+\.\d{3} \[", section)
+
+
+def test_paired_log_loss_is_against_the_lowest_baseline_with_probabilities(tiny_run):
+    out, _ = tiny_run
+    runs = pd.read_csv(out / "study_runs.csv")
+    paired = pd.read_csv(out / "study_paired_log_loss.csv")
+    assert len(paired) == (len(BSI_ROWS) + 1) * 1 * 3 and set(paired["metric"]) == {"log_loss"}
+    networks = ["LSTM", "Bi-LSTM", "LSTM Coupled", "Bi-LSTM Coupled"]
+    for _, r in paired.iterrows():
+        cell = runs[(runs["objective"] == r["objective"]) & (runs["n_train"] == r["n_train"])]
+        means = cell.groupby("classifier")["log_loss"].mean()
+        # a loss: the lowest mean is the best; MiniRocket has none and is never chosen
+        assert r["best_network"] == means[networks].idxmin()
+        assert r["best_baseline"] == means[[*networks, "Logistic regression"]].idxmin()
+        diff = (cell[cell["classifier"] == r["bsi"]]["log_loss"].to_numpy()
+                - cell[cell["classifier"] == r["best_baseline"]]["log_loss"].to_numpy())
+        assert r["baseline_mean"] == pytest.approx(diff.mean(), rel=1e-4, abs=1e-5)
+    text = (out / "study.md").read_text()
+    assert "(log loss, lower is better, paired)" in text
 
 
 def test_warnings_are_counted_per_cell_and_row(tiny_run):
