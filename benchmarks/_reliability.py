@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-__all__ = ["N_BINS", "draw_reliability", "reliability_bins", "worst_gap"]
+__all__ = ["N_BINS", "diagonal_axes", "draw_reliability", "reliability_bins", "worst_gap"]
 
 #: Equal-width bins of the predicted probability.
 N_BINS = 10
