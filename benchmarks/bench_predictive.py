@@ -335,6 +335,8 @@ def report(runs, table, diffs, gaps, config, seconds, command):
               md_table(["difference", "noise", "missions", "log loss", "Brier", "accuracy"],
                        rows), "",
               "![reliability](predictive/reliability.png)", "",
+              "The same diagram is `figures/reliability_lfe_missions.png`, beside the other "
+              "task families' (`bench_label_noise.py`).", "",
               "## How the BSI fits were made", "",
               md_table(["setting", "noise", "missions", "fits", "exact",
                         "median specifications", "largest dropped mass", "mean flip_rate_",
