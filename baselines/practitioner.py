@@ -30,6 +30,7 @@ from sklearn.model_selection import GridSearchCV, StratifiedKFold
 from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 from sklearn.utils import check_random_state
+from sklearn.utils.metaestimators import available_if
 from sklearn.utils.validation import check_is_fitted
 from threadpoolctl import threadpool_limits
 
@@ -171,10 +172,15 @@ class DropDuplicateColumns(TransformerMixin, BaseEstimator):
 class _MultiObjective(ClassifierMixin, BaseEstimator):
     """One binary model per objective on shared features; a single-class objective is constant.
 
-    Subclasses define ``_features(sequences, fit, seed)`` and ``_fit_one(F, y, seed)``. Fit and
-    predict run on one BLAS thread, so that the results do not depend on how many cores the
-    process has (a worker of ``n_jobs=2`` or a whole machine).
+    Subclasses define ``_features(sequences, fit, seed)`` and ``_fit_one(F, y, seed)``, and
+    set ``_probabilistic`` when the models ``_fit_one`` returns have ``predict_proba`` (then
+    so does the classifier). Fit and predict run on one BLAS thread, so that the results do
+    not depend on how many cores the process has (a worker of ``n_jobs=2`` or a whole
+    machine).
     """
+
+    #: Whether the per-objective models give probabilities (``predict_proba`` exists).
+    _probabilistic = False
 
     def fit(self, X, y):
         """Fit on sequences ``X`` and binary labels ``y`` (n,) or (n, n_objectives)."""
@@ -214,16 +220,42 @@ class _MultiObjective(ClassifierMixin, BaseEstimator):
             return self._predict(X)
 
     def _predict(self, X):
+        F = self._test_features(X)
+        columns = [est.predict(F) if hasattr(est, "predict") else np.full(len(F), est)
+                   for est in self.estimators_]
+        pred = np.column_stack(columns)
+        return pred if self._multi_output else pred[:, 0]
+
+    @available_if(lambda self: self._probabilistic)
+    def predict_proba(self, X):
+        """Probability of each label of each objective.
+
+        Parameters
+        ----------
+        X : list of array-like or DataFrame
+            Sequences with the features seen in ``fit``.
+
+        Returns
+        -------
+        proba : ndarray of shape (n_sequences, n_classes) or list of such arrays
+            For 1-D ``y`` in ``fit``, one array whose columns follow ``classes_``; for 2-D
+            ``y``, a list with one array per objective, columns following ``classes_[k]``
+            (as :class:`baselines.LSTMSequenceClassifier`). An objective seen with a single
+            label has a single column of ones.
+        """
+        with threadpool_limits(1):
+            F = self._test_features(X)
+            out = [est.predict_proba(F) if hasattr(est, "predict_proba")
+                   else np.ones((len(F), 1)) for est in self.estimators_]
+        return out if self._multi_output else out[0]
+
+    def _test_features(self, X):
         check_is_fitted(self, "estimators_")
         sequences = check_sequences(X, estimator_name=type(self).__name__)
         check_consistent_sequences(sequences, self.n_features_in_,
                                    getattr(self, "feature_names_in_", None),
                                    type(self).__name__)
-        F = self._features(sequences, fit=False, seed=None)
-        columns = [est.predict(F) if hasattr(est, "predict") else np.full(len(F), est)
-                   for est in self.estimators_]
-        pred = np.column_stack(columns)
-        return pred if self._multi_output else pred[:, 0]
+        return self._features(sequences, fit=False, seed=None)
 
 
 class TemporalLogisticRegression(_MultiObjective):
@@ -235,7 +267,8 @@ class TemporalLogisticRegression(_MultiObjective):
     scored by log-loss, which separates values of ``C`` that tie on accuracy on a few
     missions), then the pipeline is refitted on every training sequence. With one sequence of
     a class there is nothing to cross-validate: ``C = 1``. An objective with one class in the
-    training set is predicted constant.
+    training set is predicted constant. ``predict_proba`` gives the pipelines' probabilities
+    (the scores of ``bsi-lfe compare`` and ``study`` read them for the log loss).
 
     Parameters
     ----------
@@ -262,6 +295,8 @@ class TemporalLogisticRegression(_MultiObjective):
     >>> TemporalLogisticRegression(random_state=0).fit(X, y).predict(X[:2]).tolist()
     [1, 0]
     """
+
+    _probabilistic = True
 
     def __init__(self, *, Cs=LOGISTIC_CS, max_folds=3, random_state=None):
         self.Cs = Cs

@@ -22,13 +22,18 @@ fits it (``BSIClassifier(random_state=...)``, every default, no roles):
 
 Per fit: log loss (scikit-learn's, clipped at 2.2e-16), Brier score and accuracy of
 ``predict`` under each reading. Per family: means with Student-t 95 % intervals over the fits
-(independent files, tasks or logs), and the paired difference learned - epsilon.
+(independent files, tasks or logs), the paired difference learned - epsilon, and a
+reliability diagram of every test demonstration pooled (bins of width 0.1; *worst bin*: the
+largest |observed - predicted| over the bins holding at least 5 % of them).
 
     python benchmarks/bench_label_noise.py            # about 10 minutes on one core
     python benchmarks/bench_label_noise.py --quick    # a few fits a family
 
-Writes ``benchmarks/RESULTS_label_noise.md`` and ``benchmarks/label_noise/runs.csv``. Every
-warning is counted per fit, none is silenced.
+Writes ``benchmarks/RESULTS_label_noise.md``, ``benchmarks/label_noise/runs.csv`` and
+``reliability.csv`` (the bins), and one figure per task family,
+``benchmarks/figures/reliability_{published_files,roles_tasks,event_logs}.png``
+(``--figures-only`` redraws them from the recorded bins, without a fit). Every warning is
+counted per fit, none is silenced.
 """
 
 from __future__ import annotations
@@ -48,6 +53,12 @@ sys.path.insert(0, str(HERE.parent))
 sys.path.insert(0, str(HERE))
 
 from _common import machine_info, md_table  # noqa: E402
+from _reliability import (  # noqa: E402
+    diagonal_axes,
+    draw_reliability,
+    reliability_bins,
+    worst_gap,
+)
 from _event_log_rows import _encoded, split_log  # noqa: E402
 from bench_roles import _seeds, flip_labels  # noqa: E402
 from external import file_seed, split_indices  # noqa: E402
@@ -62,17 +73,20 @@ from lfe.study import t_interval  # noqa: E402
 DATA = HERE.parent.parent / "shared" / "benchmarks-data"
 READINGS = {"learned": "learned", "epsilon": "likelihood"}
 METRICS = ("log_loss", "brier", "accuracy")
+#: One reliability figure per task family: file name -> the families it pools, a panel each.
+FIGURES = {"published_files": "published files", "roles_tasks": "roles tasks",
+           "event_logs": "event logs"}
 
 
 def _scores(clf, X_test, y_test):
-    """Each reading's scores on the test set: ``{reading: {metric: value}}``."""
+    """Each reading's scores and P(acceptable) on the test set: ``{reading: (scores, p1)}``."""
     out = {}
     for name, mode in READINGS.items():
         clf.set_params(label_noise=mode)  # read at prediction: one fit, both readings
         p1 = clf.predict_proba(X_test)[:, 1]
-        out[name] = dict(log_loss=log_loss(y_test, p1, labels=[0, 1]),
-                         brier=brier_score_loss(y_test, p1, pos_label=1),
-                         accuracy=accuracy_score(y_test, clf.predict(X_test)))
+        out[name] = (dict(log_loss=log_loss(y_test, p1, labels=[0, 1]),
+                          brier=brier_score_loss(y_test, p1, pos_label=1),
+                          accuracy=accuracy_score(y_test, clf.predict(X_test))), p1)
     return out
 
 
@@ -87,12 +101,18 @@ def _fit(X, y, seed):
                      warnings=" | ".join(kinds))
 
 
-def _rows(family, case, clf, facts, X_test, y_test):
-    return [dict(family=family, case=case, reading=name, **facts, **scores)
-            for name, scores in _scores(clf, X_test, np.asarray(y_test)).items()]
+def _rows(family, case, clf, facts, X_test, y_test, preds):
+    """The fit's lines of ``runs.csv``; its test predictions appended to ``preds``."""
+    y_test = np.asarray(y_test)
+    rows = []
+    for name, (scores, p1) in _scores(clf, X_test, y_test).items():
+        rows.append(dict(family=family, case=case, reading=name, **facts, **scores))
+        preds.append(pd.DataFrame(dict(family=family, case=case, reading=name, p=p1,
+                                       y=y_test)))
+    return rows
 
 
-def published_files(every, max_props, limit=None):
+def published_files(every, max_props, preds, limit=None):
     if not DATA.is_dir():
         print(f"skipped: {DATA} is absent", file=sys.stderr)
         return []
@@ -111,11 +131,11 @@ def published_files(every, max_props, limit=None):
         aug = NegationAugmenter().fit([X[i] for i in train])
         X_tr, X_te = aug.transform([X[i] for i in train]), aug.transform([X[i] for i in test])
         clf, facts = _fit(X_tr, y[train], seed)
-        rows += _rows("published files", str(rel), clf, facts, X_te, y[test])
+        rows += _rows("published files", str(rel), clf, facts, X_te, y[test], preds)
     return rows
 
 
-def roles_tasks(seeds, sizes=(20, 40), noises=(0.0, 0.1)):
+def roles_tasks(seeds, preds, sizes=(20, 40), noises=(0.0, 0.1)):
     rows = []
     for kind in ("errand", "pick_place"):
         for seed in seeds:
@@ -131,11 +151,11 @@ def roles_tasks(seeds, sizes=(20, 40), noises=(0.0, 0.1)):
                     clf, facts = _fit(train.traces, y, seed)
                     rows += _rows(f"roles tasks, {noise:.0%} flipped",
                                   f"{kind} seed {seed} n {size}", clf, facts, test.traces,
-                                  test.y)
+                                  test.y, preds)
     return rows
 
 
-def event_logs(seeds, n_activities=20, n_cases=500):
+def event_logs(seeds, preds, n_activities=20, n_cases=500):
     rows = []
     for rule in ("template", "declare"):
         for seed in seeds:
@@ -148,9 +168,9 @@ def event_logs(seeds, n_activities=20, n_cases=500):
             clf, facts = _fit(X_tr, log.labels.loc[train].to_numpy(), 0)
             case = f"{n_activities}x{n_cases} seed {seed}"
             rows += _rows(f"event logs, {rule} rule, clean test labels", case, clf, facts,
-                          X_te, log.clean_labels.loc[test].to_numpy())
+                          X_te, log.clean_labels.loc[test].to_numpy(), preds)
             rows += _rows(f"event logs, {rule} rule, observed test labels", case, clf, facts,
-                          X_te, log.labels.loc[test].to_numpy())
+                          X_te, log.labels.loc[test].to_numpy(), preds)
     return rows
 
 
@@ -162,7 +182,37 @@ def _ci(values):
     return f"{mean:.3f} [{low:.3f}, {high:.3f}]"
 
 
-def report(runs, command, seconds):
+def figures(bins, folder):
+    """One reliability diagram per task family (:data:`FIGURES`), a panel per family line."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    paths = []
+    for name, prefix in FIGURES.items():
+        families = [f for f in dict.fromkeys(bins["family"]) if f.startswith(prefix)]
+        if not families:
+            continue
+        fig, axes = plt.subplots(1, len(families), figsize=(max(4.6 * len(families), 5.5), 5.4),
+                                 squeeze=False, layout="constrained")
+        for ax, family in zip(axes[0], families):
+            diagonal_axes(ax, family[len(prefix):].lstrip(", ") or family, "label 1")
+            for i, (reading, ls) in enumerate((("learned", "-"), ("epsilon", "--"))):
+                part = bins[(bins["family"] == family) & (bins["reading"] == reading)]
+                draw_reliability(ax, part, f"C{i}", ls, label=f"{reading} "
+                                 f"(label_noise={READINGS[reading]!r})")
+        axes[0][0].legend(fontsize=7, loc="upper left")
+        fig.suptitle(f"{prefix}: reliability of BSI's P(label 1)\n(test demonstrations "
+                     "pooled; marker area: their share)", fontsize="medium")
+        folder.mkdir(parents=True, exist_ok=True)
+        paths.append(folder / f"reliability_{name}.png")
+        fig.savefig(paths[-1], dpi=100)
+        plt.close(fig)
+    return paths
+
+
+def report(runs, command, seconds, gaps=None):
     info = machine_info()
     lines = ["# The learned label noise against epsilon: the other benchmark families "
              "(issue 31)", "",
@@ -177,6 +227,7 @@ def report(runs, command, seconds):
              f"- Date: {info['date']}; run time {seconds:.0f} s wall, one process.",
              f"- Versions: python {info['python']}, numpy {info['numpy']}, scikit-learn "
              f"{info['scikit-learn']}, numba {info['numba']}.", ""]
+    gaps = {} if gaps is None else gaps
     table = []
     for family, group in runs.groupby("family", sort=False):
         a = group[group.reading == "learned"].set_index("case")
@@ -184,12 +235,20 @@ def report(runs, command, seconds):
         table.append([family, len(a)]
                      + [_ci(a[m]) for m in METRICS] + [_ci(b[m]) for m in METRICS]
                      + [_ci(a[m] - b[m]) for m in ("log_loss", "accuracy")]
-                     + [f"{a['fit_s'].median():.2f}", int(a["n_warnings"].sum())])
+                     + [f"{a['fit_s'].median():.2f}", int(a["n_warnings"].sum())]
+                     + [f"{gaps[(family, r)]:.3f}" if (family, r) in gaps else "-"
+                        for r in ("learned", "epsilon")])
     lines += [md_table(["family", "fits", "log loss, learned", "Brier, learned",
                         "accuracy, learned", "log loss, epsilon", "Brier, epsilon",
                         "accuracy, epsilon", "log loss, learned - epsilon",
-                        "accuracy, learned - epsilon", "median fit, s", "warnings"], table),
-              ""]
+                        "accuracy, learned - epsilon", "median fit, s", "warnings",
+                        "worst bin, learned", "worst bin, epsilon"], table),
+              "", "*Worst bin*: the largest |observed - predicted| of the reliability "
+              "diagram's bins (width 0.1) holding at least 5 % of the family's pooled test "
+              "demonstrations.", ""]
+    lines += [f"![reliability, {prefix}](figures/reliability_{name}.png)"
+              for name, prefix in FIGURES.items()
+              if any(f.startswith(prefix) for f in runs["family"])] + [""]
     warned = runs[(runs.n_warnings > 0) & (runs.reading == "learned")]
     if len(warned):
         lines += ["Fits that warned (the warnings' first words):", ""]
@@ -208,25 +267,35 @@ def main(argv=None):
     parser.add_argument("--seeds", type=int, default=5, help="roles tasks and logs")
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--out", default=None, help="folder (default: benchmarks/)")
+    parser.add_argument("--figures-only", action="store_true",
+                        help="redraw the figures from the recorded label_noise/reliability.csv "
+                             "(no fit)")
     args = parser.parse_args(argv)
     out = Path(args.out) if args.out else HERE
+    if args.figures_only:
+        figures(pd.read_csv(out / "label_noise" / "reliability.csv"), out / "figures")
+        return
     start = time.perf_counter()
     limit = 6 if args.quick else None
     seeds = range(1 if args.quick else args.seeds)
-    runs = []
+    runs, preds = [], []
     for name, run in (("published files", lambda: published_files(args.every, args.max_props,
-                                                                    limit)),
-                      ("roles tasks", lambda: roles_tasks(seeds)),
-                      ("event logs", lambda: event_logs(seeds))):
+                                                                    preds, limit)),
+                      ("roles tasks", lambda: roles_tasks(seeds, preds)),
+                      ("event logs", lambda: event_logs(seeds, preds))):
         runs += run()
         print(f"{name}: {time.perf_counter() - start:.0f} s", file=sys.stderr)
     runs = pd.DataFrame(runs)
+    bins = reliability_bins(pd.concat(preds, ignore_index=True), ["family", "reading"])
     folder = out / "label_noise"
     folder.mkdir(parents=True, exist_ok=True)
     runs.to_csv(folder / "runs.csv", index=False)
+    bins.to_csv(folder / "reliability.csv", index=False)
+    figures(bins, out / "figures")
     command = ("python benchmarks/bench_label_noise.py " + " ".join(
         argv if argv is not None else sys.argv[1:])).strip()
-    text = report(runs, command, time.perf_counter() - start)
+    text = report(runs, command, time.perf_counter() - start,
+                  worst_gap(bins, ["family", "reading"]).to_dict())
     (out / "RESULTS_label_noise.md").write_text(text)
     print(text)
 

@@ -33,7 +33,9 @@ Run from the repository root (about 15 minutes on one core)::
 
 Writes ``benchmarks/RESULTS_predictive.md`` and ``benchmarks/predictive/`` (``runs.csv``: every
 row, repeat, noise, size and objective; ``summary.csv``: the table; ``reliability.csv``: the
-bins; ``reliability.png``: the diagram). Every warning is counted per fit, none is silenced.
+bins; ``reliability.png``: the diagram, also ``benchmarks/figures/reliability_lfe_missions.png``,
+the LFE family's). ``--figures-only`` redraws both from the recorded ``reliability.csv``,
+without a fit. Every warning is counted per fit, none is silenced.
 """
 
 from __future__ import annotations
@@ -52,6 +54,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from baselines.practitioner import TemporalLogisticRegression, temporal_features  # noqa: E402
 from benchmarks._common import machine_info, md_table  # noqa: E402
+from benchmarks._reliability import (  # noqa: E402
+    N_BINS,
+    diagonal_axes,
+    draw_reliability,
+    reliability_bins,
+)
+from benchmarks._reliability import worst_gap as _worst_gap  # noqa: E402
 from bsi_sklearn import BSIClassifier  # noqa: E402
 from lfe.annotate import MISSION_OBJECTIVES  # noqa: E402
 from lfe.study import (  # noqa: E402
@@ -78,7 +87,8 @@ REFERENCE = "Logistic regression (reference)"
 #: The rows, in the table's order.
 ROWS = tuple(f"{s}, {r}" for s, (_, readings) in SETTINGS.items() for r in readings) \
     + (REFERENCE,)
-N_BINS = 10
+#: This task family's figure in ``figures/``, the same as ``predictive/reliability.png``.
+FIGURE = "reliability_lfe_missions.png"
 
 
 def _scores(y, p1, log_p, pred):
@@ -226,26 +236,12 @@ def paired(runs):
 
 def reliability(preds, n_bins=N_BINS):
     """Equal-width bins of P(acceptable), per row, noise rate and size, every test mission
-    pooled.
-
-    Returns one line per non-empty bin: its share of the missions, the mean predicted
-    probability and the observed fraction acceptable.
-    """
-    out = []
-    for (row, noise, n_train), group in preds.groupby(["row"] + KEYS, sort=False):
-        bins = np.minimum((group["p"].to_numpy() * n_bins).astype(int), n_bins - 1)
-        for b in np.unique(bins):
-            inside = group[bins == b]
-            out.append(dict(row=row, noise=noise, n_train=n_train, bin=int(b), n=len(inside),
-                            share=len(inside) / len(group), predicted=inside["p"].mean(),
-                            observed=inside["y"].mean()))
-    return pd.DataFrame(out)
+    pooled (:func:`benchmarks._reliability.reliability_bins`)."""
+    return reliability_bins(preds, ["row"] + KEYS, n_bins)
 
 
 def worst_gap(bins, min_share=0.05):
-    big = bins[bins["share"] >= min_share]
-    gap = (big["observed"] - big["predicted"]).abs()
-    return big.assign(gap=gap).groupby(["row"] + KEYS, sort=False)["gap"].max()
+    return _worst_gap(bins, ["row"] + KEYS, min_share)
 
 
 #: The rows drawn in the reliability figure (the epsilon reading lies on the vote).
@@ -253,7 +249,8 @@ FIGURE_ROWS = ("CB (default), satisfaction", "CB (default), predictive, learned"
                "CI, flip_prior=(1, 9), predictive", REFERENCE)
 
 
-def figure(bins, path):
+def figure(bins, *paths):
+    """The reliability diagram, a panel per noise rate and size, saved to every path."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -267,24 +264,18 @@ def figure(bins, path):
               for i, row in enumerate(FIGURE_ROWS)}
     for i, noise in enumerate(noises):
         for ax, n_train in zip(axes[i], sizes):
-            ax.plot([0, 1], [0, 1], color="grey", lw=0.8)
+            diagonal_axes(ax, f"{noise:.0%} noise, {n_train} training missions")
             for row in FIGURE_ROWS:
                 part = bins[(bins["row"] == row) & (bins["n_train"] == n_train)
                             & (bins["noise"] == noise)]
-                color, ls = styles[row]
-                ax.plot(part["predicted"], part["observed"], ls, color=color, lw=1.2,
-                        label=row)
-                ax.scatter(part["predicted"], part["observed"], s=400 * part["share"],
-                           color=color, alpha=0.6)
-            ax.set(title=f"{noise:.0%} noise, {n_train} training missions",
-                   xlabel="predicted P(acceptable)", ylabel="observed fraction acceptable",
-                   xlim=(-0.02, 1.02), ylim=(-0.02, 1.02))
-            ax.set_aspect("equal")
+                draw_reliability(ax, part, *styles[row], label=row)
     axes[0][0].legend(fontsize=7, loc="upper left")
     fig.suptitle("LFE missions, held out: reliability of P(acceptable) "
                  "(marker area: share of the missions)")
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    for path in paths:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, dpi=100)
     plt.close(fig)
 
 
@@ -344,6 +335,8 @@ def report(runs, table, diffs, gaps, config, seconds, command):
               md_table(["difference", "noise", "missions", "log loss", "Brier", "accuracy"],
                        rows), "",
               "![reliability](predictive/reliability.png)", "",
+              "The same diagram is `figures/reliability_lfe_missions.png`, beside the other "
+              "task families' (`bench_label_noise.py`).", "",
               "## How the BSI fits were made", "",
               md_table(["setting", "noise", "missions", "fits", "exact",
                         "median specifications", "largest dropped mass", "mean flip_rate_",
@@ -383,8 +376,15 @@ def main(argv=None):
                         help="study seed (the repository's study runs use 0)")
     parser.add_argument("--quick", action="store_true", help="2 repeats")
     parser.add_argument("--out", default=None, help="folder (default: benchmarks/)")
+    parser.add_argument("--figures-only", action="store_true",
+                        help="redraw the figures from the recorded predictive/reliability.csv "
+                             "(no fit)")
     args = parser.parse_args(argv)
     out = Path(args.out) if args.out else Path(__file__).resolve().parent
+    if args.figures_only:
+        figure(pd.read_csv(out / "predictive" / "reliability.csv"),
+               out / "predictive" / "reliability.png", out / "figures" / FIGURE)
+        return 0
     if args.quick:
         args.repeats = 2
     config = dict(repeats=args.repeats, sizes=[int(s) for s in args.sizes.split(",")],
@@ -406,7 +406,7 @@ def main(argv=None):
     runs.to_csv(folder / "runs.csv", index=False)
     table.to_csv(folder / "summary.csv", index=False)
     bins.to_csv(folder / "reliability.csv", index=False)
-    figure(bins, folder / "reliability.png")
+    figure(bins, folder / "reliability.png", out / "figures" / FIGURE)
     command = ("python benchmarks/bench_predictive.py " + " ".join(
         argv if argv is not None else sys.argv[1:])).strip()
     text = report(runs, table, diffs, gaps, config, time.perf_counter() - start, command)

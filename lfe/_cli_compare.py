@@ -78,8 +78,9 @@ def run(args):
 
 
 def _console_table(result):
-    """The F1 table, the MAP specifications and the times, as the command prints them."""
+    """The F1 table, the log loss and Brier, the MAP specifications and the times, printed."""
     from lfe._compare_result import _fmt
+    from lfe._probability_scores import format_score
 
     buf = io.StringIO()
     c = result.config
@@ -100,6 +101,13 @@ def _console_table(result):
                     f"±{t.loc[name, mo + ' fold std']:.2f})")
             line += f"{ours:>22}{_fmt(t.loc[name, mo + ' paper']):>10}"
         print(line, file=buf)
+    print("\nLog loss / Brier of the pooled out-of-fold probabilities (n/a: the row gives "
+          "none)", file=buf)
+    print(f"{'classifier':<19}" + "".join(f"{mo:>18}" for mo in objectives), file=buf)
+    for name in t.index:
+        pairs = [f"{format_score(t.loc[name, mo + ' log loss'])} / "
+                 f"{format_score(t.loc[name, mo + ' Brier'])}" for mo in objectives]
+        print(f"{name:<19}" + "".join(f"{pair:>18}" for pair in pairs), file=buf)
     print("\nMAP specification fitted on every scenario (weighted F1 on them; paper: Prior 2)",
           file=buf)
     for _, row in result.map_f1.iterrows():

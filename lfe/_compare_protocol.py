@@ -32,6 +32,7 @@ from bsi_sklearn.param_validation import (
 )
 from lfe._compare_result import ComparisonResult
 from lfe._compare_rows import BSI_ROWS, MAJORITY, PAPER_MAP_F1, ROWS, WITHOUT_ROLES
+from lfe._probability_scores import positive_probabilities, probability_scores
 from lfe._settings import COMPARE_QUICK
 from lfe.annotate import MISSION_OBJECTIVES
 from lfe.dataset import LFEDataset, load_lfe_dataset, make_lfe_dataset
@@ -122,7 +123,10 @@ def _run_task(kind, name, fold, data, train, test, params, seed):
     """Fit one classifier on ``train`` and predict ``test``; return predictions and times.
 
     ``kind`` is ``"baseline"`` (a network), ``"practitioner"``, ``"bsi"``, ``"majority"`` or
-    ``"map"`` (a BSI fit on every scenario, scored with its MAP specification).
+    ``"map"`` (a BSI fit on every scenario, scored with its MAP specification). ``"proba"``
+    is P(label 1) per test scenario and objective (:func:`positive_probabilities`; read after
+    the timed prediction, so the times are the predictions' alone), ``None`` for a model
+    without probabilities, ``nan`` in the column of an objective BSI could not fit.
     """
     y = data["labels"]
 
@@ -137,7 +141,9 @@ def _run_task(kind, name, fold, data, train, test, params, seed):
         fit_s = time.perf_counter() - start
         start = time.perf_counter()
         pred = clf.predict(sub(X, test))
-        return {"pred": pred, "fit_s": fit_s, "predict_s": time.perf_counter() - start}
+        predict_s = time.perf_counter() - start
+        return {"pred": pred, "fit_s": fit_s, "predict_s": predict_s,
+                "proba": positive_probabilities(clf, sub(X, test))}
     if kind == "practitioner":
         clf = make_practitioner_baseline(name, random_state=seed)
         start = time.perf_counter()
@@ -145,16 +151,22 @@ def _run_task(kind, name, fold, data, train, test, params, seed):
         fit_s = time.perf_counter() - start
         start = time.perf_counter()
         pred = clf.predict(sub(data["props"], test))
-        return {"pred": pred, "fit_s": fit_s, "predict_s": time.perf_counter() - start}
+        predict_s = time.perf_counter() - start
+        return {"pred": pred, "fit_s": fit_s, "predict_s": predict_s,
+                "proba": positive_probabilities(clf, sub(data["props"], test))}
     if kind == "majority":
         start = time.perf_counter()
-        clf = DummyClassifier(strategy="most_frequent").fit(np.zeros((len(train), 1)), y[train])
+        # "prior" predicts the most frequent outcome, as "most_frequent" does, and gives the
+        # training folds' base rate as its probability (not a one-hot certainty)
+        clf = DummyClassifier(strategy="prior").fit(np.zeros((len(train), 1)), y[train])
         fit_s = time.perf_counter() - start
         start = time.perf_counter()
         pred = clf.predict(np.zeros((len(test), 1)))
-        return {"pred": pred, "fit_s": fit_s, "predict_s": time.perf_counter() - start}
+        predict_s = time.perf_counter() - start
+        return {"pred": pred, "fit_s": fit_s, "predict_s": predict_s,
+                "proba": positive_probabilities(clf, np.zeros((len(test), 1)))}
     X_train, X_test = sub(data["props"], train), sub(data["props"], test)
-    preds, fit_s, predict_s, extra = [], 0.0, 0.0, []
+    preds, fit_s, predict_s, extra, proba = [], 0.0, 0.0, [], []
     for k in range(y.shape[1]):
         start = time.perf_counter()
         clf = _fit_bsi(name, X_train, y[train, k], data["roles"], params, seed)
@@ -169,12 +181,15 @@ def _run_task(kind, name, fold, data, train, test, params, seed):
             pred = clf.predict(X_test)
         predict_s += time.perf_counter() - start
         preds.append(pred)
+        # the MAP specification's verdicts and a fit that could not run have no probability
+        proba.append(np.full(len(test), np.nan) if clf is None or kind == "map"
+                     else clf.predict_proba(X_test)[:, 1])
         extra.append({
             "map_specification": "" if clf is None else clf.map_specification_.to_ltl(),
             "inference": "none" if clf is None else clf.inference_,
         })
     return {"pred": np.column_stack(preds), "fit_s": fit_s, "predict_s": predict_s,
-            "extra": extra}
+            "extra": extra, "proba": None if kind == "map" else np.column_stack(proba)}
 
 
 _COMPARE_CONSTRAINTS = {
@@ -201,8 +216,12 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     (:meth:`LFEPropositionExtractor.flight_phase_features`) and learn the commander's phase
     labels (:meth:`LFEPropositionExtractor.phase_labels`) as a second task. BSI fits one
     :class:`~bsi_sklearn.BSIClassifier` per objective (CB likelihood, the paper's proposition
-    roles, the exact posterior) and predicts by posterior voting. A majority-class reference
-    row is added. The MAP-formula F1 comes from BSI fitted on every scenario, its MAP
+    roles, the exact posterior) and predicts with its ``predict``. A majority-class reference
+    row is added (its probability: the training folds' base rate). Beside the F1, every row
+    whose model gives probabilities (BSI's ``predict_proba``, the networks', the logistic
+    regression's, the majority class's) is scored by the log loss and the Brier score of its
+    pooled out-of-fold P(label 1); the others (MiniRocket's ridge classifier; BSI on a fold
+    without an acceptable scenario) get ``nan``, "n/a" in the tables. The MAP-formula F1 comes from BSI fitted on every scenario, its MAP
     specification's verdicts scored against the labels. On the same folds: BSI with Prior 2
     and the CI likelihood, and the practitioner's rows (:mod:`baselines.practitioner`): a
     logistic regression on five temporal features per proposition, its regularisation chosen
@@ -237,8 +256,9 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     Returns
     -------
     result : ComparisonResult
-        The tables (``f1``, ``table``, ``map_f1``, ``times``, ``f1_folds``), the
-        out-of-fold predictions and the folds; ``save(out)`` writes the files.
+        The tables (``f1``, ``log_loss``, ``brier``, ``table``, ``map_f1``, ``times``,
+        ``f1_folds``), the out-of-fold predictions and probabilities and the folds;
+        ``save(out)`` writes the files.
 
     Raises
     ------
@@ -323,6 +343,7 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
 
     names = list(ROWS)
     pred = {name: np.full(labels.shape, -1, dtype=np.int64) for name in names}
+    proba = {name: np.full(labels.shape, np.nan) for name in names}  # nan: none given
     time_rows, fold_rows, map_rows = [], [], []
     for (kind, name, f, _, test, _, _), out in zip(tasks, outputs):
         if kind == "map":
@@ -336,6 +357,8 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
                 })
             continue
         pred[name][test] = out["pred"]
+        if out["proba"] is not None:
+            proba[name][test] = out["proba"]
         time_rows.append({"classifier": name, "fold": f, "fit_s": out["fit_s"],
                           "predict_s": out["predict_s"]})
         for k, mo in enumerate(objectives):
@@ -348,6 +371,13 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
           for k, mo in enumerate(objectives)] for name in names],
         index=pd.Index(names, name="classifier"), columns=objectives,
     )
+    # pooled out-of-fold probabilities, as the F1; nan (n/a) unless every fold gave them
+    scores = {name: [probability_scores(labels[mo].to_numpy(), proba[name][:, k])
+                     for k, mo in enumerate(objectives)] for name in names}
+    log_loss, brier = (
+        pd.DataFrame([[s[metric] for s in scores[name]] for name in names],
+                     index=pd.Index(names, name="classifier"), columns=objectives)
+        for metric in ("log_loss", "brier"))
     times = (pd.DataFrame(time_rows).groupby("classifier", sort=False)
              .agg(fit_s_mean=("fit_s", "mean"), fit_s_std=("fit_s", lambda s: s.std(ddof=0)),
                   predict_s_mean=("predict_s", "mean"), fit_predict_s_total=("fit_s", "sum")))
@@ -364,6 +394,10 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
                                            names=["classifier", "objective"]),
     )
     predictions[("fold", "")] = fold_of
+    probabilities = pd.DataFrame(
+        np.column_stack([proba[name] for name in names]), index=predictions.index,
+        columns=predictions.columns[:-1])
+    probabilities[("fold", "")] = fold_of
     config = {
         "n_scenarios": len(dataset), "n_splits": n_splits, "seed": seed, "n_jobs": n_jobs,
         "quick": bool(quick), "split": split,
@@ -372,4 +406,5 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
         "dataset": dict(dataset.info),
     }
     return ComparisonResult(f1, pd.DataFrame(fold_rows), pd.DataFrame(map_rows), times,
-                            predictions, folds, config, time.perf_counter() - start_run)
+                            predictions, folds, config, time.perf_counter() - start_run,
+                            log_loss=log_loss, brier=brier, probabilities=probabilities)

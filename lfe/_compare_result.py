@@ -10,6 +10,7 @@ import pandas as pd
 
 from bsi_sklearn.experiments.tables import markdown_table
 from lfe._compare_rows import MAJORITY, PAPER_F1
+from lfe._probability_scores import NOT_AVAILABLE, format_score
 
 __all__ = ["ComparisonResult"]
 
@@ -23,13 +24,18 @@ class ComparisonResult:
         Weighted F1 per classifier (rows, :data:`lfe.compare.ROWS`) and
         objective (columns), on the out-of-fold predictions of every scenario pooled, as the
         paper computes it ("predictions ... assimilated at the end").
+    log_loss, brier : DataFrame
+        Log loss and Brier score, laid out as :attr:`f1`, of the pooled out-of-fold
+        P(label 1) (:attr:`probabilities`); ``nan`` for a row without probabilities, or with
+        a fold without them.
     f1_folds : DataFrame
         Long format: ``classifier``, ``objective``, ``fold``, ``f1`` (weighted F1 on each
         test fold alone).
     table : DataFrame
         One row per classifier: per objective ``MO<k>`` (pooled, as :attr:`f1`),
         ``MO<k> fold mean``, ``MO<k> fold std`` (population std over folds) and
-        ``MO<k> paper`` (:data:`lfe.compare.PAPER_F1`, empty for the reference row).
+        ``MO<k> paper`` (:data:`lfe.compare.PAPER_F1`, empty for the reference row); then
+        ``MO<k> log loss`` and ``MO<k> Brier`` (:attr:`log_loss`, :attr:`brier`).
     map_f1 : DataFrame
         One row per BSI prior and objective: the MAP specification of a fit on every scenario,
         its weighted F1 on them, the paper's value (Prior 2 only) and the inference used.
@@ -39,6 +45,9 @@ class ComparisonResult:
     predictions : DataFrame
         Out-of-fold predictions, index ``scenario_id``, columns ``(classifier, objective)``;
         ``fold`` gives each scenario's test fold.
+    probabilities : DataFrame
+        Out-of-fold P(label 1), laid out as :attr:`predictions`; ``nan`` where the row's
+        model gave none.
     folds : list of tuple of ndarray
         ``(train, test)`` positions of every fold.
     config : dict
@@ -47,8 +56,12 @@ class ComparisonResult:
         Wall-clock seconds of the whole run.
     """
 
-    def __init__(self, f1, f1_folds, map_f1, times, predictions, folds, config, elapsed):
+    def __init__(self, f1, f1_folds, map_f1, times, predictions, folds, config, elapsed, *,
+                 log_loss, brier, probabilities):
         self.f1 = f1
+        self.log_loss = log_loss
+        self.brier = brier
+        self.probabilities = probabilities
         self.f1_folds = f1_folds
         self.map_f1 = map_f1
         self.times = times
@@ -56,7 +69,7 @@ class ComparisonResult:
         self.folds = folds
         self.config = config
         self.elapsed = elapsed
-        self.table = _f1_table(f1, f1_folds)
+        self.table = _f1_table(f1, f1_folds, log_loss, brier)
 
     def __repr__(self):
         return (f"ComparisonResult({self.config['n_scenarios']} scenarios, "
@@ -64,7 +77,8 @@ class ComparisonResult:
 
     # ------------------------------------------------------------------ renderings
     def to_markdown(self):
-        """The F1 table (ours beside the paper's), the MAP-formula F1 and the times, Markdown.
+        """The F1 table (ours beside the paper's), the log loss and Brier table, the MAP-formula
+        F1 and the times, Markdown.
 
         Returns
         -------
@@ -75,6 +89,7 @@ class ComparisonResult:
         for mo in objectives:
             main[f"{mo} ours"] = [f"{v:.3f}" for v in self.table[mo]]
             main[f"{mo} paper"] = [_fmt(v) for v in self.table[f"{mo} paper"]]
+        calibration = self._calibration_frame()
         folds = pd.DataFrame({"classifier": self.table.index})
         for mo in objectives:
             folds[mo] = [f"{m:.3f} ± {s:.3f}" for m, s in
@@ -99,6 +114,16 @@ class ComparisonResult:
             "",
             markdown_table(main),
             "",
+            "### Log loss and Brier score (pooled out-of-fold probabilities; lower is better)",
+            "",
+            "scikit-learn's `log_loss` (labels 0 and 1, its own clipping) and "
+            "`brier_score_loss` of P(label 1) on every scenario's out-of-fold prediction, for "
+            f"the rows whose model gives probabilities; {NOT_AVAILABLE}: the row gives none "
+            "(MiniRocket's ridge classifier, or a fold where BSI had no acceptable scenario "
+            "to fit).",
+            "",
+            markdown_table(calibration),
+            "",
             "### Per-fold weighted F1 (mean ± std over the test folds)",
             "",
             markdown_table(folds),
@@ -117,7 +142,8 @@ class ComparisonResult:
         ]) + "\n"
 
     def to_latex(self):
-        """The F1 table as a LaTeX ``tabular`` (booktabs), ours beside the paper's.
+        """The F1 table as a LaTeX ``tabular`` (booktabs), ours beside the paper's; then the
+        log loss and Brier score as a second ``tabular``.
 
         Returns
         -------
@@ -129,12 +155,7 @@ class ComparisonResult:
         lines = [
             *_quick_notice(self.config, "% "),
             "% Weighted F1 per mission objective; 'paper': Shah et al. (2019), for reference.",
-            r"\begin{tabular}{l" + "rr" * len(objectives) + "}",
-            r"\toprule",
-            " & ".join([""] + [rf"\multicolumn{{2}}{{c}}{{\textbf{{{mo}}}}}"
-                               for mo in objectives]) + r" \\",
-            " & ".join([r"\textbf{Classifier}"] + ["ours & paper"] * len(objectives)) + r" \\",
-            r"\midrule",
+            *_latex_head(objectives, "ours & paper"),
         ]
         for name, row in self.table.iterrows():
             cells = [_latex_escape(name)]
@@ -144,8 +165,41 @@ class ComparisonResult:
                     ours = rf"\textbf{{{ours}}}"
                 cells += [ours, _fmt(row[f"{mo} paper"])]
             lines.append(" & ".join(cells) + r" \\")
-        lines += [r"\bottomrule", r"\end{tabular}"]
+        lines += [r"\bottomrule", r"\end{tabular}", *self._calibration_latex()]
         return "\n".join(lines) + "\n"
+
+    def _calibration_frame(self):
+        """Per classifier, ``MO<k> log loss`` and ``MO<k> Brier`` as text ("n/a": none)."""
+        frame = pd.DataFrame({"classifier": self.table.index})
+        for mo in self.f1.columns:
+            for metric in ("log loss", "Brier"):
+                frame[f"{mo} {metric}"] = [format_score(v) for v in
+                                           self.table[f"{mo} {metric}"]]
+        return frame
+
+    def _calibration_latex(self):
+        """The second ``tabular`` of ``f1_table.tex``: log loss and Brier, the lowest bold."""
+        objectives = list(self.f1.columns)
+        fitted = [name for name in self.table.index if name != MAJORITY]
+        lines = [
+            "",
+            "% Log loss and Brier score of the pooled out-of-fold probabilities (lower is "
+            f"better); {NOT_AVAILABLE}: the row gives no probabilities.",
+            *_latex_head(objectives, "log loss & Brier"),
+        ]
+        best = {(mo, metric): self.table.loc[fitted, f"{mo} {metric}"].min()
+                for mo in objectives for metric in ("log loss", "Brier")}
+        for name, row in self.table.iterrows():
+            cells = [_latex_escape(name)]
+            for mo in objectives:
+                for metric in ("log loss", "Brier"):
+                    value = row[f"{mo} {metric}"]
+                    text = format_score(value)
+                    if name != MAJORITY and np.isclose(value, best[(mo, metric)]):
+                        text = rf"\textbf{{{text}}}"
+                    cells.append(text)
+            lines.append(" & ".join(cells) + r" \\")
+        return lines + [r"\bottomrule", r"\end{tabular}"]
 
     def plot(self, ax=None):
         """Grouped bar chart: objectives on x, one bar per classifier, the paper's values marked.
@@ -193,7 +247,11 @@ class ComparisonResult:
         return fig
 
     def save(self, out):
-        """Write ``f1_table.{csv,md,tex}``, ``f1_bars.png``, ``times.csv`` and ``map_f1.csv``.
+        """Write ``f1_table.{csv,md,tex}``, ``f1_bars.png``, ``times.csv``, ``map_f1.csv`` and
+        ``probabilities.csv``.
+
+        ``f1_table.*`` hold the log loss and Brier beside the F1; ``probabilities.csv`` is
+        :attr:`probabilities` (empty cells: the row gave none), from which they are computed.
 
         Parameters
         ----------
@@ -223,6 +281,7 @@ class ComparisonResult:
             "f1_png": out / "f1_bars.png",
             "times": out / "times.csv",
             "map_f1": out / "map_f1.csv",
+            "probabilities": out / "probabilities.csv",
         }
         fig = self.plot()
         png = io.BytesIO()
@@ -239,6 +298,8 @@ class ComparisonResult:
             paths["f1_png"]: png.getvalue(),
             paths["times"]: self.times.to_csv(float_format="%.4f"),
             paths["map_f1"]: self.map_f1.to_csv(index=False, float_format="%.6g"),
+            # every digit: the scores recomputed from this file are the tables'
+            paths["probabilities"]: self.probabilities.to_csv(float_format="%.17g"),
         })
         return paths
 
@@ -269,11 +330,23 @@ def _fmt(value):
         else f"{value:.3f}"
 
 
+def _latex_head(objectives, pair):
+    """A ``tabular``'s opening: two columns per objective, named ``pair`` (``"a & b"``)."""
+    return [
+        r"\begin{tabular}{l" + "rr" * len(objectives) + "}",
+        r"\toprule",
+        " & ".join([""] + [rf"\multicolumn{{2}}{{c}}{{\textbf{{{mo}}}}}"
+                           for mo in objectives]) + r" \\",
+        " & ".join([r"\textbf{Classifier}"] + [pair] * len(objectives)) + r" \\",
+        r"\midrule",
+    ]
+
+
 def _latex_escape(text):
     return str(text).replace("&", r"\&").replace("%", r"\%").replace("_", r"\_")
 
 
-def _f1_table(f1, f1_folds):
+def _f1_table(f1, f1_folds, log_loss, brier):
     rows = {}
     stats = f1_folds.groupby(["classifier", "objective"], sort=False)["f1"]
     mean, std = stats.mean(), stats.std(ddof=0)
@@ -284,6 +357,9 @@ def _f1_table(f1, f1_folds):
             row[f"{mo} fold mean"] = mean[(name, mo)]
             row[f"{mo} fold std"] = std[(name, mo)]
             row[f"{mo} paper"] = PAPER_F1.loc[name, mo] if name in PAPER_F1.index else np.nan
+        for mo in f1.columns:  # after every F1 column: those stay as they were
+            row[f"{mo} log loss"] = log_loss.loc[name, mo]
+            row[f"{mo} Brier"] = brier.loc[name, mo]
         rows[name] = row
     table = pd.DataFrame.from_dict(rows, orient="index")
     table.index.name = "classifier"

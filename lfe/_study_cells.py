@@ -30,6 +30,7 @@ from lfe._compare_protocol import (  # the comparison's scorer and fit of a BSI 
     _weighted_f1,
 )
 from lfe._compare_rows import BSI_ROWS as COMPARE_BSI_ROWS
+from lfe._probability_scores import positive_probabilities, probability_scores
 from lfe.annotate import MISSION_OBJECTIVES, annotate_scenarios
 from lfe.dataset import make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
@@ -303,8 +304,11 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
     rows : list of dict
         One per row (:data:`ROWS`) and objective: ``classifier``, ``objective``, ``f1``,
         ``accuracy``, ``warnings`` (how many warnings fitting and scoring that row raised in
-        this cell), ``fit_s`` and ``detail`` (the chosen hyperparameters, the networks' chosen
-        epochs).
+        this cell), ``fit_s``, ``detail`` (the chosen hyperparameters, the networks' chosen
+        epochs), ``log_loss`` and ``brier`` (of P(label 1) on the test missions, for the rows
+        whose model gives probabilities: BSI, the networks, the logistic regression, the
+        majority class's base rate; ``None`` for MiniRocket, the noise-free rule and a BSI
+        fit that could not run, no training mission being acceptable).
     warnings : list of dict
         ``classifier, category, message, count`` of every warning raised (see
         :class:`_WarningLog`).
@@ -325,7 +329,7 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
     def sub(seqs, idx):
         return [seqs[i] for i in idx]
 
-    preds, fit_s, detail = {}, {}, {}
+    preds, fit_s, detail, probas = {}, {}, {}, {}
     coupled = None  # the coupled networks' inputs, built once for both
     for name in NETWORKS:
         start = time.perf_counter()
@@ -339,6 +343,7 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
             X = coupled if clf.coupled else props
             clf.fit(sub(X, train), y[train], phases=sub(data["phases"][noise], train))
             preds[name] = clf.predict(sub(X, test))
+            probas[name] = positive_probabilities(clf, sub(X, test))
         fit_s[name] = time.perf_counter() - start
         detail[name] = f"epochs={clf.refit_epochs_ or clf.best_epoch_}"
     X_train, X_test = sub(props, train), sub(props, test)
@@ -348,13 +353,14 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
             clf = make_practitioner_baseline(name, random_state=model_seed).fit(X_train,
                                                                                 y[train])
             preds[name] = clf.predict(X_test)
+            probas[name] = positive_probabilities(clf, X_test)
         fit_s[name] = time.perf_counter() - start
         detail[name] = (" | ".join(f"C={c:.3g}" if c is not None else "constant"
                                    for c in clf.chosen_C_) if hasattr(clf, "chosen_C_")
                         else "")
     for name in (*BSI_ROWS, BSI_CV):
         start = time.perf_counter()
-        columns, chosen = [], []
+        columns, chosen, proba = [], [], []
         with log.recording(name):
             for k in range(len(objectives)):
                 if name == BSI_CV:
@@ -366,23 +372,35 @@ def run_cell(data, *, noise, propositions, n_train, train, model_seed, settings)
                                    model_seed)
                 columns.append(np.zeros(len(test), dtype=y.dtype) if clf is None
                                else clf.predict(X_test))
+                proba.append(np.full(len(test), np.nan) if clf is None
+                             else clf.predict_proba(X_test)[:, 1])
         preds[name] = np.column_stack(columns)
+        probas[name] = np.column_stack(proba)
         fit_s[name] = time.perf_counter() - start
         detail[name] = " | ".join(chosen)
-    majority = DummyClassifier(strategy="most_frequent")
-    preds[MAJORITY] = np.column_stack([
-        majority.fit(np.zeros((len(train), 1)), y[train, k]).predict(np.zeros((len(test), 1)))
-        for k in range(len(objectives))])
+    # "prior" predicts the most frequent outcome, as "most_frequent" does, and gives the
+    # training set's base rate as its probability (not a one-hot certainty)
+    majority = [DummyClassifier(strategy="prior").fit(np.zeros((len(train), 1)), y[train, k])
+                for k in range(len(objectives))]
+    blank = np.zeros((len(test), 1))
+    preds[MAJORITY] = np.column_stack([clf.predict(blank) for clf in majority])
+    probas[MAJORITY] = np.column_stack([positive_probabilities(clf, blank)[:, 0]
+                                        for clf in majority])
     preds[CEILING] = data["clean"][test]
     rows = []
     for name in ROWS:
         for k, mo in enumerate(objectives):
             truth, pred = y[test, k], np.asarray(preds[name])[:, k]
+            p1 = None if probas.get(name) is None else probas[name][:, k]
+            scores = probability_scores(truth, p1)
             rows.append({"classifier": name, "objective": mo,
                          "f1": _weighted_f1(truth, pred),
                          "accuracy": float(np.mean(truth == pred)),
                          "warnings": log.total(name),
-                         "fit_s": fit_s.get(name, 0.0), "detail": detail.get(name, "")})
+                         "fit_s": fit_s.get(name, 0.0), "detail": detail.get(name, ""),
+                         # None, not NaN: the cell files stay standard JSON
+                         **{metric: None if np.isnan(value) else value
+                            for metric, value in scores.items()}})
     return rows, log.records()
 
 

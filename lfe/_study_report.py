@@ -6,6 +6,7 @@ import numpy as np
 import pandas as pd
 
 from bsi_sklearn.experiments.tables import markdown_table
+from lfe._probability_scores import NOT_AVAILABLE
 from lfe._study_cells import (
     BSI_CV,
     BSI_ROWS,
@@ -88,6 +89,8 @@ def plot_learning_curves(table, objective, metric="f1"):
 
 
 def _fmt_ci(mean, low, high):
+    if np.isnan(mean):  # a BSI row without the score in some repeat
+        return NOT_AVAILABLE
     if np.isnan(low):
         return f"{mean:+.3f} (one repeat: no interval)"
     return f"{mean:+.3f} [{low:+.3f}, {high:+.3f}]"
@@ -105,7 +108,8 @@ def _protocol(c):
         f"{', '.join(f'{n:g}' for n in c['noise'])} (`make_lfe_dataset`'s default is 0.04); "
         "phase times carry 10 s of Gaussian error. The test labels carry the same noise.",
         "- Score: weighted F1 over both outcomes of each objective on the test set (and "
-        "accuracy, in study.csv).",
+        "accuracy, in study.csv); for the rows whose model gives probabilities, the log loss "
+        "and Brier score of P(label 1) on the same test set.",
         "- Intervals: 95 % Student-t intervals over the repeats (independent datasets), "
         "`mean ± t(0.975, n-1) sd / sqrt(n)`. Paired differences: BSI minus the best network "
         "(highest mean F1 of the four at that size, noise and set) and BSI minus the best "
@@ -142,22 +146,23 @@ def _protocol(c):
     ]
 
 
-def _headline(paired):
+def _headline(paired, score="weighted F1", sign=1):
+    """Which paired differences hold; ``sign=-1`` for a loss (BSI better below 0)."""
     lines = ["## Is BSI better than the best network, and than the best of all baselines? "
-             "(weighted F1, paired)", ""]
+             f"({score}, paired)", ""]
     if paired["ci_low"].isna().all():
         return lines + ["One repeat only: no interval, nothing can be called significant.", ""]
     for versus, prefix, best in (("the best network", "", "best_network"),
                                  ("the best baseline", "baseline_", "best_baseline")):
         flag = paired[f"{prefix}significant"]
-        better = int((flag & (paired[f"{prefix}mean"] > 0)).sum())
-        worse = int((flag & (paired[f"{prefix}mean"] < 0)).sum())
+        better = int((flag & (sign * paired[f"{prefix}mean"] > 0)).sum())
+        worse = int((flag & (sign * paired[f"{prefix}mean"] < 0)).sum())
         lines.append(f"- Against {versus}: BSI significantly better in {better}, "
                      f"significantly worse in {worse}, not significantly different in "
                      f"{len(paired) - better - worse} of {len(paired)} comparisons.")
         for _, r in paired[flag].iterrows():
             mean, low, high = (r[f"{prefix}{k}"] for k in ("mean", "ci_low", "ci_high"))
-            word = "better" if mean > 0 else "worse"
+            word = "better" if sign * mean > 0 else "worse"
             lines.append(f"  - {r['bsi']} is significantly {word} than {r[best]} on "
                          f"{r['objective']} with {r['n_train']} missions (noise "
                          f"{r['noise']:g}, {r['propositions']}): {_fmt_ci(mean, low, high)}.")
@@ -196,13 +201,16 @@ def _warnings_section(warned):
                     "in study_warnings.csv):", "", markdown_table(pd.DataFrame(rows)), ""]
 
 
-def study_markdown(table, paired, config, warned=None):
+def study_markdown(table, paired, config, warned=None, paired_loss=None):
     """``study.md``: the protocol, the disclosure, the tables and which differences hold.
 
     Parameters
     ----------
     table, paired : DataFrame
         ``study.csv`` and ``study_paired.csv``.
+    paired_loss : DataFrame, default=None
+        ``study_paired_log_loss.csv`` (the same differences of the log loss; lower is
+        better), when the cells scored it.
     config : dict
         The study's settings (``config.json``).
     warned : DataFrame, default=None
@@ -220,6 +228,8 @@ def study_markdown(table, paired, config, warned=None):
                                          if c["quick"] else ""),
         "",
         *_headline(paired),
+        *([] if paired_loss is None or paired_loss.empty
+          else _headline(paired_loss, "log loss, lower is better", sign=-1)),
         "## Protocol",
         "",
         *_protocol(c),
@@ -229,11 +239,30 @@ def study_markdown(table, paired, config, warned=None):
     ]
     for ps in c["propositions"]:
         lines.append(f"- *{ps}*: {EXPRESSIBILITY.get(ps, '')}")
-    lines += ["", "## Mean weighted F1 [95 % interval]", ""]
-    f1 = table[table["metric"] == "f1"]
-    for (noise, ps), block in f1.groupby(["noise", "propositions"], sort=False):
+    lines += ["", *_mean_tables(table, "f1", "Mean weighted F1 [95 % interval]")]
+    lines += ["Rows: " + ", ".join((*NETWORKS, *PRACTITIONER, *BSI_ROWS, BSI_CV))
+              + f", {MAJORITY}, {CEILING}.", ""]
+    note = [f"scikit-learn's `log_loss` (labels 0 and 1, its own clipping) and "
+            "`brier_score_loss` of P(label 1) on the test missions; lower is better. "
+            f"{NOT_AVAILABLE}: the row gives no probabilities (MiniRocket's ridge "
+            "classifier, the noise-free rule), or some repeat had none (a BSI fit with no "
+            "acceptable training mission).", ""]
+    for metric, title, notes in (("log_loss", "Mean log loss [95 % interval]", note),
+                                 ("brier", "Mean Brier score [95 % interval]", ())):
+        if metric in set(table["metric"]):  # a study from before they were scored has none
+            lines += _mean_tables(table, metric, title, notes)
+    lines += _warnings_section(warned)
+    return "\n".join(lines)
+
+
+def _mean_tables(table, metric, title, note=()):
+    """A section of ``study.md``: ``metric``'s mean [interval], a table per noise and set."""
+    lines = [f"## {title}", "", *note]
+    for (noise, ps), block in table[table["metric"] == metric].groupby(
+            ["noise", "propositions"], sort=False):
         lines += [f"### Noise {noise:g}, {ps} propositions", ""]
-        wide = block.assign(cell=[f"{m:.3f} [{lo:.3f}, {hi:.3f}]" if not np.isnan(lo)
+        wide = block.assign(cell=[NOT_AVAILABLE if np.isnan(m)
+                                  else f"{m:.3f} [{lo:.3f}, {hi:.3f}]" if not np.isnan(lo)
                                   else f"{m:.3f}" for m, lo, hi in
                                   zip(block["mean"], block["ci_low"], block["ci_high"])])
         wide = wide.pivot_table(index="classifier", columns=["objective", "n_train"],
@@ -241,7 +270,4 @@ def study_markdown(table, paired, config, warned=None):
         wide = wide.reindex([r for r in ROWS if r in wide.index])
         wide.columns = [f"{mo} n={n}" for mo, n in wide.columns]
         lines += [markdown_table(wide.reset_index()), ""]
-    lines += ["Rows: " + ", ".join((*NETWORKS, *PRACTITIONER, *BSI_ROWS, BSI_CV))
-              + f", {MAJORITY}, {CEILING}.", ""]
-    lines += _warnings_section(warned)
-    return "\n".join(lines)
+    return lines

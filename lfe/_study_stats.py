@@ -17,12 +17,16 @@ from scipy import stats
 
 from lfe._study_cells import BSI_CV, BSI_ROWS, NETWORKS, PRACTITIONER
 
-__all__ = ["KEYS", "METRICS", "paired_differences", "summarise", "t_interval"]
+__all__ = ["KEYS", "LOWER_IS_BETTER", "METRICS", "paired_differences", "summarise",
+           "t_interval"]
 
 #: Columns that identify a cell of the study (besides the repeat).
 KEYS = ["objective", "n_train", "noise", "propositions"]
-#: Scores per run: weighted F1 over both outcomes, and accuracy.
-METRICS = ("f1", "accuracy")
+#: Scores per run: weighted F1 over both outcomes, accuracy, and the log loss and Brier score
+#: of the rows with probabilities (``nan`` for the others, and so their means and intervals).
+METRICS = ("f1", "accuracy", "log_loss", "brier")
+#: The metrics whose best row has the lowest mean (losses).
+LOWER_IS_BETTER = frozenset({"log_loss", "brier"})
 
 
 def t_interval(values, confidence=0.95):
@@ -38,7 +42,8 @@ def t_interval(values, confidence=0.95):
     -------
     mean, low, high : float
         ``low`` and ``high`` are ``nan`` with fewer than two values; with no spread at all
-        they equal the mean.
+        they equal the mean. All three are ``nan`` when a value is (a repeat without the
+        score: a mean over the other repeats would not be the same cell's).
     """
     values = np.asarray(values, dtype=float)
     mean = float(values.mean())
@@ -64,8 +69,10 @@ def summarise(runs):
         ci_high, n_runs``.
     """
     rows = []
+    # cells written before the log loss was scored have none: those metrics are left out
+    metrics = [metric for metric in METRICS if metric in runs.columns]
     for key, group in runs.groupby(["classifier", *KEYS], sort=False):
-        for metric in METRICS:
+        for metric in metrics:
             mean, low, high = t_interval(group[metric])
             rows.append(dict(zip(["classifier", *KEYS], key), metric=metric, mean=mean,
                              ci_low=low, ci_high=high, n_runs=len(group)))
@@ -76,16 +83,19 @@ def paired_differences(runs, metric="f1"):
     """``study_paired.csv``: each BSI row minus the best network and the best baseline.
 
     The best network of a cell (objective, size, noise, propositions) is the one of
-    :data:`NETWORKS` with the highest mean ``metric`` over the repeats; the best baseline, the
-    one of the networks and the practitioner's rows (:data:`PRACTITIONER`, those that ran).
-    Each difference is taken repeat by repeat on the same missions, then averaged with a
-    paired t-interval; it is *significant* when its interval excludes 0.
+    :data:`NETWORKS` with the highest mean ``metric`` over the repeats (the lowest for a
+    loss, :data:`LOWER_IS_BETTER`); the best baseline, the one of the networks and the
+    practitioner's rows (:data:`PRACTITIONER`, those that ran and have the score: MiniRocket
+    has no log loss). Each difference is taken repeat by repeat on the same missions, then
+    averaged with a paired t-interval; it is *significant* when its interval excludes 0 (for
+    a loss, BSI is better when the difference is negative).
 
     Parameters
     ----------
     runs : DataFrame
         ``study_runs.csv``.
     metric : str, default="f1"
+        A column of ``runs`` (:data:`METRICS`).
 
     Returns
     -------
@@ -97,10 +107,18 @@ def paired_differences(runs, metric="f1"):
     """
     rows = []
     wide = runs.pivot_table(index=[*KEYS, "repeat"], columns="classifier", values=metric)
-    baselines = [name for name in (*NETWORKS, *PRACTITIONER) if name in wide.columns]
+    # pivot_table drops a column with no value at all; a BSI row without any is all n/a
+    wide = wide.reindex(columns=[*wide.columns,
+                                 *(b for b in (*BSI_ROWS, BSI_CV) if b not in wide.columns)])
+    # a row without the score (its column all missing) cannot be the best
+    baselines = [name for name in (*NETWORKS, *PRACTITIONER) if name in wide.columns
+                 and wide[name].notna().any()]
+    networks = [name for name in NETWORKS if name in baselines]
     for key, group in wide.groupby(level=KEYS, sort=False):
-        best = group[list(NETWORKS)].mean().idxmax()
-        best_baseline = group[baselines].mean().idxmax()
+        means = group[baselines].mean()
+        best, best_baseline = ((means[networks].idxmin(), means.idxmin())
+                               if metric in LOWER_IS_BETTER
+                               else (means[networks].idxmax(), means.idxmax()))
         for bsi in (*BSI_ROWS, BSI_CV):
             mean, low, high = t_interval(group[bsi] - group[best])
             b_mean, b_low, b_high = t_interval(group[bsi] - group[best_baseline])

@@ -6,7 +6,8 @@ Bi-LSTM Coupled, BSI with Prior 2 and BSI with Prior 3), weighted F1 over both o
 mission objective; and the F1 of the MAP specification fitted on the whole dataset. Beside
 the paper's rows, on the same folds: BSI with the CI likelihood, and what a practitioner
 would try first (:mod:`baselines.practitioner`: a logistic regression on plain temporal
-features, and MiniRocket).
+features, and MiniRocket). Beside the F1, the log loss and Brier score of every row whose model
+gives probabilities ("n/a" for the others: :mod:`lfe._probability_scores`).
 
 The comparison's public face; its parts, one job each:
 

@@ -152,7 +152,9 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
     Prior 2 and Prior 3, BSI with Prior 2 and the CI likelihood, BSI with
     ``GridSearchCV``-chosen hyperparameters (inner cross-validation on the training set only),
     the majority class, and the noise-free commander rule as a ceiling -- and the test set
-    scores them (weighted F1 and accuracy per objective). Every warning raised while a row is
+    scores them (weighted F1 and accuracy per objective; the log loss and Brier score of
+    P(label 1) for the rows whose model gives probabilities, "n/a" for the others, with the
+    same intervals in ``study.csv`` and ``study.md``). Every warning raised while a row is
     fitted and scored is counted per cell and row (``study_warnings.csv``, the ``warnings``
     column of ``study_runs.csv``, ``study.md``), never silenced.
 
@@ -192,7 +194,8 @@ def study(*, sizes=None, repeats=None, test_size=None, noise=None, propositions=
     Returns
     -------
     paths : dict of str to Path
-        ``study.csv``, ``study_paired.csv``, ``study_runs.csv``, ``study_warnings.csv``,
+        ``study.csv``, ``study_paired.csv``, ``study_paired_log_loss.csv`` (the same
+        differences of the log loss), ``study_runs.csv``, ``study_warnings.csv``,
         ``study.md``, ``config.json``, ``study_times.csv`` and one ``learning_curve_<MO>.png``
         per objective.
 
@@ -291,6 +294,9 @@ def _write(out, config, command, elapsed):
     ).reset_index(drop=True)
     table = summarise(runs)
     paired = paired_differences(runs)
+    # the log loss's differences, when the cells scored it (not those of an older study)
+    paired_loss = (paired_differences(runs, "log_loss") if "log_loss" in runs.columns
+                   else None)
     warned = pd.DataFrame(warned, columns=["repeat", "noise", "propositions", "n_train",
                                            "classifier", "category", "message", "count"])
     warned = warned.sort_values(
@@ -300,7 +306,10 @@ def _write(out, config, command, elapsed):
     paths = {"config.json": out / "config.json"}
     files = {}
     for name, frame in (("study.csv", table), ("study_paired.csv", paired),
+                        ("study_paired_log_loss.csv", paired_loss),
                         ("study_runs.csv", runs), ("study_warnings.csv", warned)):
+        if frame is None:
+            continue
         paths[name] = out / name
         files[paths[name]] = frame.to_csv(index=False, float_format="%.6g")
     paths["study_times.csv"] = out / "study_times.csv"
@@ -308,7 +317,7 @@ def _write(out, config, command, elapsed):
                                                                  float_format="%.3f")
     paths["study.md"] = out / "study.md"
     config = {**config, "command": command}
-    files[paths["study.md"]] = study_markdown(table, paired, config, warned)
+    files[paths["study.md"]] = study_markdown(table, paired, config, warned, paired_loss)
     import matplotlib.pyplot as plt
 
     for objective in MISSION_OBJECTIVES:

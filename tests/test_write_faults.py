@@ -351,7 +351,7 @@ def test_lfe_compare_out_faults(comparison, tmp_path, capsys, monkeypatch, kind)
     folder = tmp_path / "results"
     assert _lfe(["compare", "--out", str(folder), "--verbose", "0"]) == 0
     before = _mark_previous(folder)
-    assert len(before) == 6
+    assert len(before) == 7  # the tables, LaTeX, figure, times, MAP F1 and probabilities
     capsys.readouterr()
     fault = (full_after(folder, int(kind[5:])) if kind.startswith("full:")
              else _fault(kind, folder))

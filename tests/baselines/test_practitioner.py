@@ -122,6 +122,25 @@ def test_logistic_several_objectives_and_edge_cases():
         clf.predict([x[:, :2] for x in X])
 
 
+def test_logistic_probabilities_agree_with_its_decisions():
+    X, y = _rule_data()
+    Y = np.column_stack([y, np.ones_like(y)])  # the second objective has one class
+    clf = TemporalLogisticRegression(random_state=0).fit(X, Y)
+    proba = clf.predict_proba(X)
+    assert len(proba) == 2 and proba[0].shape == (len(X), 2) and proba[1].shape == (len(X), 1)
+    np.testing.assert_allclose(proba[0].sum(axis=1), 1.0)
+    np.testing.assert_array_equal(proba[1], 1.0)
+    pred = clf.predict(X)
+    np.testing.assert_array_equal(clf.classes_[0][proba[0].argmax(axis=1)], pred[:, 0])
+    # the pipeline's own probabilities, for 1-D y as for one column of 2-D y
+    single = TemporalLogisticRegression(random_state=0).fit(X, y)
+    np.testing.assert_allclose(single.predict_proba(X), proba[0])
+    est = single.estimators_[0]
+    np.testing.assert_allclose(single.predict_proba(X), est.predict_proba(temporal_features(X)))
+    # MiniRocket's ridge classifier has no probabilities: neither has the row
+    assert not hasattr(MiniRocketClassifier(num_kernels=84), "predict_proba")
+
+
 def test_minirocket_learns_a_rule_and_is_deterministic():
     X, y = _rule_data(30)
     Xt, yt = _rule_data(30, seed=1)

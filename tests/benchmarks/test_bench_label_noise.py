@@ -21,15 +21,30 @@ def _load():
     return module
 
 
-def test_both_readings_come_from_one_fit():
+def test_both_readings_come_from_one_fit(tmp_path):
+    from sklearn.metrics import log_loss
+
     bench = _load()
-    rows = bench.roles_tasks(seeds=[0], sizes=(20,), noises=(0.1,))
+    preds = []
+    rows = bench.roles_tasks([0], preds, sizes=(20,), noises=(0.1,))
     by = {r["reading"]: r for r in rows if r["case"].startswith("errand")}
     assert set(by) == {"learned", "epsilon"}
     assert by["learned"]["fit_s"] == by["epsilon"]["fit_s"]  # the same fit
     assert by["learned"]["accuracy"] == by["epsilon"]["accuracy"]
     # CB's epsilon (2^-4M) leaves near-certain probabilities; the learned rate does not.
     assert by["learned"]["log_loss"] < by["epsilon"]["log_loss"]
+    # the kept test predictions are the scored ones: the reliability diagram reads them
+    preds = pd.concat(preds, ignore_index=True)
+    for reading, row in by.items():
+        mine = preds[(preds["case"] == row["case"]) & (preds["reading"] == reading)]
+        assert len(mine) == 300
+        assert log_loss(mine["y"], mine["p"], labels=[0, 1]) == pytest.approx(row["log_loss"])
+    bins = bench.reliability_bins(preds, ["family", "reading"])
+    assert set(bins["family"]) == {"roles tasks, 10% flipped"}
+    assert bins.groupby("reading")["n"].sum().eq(len(preds) // 2).all()
+    (path,) = bench.figures(bins, tmp_path)
+    assert path.name == "reliability_roles_tasks.png"
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 def test_report_pairs_the_readings_case_by_case():
@@ -39,8 +54,11 @@ def test_report_pairs_the_readings_case_by_case():
                               warnings="")
                          for c, a, b in (("x", 0.2, 1.0), ("y", 0.3, 2.0), ("z", 0.4, 3.0))
                          for r, v in (("learned", a), ("epsilon", b))])
-    text = bench.report(runs, "cmd", 1.0)
+    text = bench.report(runs, "cmd", 1.0, {("f", "learned"): 0.125})
     d = np.array([-0.8, -1.7, -2.6])
     half = 4.302652729911275 * d.std(ddof=1) / np.sqrt(3)
     assert f"{d.mean():.3f} [{d.mean() - half:.3f}, {d.mean() + half:.3f}]" in text
     assert "| f | 3 | 0.300 [" in text
+    # the worst bins, learned and epsilon ("-": none given)
+    assert next(line for line in text.splitlines()
+                if line.startswith("| f | 3")).endswith("| 0.125 | - |")

@@ -11,7 +11,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 import pytest
-from sklearn.metrics import f1_score
+from sklearn.metrics import brier_score_loss, f1_score, log_loss
 
 from lfe import make_lfe_dataset
 from lfe._compare_protocol import _folds, _weighted_f1
@@ -30,7 +30,7 @@ PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 PAPER = Path(__file__).parents[2] / ".." / "shared" / "paper"
 RAN = list(ROWS)
 FILES = ("f1_table.csv", "f1_table.md", "f1_table.tex", "f1_bars.png", "times.csv",
-         "map_f1.csv")
+         "map_f1.csv", "probabilities.csv")
 
 
 @pytest.fixture(scope="module")
@@ -41,6 +41,15 @@ def quick_run(tmp_path_factory):
     with contextlib.redirect_stdout(printed):
         status = main(["compare", "--quick", "--out", str(out), "--verbose", "0"])
     return out, status, printed.getvalue()
+
+
+@pytest.fixture(scope="module")
+def quick_labels():
+    """The labels of ``--quick``'s dataset, in the order of its files."""
+    from lfe._settings import COMPARE_QUICK
+
+    ds = make_lfe_dataset(COMPARE_QUICK["n_scenarios"], random_state=0)
+    return ds.labels.set_axis(pd.Index(ds.scenario_ids, name="scenario_id"))
 
 
 @pytest.fixture(scope="module")
@@ -74,7 +83,8 @@ def test_quick_run_writes_every_file(quick_run):
     assert "paper" in md
     tex = (out / "f1_table.tex").read_text(encoding="utf-8")
     assert r"\begin{tabular}" in tex and r"\end{tabular}" in tex
-    assert tex.count(r"\\") == 2 + len(RAN)  # two header rows, one per row
+    # two tables (F1; log loss and Brier), each two header rows and one per row
+    assert tex.count(r"\begin{tabular}") == 2 and tex.count(r"\\") == 2 * (2 + len(RAN))
     png = (out / "f1_bars.png").read_bytes()
     assert png[:8] == PNG_SIGNATURE and len(png) > 10_000
     times = pd.read_csv(out / "times.csv", index_col="classifier")
@@ -113,6 +123,39 @@ def test_quick_run_files_say_they_are_a_smoke_test(quick_run, small_run):
     full = copy.copy(small_run)
     full.config = {**small_run.config, "quick": False}
     assert "QUICK" not in full.to_markdown() + full.to_latex()
+
+
+def test_log_loss_and_brier_are_scikit_learns_on_the_saved_probabilities(quick_run,
+                                                                        quick_labels):
+    out = quick_run[0]
+    table = pd.read_csv(out / "f1_table.csv", index_col="classifier")
+    proba = pd.read_csv(out / "probabilities.csv", header=[0, 1], index_col=0)
+    md = (out / "f1_table.md").read_text(encoding="utf-8")
+    calibration = md.split("### Log loss and Brier score")[1].split("###")[0]
+    scored = set()
+    for name in RAN:
+        cells = []
+        for mo in ("MO1", "MO2", "MO3"):
+            p1 = proba[(name, mo)].to_numpy(dtype=float)
+            y = quick_labels[mo].to_numpy()
+            if np.isnan(p1).any():  # no probabilities (from some fold): n/a, not a number
+                assert np.isnan(table.loc[name, [f"{mo} log loss", f"{mo} Brier"]]).all()
+                cells += ["n/a", "n/a"]
+                continue
+            scored.add(name)
+            # every digit is in the file: the table's scores are exactly sklearn's
+            assert table.loc[name, f"{mo} log loss"] == pytest.approx(
+                log_loss(y, p1, labels=[0, 1]), rel=1e-5)
+            assert table.loc[name, f"{mo} Brier"] == pytest.approx(
+                brier_score_loss(y, p1, labels=[0, 1]), rel=1e-5)
+            cells += [f"{table.loc[name, f'{mo} log loss']:.3f}",
+                      f"{table.loc[name, f'{mo} Brier']:.3f}"]
+        assert f"| {name} | {' | '.join(cells)} |" in calibration, name
+    # the rows with probabilities are scored, the ridge classifier is n/a throughout
+    assert {"BSI (Prior 2)", "Logistic regression", "LSTM", MAJORITY} <= scored
+    assert "MiniRocket" not in scored
+    assert "| MiniRocket | " + " | ".join(["n/a"] * 6) + " |" in calibration
+    assert table.loc["MiniRocket", [c for c in table.columns if "log loss" in c]].isna().all()
 
 
 def _assert_same_tables(a, b):
@@ -154,17 +197,20 @@ def test_result_is_consistent_with_its_predictions(small_dataset, small_run):
             folds = res.f1_folds.query("classifier == @name and objective == @mo")
             assert len(folds) == 2
             assert res.table.loc[name, f"{mo} fold mean"] == pytest.approx(folds["f1"].mean())
-    # the reference row predicts each training fold's most frequent outcome
+    # the reference row predicts each training fold's most frequent outcome, with the
+    # fold's base rate as its probability
     for train, test in res.folds:
         for mo in labels.columns:
             counts = np.bincount(labels[mo].to_numpy()[train], minlength=2)
             assert (res.predictions[(MAJORITY, mo)].to_numpy()[test] == counts.argmax()).all()
+            np.testing.assert_allclose(res.probabilities[(MAJORITY, mo)].to_numpy()[test],
+                                       counts[1] / counts.sum())
     assert res.config["n_splits"] == 2 and res.config["quick"] and res.config["seed"] == 3
     assert "5 scenarios" in repr(res)
     md, tex = res.to_markdown(), res.to_latex()
-    # F1 table, fold table, MAP table (one row per objective), times
-    assert md.count("| BSI (Prior 2) |") == 1 + 1 + 3 + 1
-    assert tex.count("BSI (Prior 3)") == 1
+    # F1 table, log loss and Brier, fold table, MAP table (one row per objective), times
+    assert md.count("| BSI (Prior 2) |") == 1 + 1 + 1 + 3 + 1
+    assert tex.count("BSI (Prior 3)") == 2  # F1; log loss and Brier
 
 
 def test_weighted_f1_matches_scikit_learn():

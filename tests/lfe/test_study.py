@@ -3,6 +3,7 @@
 import contextlib
 import io
 import json
+import re
 import shutil
 
 import numpy as np
@@ -14,7 +15,8 @@ from lfe._study_stats import t_interval
 from lfe.cli import main
 
 TINY = ["--quick", "--sizes", "4", "--test-size", "6", "--repeats", "2", "--verbose", "0"]
-TABLES = ("study.csv", "study_paired.csv", "study_runs.csv", "study_warnings.csv")
+TABLES = ("study.csv", "study_paired.csv", "study_paired_log_loss.csv", "study_runs.csv",
+          "study_warnings.csv")
 RAN = list(ROWS)
 
 
@@ -48,7 +50,8 @@ def test_files_and_columns(tiny_run):
             "ci_high", "n_runs"} <= set(table.columns)
     assert set(table["classifier"]) == set(RAN)
     assert {"Logistic regression", "MiniRocket", "BSI (Prior 2, CI)"} <= set(RAN)
-    assert set(table["n_train"]) == {4} and set(table["metric"]) == {"f1", "accuracy"}
+    assert set(table["n_train"]) == {4}
+    assert set(table["metric"]) == {"f1", "accuracy", "log_loss", "brier"}
     assert (table["n_runs"] == 2).all()
     paired = pd.read_csv(out / "study_paired.csv")
     assert {"bsi", "best_network", "objective", "n_train", "mean", "ci_low", "ci_high",
@@ -71,6 +74,14 @@ def test_every_mean_inside_its_interval(tiny_run):
     out, _ = tiny_run
     for name in ("study.csv", "study_paired.csv"):
         table = pd.read_csv(out / name)
+        # no interval only where no score: the rows without probabilities, for their scores
+        blank = table["mean"].isna()
+        if name == "study.csv":
+            assert set(table[blank]["metric"]) <= {"log_loss", "brier"}
+            assert set(table[blank]["classifier"]) == {"MiniRocket", "Noise-free rule (ceiling)"}
+        else:
+            assert not blank.any()
+        table = table[~blank]
         assert (table["ci_low"] <= table["mean"] + 1e-12).all()
         assert (table["mean"] <= table["ci_high"] + 1e-12).all()
     table = pd.read_csv(out / "study.csv")
@@ -298,6 +309,86 @@ def test_best_baseline_is_the_best_of_networks_and_practitioner_rows(tiny_run):
         diff = (cell[cell["classifier"] == r["bsi"]]["f1"].to_numpy()
                 - cell[cell["classifier"] == r["best_baseline"]]["f1"].to_numpy())
         assert r["baseline_mean"] == pytest.approx(diff.mean(), abs=1e-5)  # %.6g in the CSV
+
+
+def test_log_loss_is_scikit_learns_on_the_rows_probabilities(tiny_run):
+    # one cell recomputed outside the study: its missions, training draw and seeds from
+    # study_runs.csv, the logistic regression and BSI refitted, scored by scikit-learn
+    from sklearn.metrics import brier_score_loss, log_loss
+
+    from baselines.practitioner import TemporalLogisticRegression
+    from lfe._compare_protocol import _fit_bsi
+    from lfe._study_cells import bsi_settings
+    from lfe.study import simulate_repeat
+
+    out, _ = tiny_run
+    runs = pd.read_csv(out / "study_runs.csv")
+    table = pd.read_csv(out / "study.csv")
+    cell = runs[runs["repeat"] == 0]
+    seeds = cell.iloc[0]
+    data = simulate_repeat(n_pool=4, test_size=6, noises=[0.04], propositions=["paper"],
+                           dataset_seed=int(seeds["dataset_seed"]),
+                           label_seed=int(seeds["label_seed"]))
+    train = draw_training_set(data["clean"], 4, 4, int(seeds["split_seed"]))
+    test = np.arange(4, 10)
+    props, y = data["props"]["paper"], data["labels"][0.04]
+    X_train, X_test = [props[i] for i in train], [props[i] for i in test]
+    model_seed = int(seeds["model_seed"])
+    logistic = TemporalLogisticRegression(random_state=model_seed).fit(X_train, y[train])
+    scored = 0
+    for k, mo in enumerate(("MO1", "MO2", "MO3")):
+        proba = logistic.predict_proba(X_test)[k]
+        labels = list(logistic.classes_[k])
+        p1 = proba[:, labels.index(1)] if 1 in labels else np.zeros(len(test))
+        bsi = _fit_bsi("BSI (Prior 2)", X_train, y[train, k], data["roles"]["paper"],
+                       bsi_settings(True), model_seed)
+        for name, p in (("Logistic regression", p1),
+                        ("BSI (Prior 2)", None if bsi is None
+                         else bsi.predict_proba(X_test)[:, 1])):
+            row = cell[(cell["classifier"] == name) & (cell["objective"] == mo)].iloc[0]
+            if p is None:  # BSI could not fit (no acceptable mission): no score
+                assert np.isnan(row["log_loss"]) and np.isnan(row["brier"])
+                continue
+            scored += 1
+            assert row["log_loss"] == pytest.approx(log_loss(y[test, k], p, labels=[0, 1]),
+                                                    rel=1e-5)  # %.6g in the CSV
+            assert row["brier"] == pytest.approx(brier_score_loss(y[test, k], p, labels=[0, 1]),
+                                                 rel=1e-5, abs=1e-12)
+        # the summary's mean and interval are over the repeats, as the F1's
+        line = table[(table["classifier"] == "Logistic regression") & (table["objective"] == mo)
+                     & (table["metric"] == "log_loss")].iloc[0]
+        values = runs[(runs["classifier"] == "Logistic regression")
+                      & (runs["objective"] == mo)]["log_loss"]
+        np.testing.assert_allclose([line["mean"], line["ci_low"], line["ci_high"]],
+                                   t_interval(values), rtol=1e-5)
+    assert scored >= 3  # every logistic objective, and BSI where it fitted
+    # the rows without probabilities: n/a in study.md, empty in the tables
+    for name in ("MiniRocket", "Noise-free rule (ceiling)"):
+        assert runs[runs["classifier"] == name][["log_loss", "brier"]].isna().all().all()
+    text = (out / "study.md").read_text()
+    section = text.split("## Mean log loss")[1].split("## Mean Brier")[0]
+    assert "| MiniRocket | n/a | n/a | n/a |" in section
+    assert "| Noise-free rule (ceiling) | n/a | n/a | n/a |" in section
+    assert re.search(r"\| Logistic regression \| \d+\.\d{3} \[", section)
+
+
+def test_paired_log_loss_is_against_the_lowest_baseline_with_probabilities(tiny_run):
+    out, _ = tiny_run
+    runs = pd.read_csv(out / "study_runs.csv")
+    paired = pd.read_csv(out / "study_paired_log_loss.csv")
+    assert len(paired) == (len(BSI_ROWS) + 1) * 1 * 3 and set(paired["metric"]) == {"log_loss"}
+    networks = ["LSTM", "Bi-LSTM", "LSTM Coupled", "Bi-LSTM Coupled"]
+    for _, r in paired.iterrows():
+        cell = runs[(runs["objective"] == r["objective"]) & (runs["n_train"] == r["n_train"])]
+        means = cell.groupby("classifier")["log_loss"].mean()
+        # a loss: the lowest mean is the best; MiniRocket has none and is never chosen
+        assert r["best_network"] == means[networks].idxmin()
+        assert r["best_baseline"] == means[[*networks, "Logistic regression"]].idxmin()
+        diff = (cell[cell["classifier"] == r["bsi"]]["log_loss"].to_numpy()
+                - cell[cell["classifier"] == r["best_baseline"]]["log_loss"].to_numpy())
+        assert r["baseline_mean"] == pytest.approx(diff.mean(), rel=1e-4, abs=1e-5)
+    text = (out / "study.md").read_text()
+    assert "(log loss, lower is better, paired)" in text
 
 
 def test_warnings_are_counted_per_cell_and_row(tiny_run):
