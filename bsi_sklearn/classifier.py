@@ -10,7 +10,7 @@ from sklearn.utils.validation import check_is_fitted
 from bsi_sklearn._compile_progress import compile_progress
 from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.inference.policy import InferencePolicy, infer
-from bsi_sklearn.inferred_roles import infer_roles
+from bsi_sklearn.data.inferred_roles import infer_roles
 from bsi_sklearn.likelihood import LIKELIHOODS, is_flip_prior
 from bsi_sklearn.model import make_model
 from bsi_sklearn.param_validation import (
@@ -23,8 +23,8 @@ from bsi_sklearn.param_validation import (
 from bsi_sklearn.posterior import Posterior
 from bsi_sklearn.predictive import PosteriorPredictiveMixin, misclassified
 from bsi_sklearn.priors import PRIORS
-from bsi_sklearn.roles import resolve_roles
-from bsi_sklearn.traces import check_labels, check_traces
+from bsi_sklearn.data.roles import resolve_roles
+from bsi_sklearn.data.traces import check_labels, check_traces
 
 __all__ = ["BSIClassifier"]
 
@@ -60,7 +60,7 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
         What the roles left at ``None`` become. ``"infer"``: read from the training
         demonstrations (propositions whose clauses they can test, each subtask's condition
         from the initial values that separate the acceptable demonstrations completing it
-        from those skipping it; :func:`bsi_sklearn.inferred_roles.infer_roles`). ``"all"``:
+        from those skipping it; :func:`bsi_sklearn.data.inferred_roles.infer_roles`). ``"all"``:
         every proposition a global candidate and a subtask, no conditions (the paper's
         setting without an expert's roles: vacuous clauses and chance orders then enter the
         MAP). Roles given explicitly are used as given; ``roles_`` says what was used; see
@@ -329,7 +329,7 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
         Parameters
         ----------
         X : list of array-like or DataFrame, or ndarray
-            Demonstrations (see :func:`bsi_sklearn.traces.check_traces`): a list of
+            Demonstrations (see :func:`bsi_sklearn.data.traces.check_traces`): a list of
             ``(T_i, n_props)`` boolean traces or DataFrames (``[df]`` for one), a 3-D array
             ``(n_demos, T, n_props)``, a long-format DataFrame with a ``demo_id`` column, or a
             2-D array whose rows are traces of length one. A single DataFrame without

@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 
 from bsi_sklearn.monitor import PosteriorMonitor
-from bsi_sklearn.traces import is_frame
+from bsi_sklearn.data.traces import is_frame
 
 __all__ = ["monitor_frame", "plot_monitor"]
 

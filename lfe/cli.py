@@ -9,8 +9,8 @@ ones back: the settings both need (``--quick`` sizes, the study's defaults) live
 
 import sys
 
-from bsi_sklearn.cli_support import build_parser as build_parser_from
-from bsi_sklearn.cli_support import run_command
+from bsi_sklearn.cli.support import build_parser as build_parser_from
+from bsi_sklearn.cli.support import run_command
 
 __all__ = ["main"]
 

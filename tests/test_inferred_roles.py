@@ -8,8 +8,8 @@ import pandas as pd
 import pytest
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.inferred_roles import infer_condition, infer_roles, proposition_statistics
-from bsi_sklearn.traces import check_traces
+from bsi_sklearn.data.inferred_roles import infer_condition, infer_roles, proposition_statistics
+from bsi_sklearn.data.traces import check_traces
 
 
 def _roles(X, y, **given):

@@ -13,7 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from bsi_sklearn import Specification
-from bsi_sklearn.automaton import spot_atom, to_ltlf
+from bsi_sklearn.ltl.ltlf_export import spot_atom, to_ltlf
 
 flloat = pytest.importorskip("flloat")
 
@@ -187,7 +187,7 @@ def test_the_negation_of_a_spot_name_is_quoted_and_atoms_given_win():
 def test_flloat_reads_the_negations_as_the_augmented_columns_mean(trace):
     from flloat.parser.ltlf import LTLfParser
 
-    from bsi_sklearn.preprocessing import add_negations
+    from bsi_sklearn.data.preprocessing import add_negations
 
     names = ["a", "b", "c"]
     spec = Specification(globals=["!c"], eventuals=["a"],

@@ -9,7 +9,7 @@ from hypothesis.extra.numpy import arrays
 
 from bsi_sklearn import BSIClassifier, Posterior
 from bsi_sklearn.monitor import PosteriorMonitor, Verdict
-from bsi_sklearn.roles import resolve_roles
+from bsi_sklearn.data.roles import resolve_roles
 
 NAMES = ["safe", "a", "b", "c_ok"]
 

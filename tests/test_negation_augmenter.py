@@ -12,7 +12,7 @@ from sklearn.utils.estimator_checks import parametrize_with_checks
 
 from bsi_sklearn import BSIClassifier, Specification
 from bsi_sklearn.ltl import parse_ltl
-from bsi_sklearn.preprocessing import NegationAugmenter, add_negations
+from bsi_sklearn.data.preprocessing import NegationAugmenter, add_negations
 
 
 @parametrize_with_checks(

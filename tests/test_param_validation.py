@@ -18,7 +18,7 @@ from bsi_sklearn.param_validation import (
     is_satisfied,
     validate_params,
 )
-from bsi_sklearn.preprocessing import NegationAugmenter
+from bsi_sklearn.data.preprocessing import NegationAugmenter
 
 
 # ---------------------------------------------------------------- intervals

@@ -25,7 +25,7 @@ from bsi_sklearn.inference.exact import (
     exact_refusal,
 )
 from bsi_sklearn.inference.mcmc import sample_posterior
-from bsi_sklearn.inferred_roles import warn_all_roles
+from bsi_sklearn.data.inferred_roles import warn_all_roles
 from bsi_sklearn.likelihood import flip_rate_posterior
 from bsi_sklearn.priors import count_hypotheses, format_count
 

@@ -21,7 +21,7 @@ from bsi_sklearn.report.wording import (
     clause_specification,
     ordered_clauses,
 )
-from bsi_sklearn.traces import check_consistent_traces, check_traces
+from bsi_sklearn.data.traces import check_consistent_traces, check_traces
 
 __all__ = ["explain"]
 

@@ -10,8 +10,8 @@ from bsi_sklearn.datasets import (
     make_pose,
 )
 from bsi_sklearn.datasets.dinner_table import MEALS, PIECES, STACK
-from bsi_sklearn.roles import resolve_roles
-from bsi_sklearn.traces import check_traces
+from bsi_sklearn.data.roles import resolve_roles
+from bsi_sklearn.data.traces import check_traces
 
 TABLE = 0.75
 

@@ -12,9 +12,9 @@ from bsi_sklearn.datasets import (
     poi_threat_labels,
     poi_threat_specification,
 )
-from bsi_sklearn.roles import resolve_roles
+from bsi_sklearn.data.roles import resolve_roles
 from bsi_sklearn.specification import Specification
-from bsi_sklearn.traces import check_traces
+from bsi_sklearn.data.traces import check_traces
 
 
 # ---------------------------------------------------------------- labelling functions

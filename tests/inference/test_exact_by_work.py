@@ -22,8 +22,8 @@ from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.model import make_model
 from bsi_sklearn.priors import PRIORS
-from bsi_sklearn.roles import resolve_roles
-from bsi_sklearn.traces import check_traces
+from bsi_sklearn.data.roles import resolve_roles
+from bsi_sklearn.data.traces import check_traces
 
 
 def _traces(seed, n_props, n_demos):

@@ -23,7 +23,7 @@ from bsi_sklearn.ltl import (
     evaluation,
     parse_ltl,
 )
-from bsi_sklearn.preprocessing import add_negations
+from bsi_sklearn.data.preprocessing import add_negations
 from bsi_sklearn.specification import Specification
 
 ATOMS = ["a", "b", "c"]

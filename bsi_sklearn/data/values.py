@@ -1,6 +1,6 @@
 """The values of one demonstration: conversion to 0/1 (or floats) and messages that say where.
 
-Private helpers of :mod:`bsi_sklearn.traces` (and :func:`trace_columns`, one trace by column
+Private helpers of :mod:`bsi_sklearn.data.traces` (and :func:`trace_columns`, one trace by column
 name, of the specification and its automaton). Every message names the demonstration, the step
 and the proposition: by its DataFrame column name when there is one, by its index otherwise.
 """

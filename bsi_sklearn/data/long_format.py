@@ -1,6 +1,6 @@
 """A long-format frame (``demo_id[, t], prop...[, label]``) split into demonstrations.
 
-The data layer's reading of long-format data: :func:`bsi_sklearn.traces.check_traces` splits a
+The data layer's reading of long-format data: :func:`bsi_sklearn.data.traces.check_traces` splits a
 long frame with it, and :mod:`bsi_sklearn.io.long_format` re-exports it for frames and CSV
 files, so that the data layer never imports the readers above it.
 """
@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from bsi_sklearn._trace_values import time_column_hint
+from bsi_sklearn.data.values import time_column_hint
 
 __all__ = ["traces_from_frame"]
 

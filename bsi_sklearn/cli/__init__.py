@@ -6,15 +6,15 @@ this file only wires them, importing a module when its subcommand runs.
 
 import sys
 
-from bsi_sklearn.cli_support import build_parser as build_parser_from
-from bsi_sklearn.cli_support import run_command
+from bsi_sklearn.cli.support import build_parser as build_parser_from
+from bsi_sklearn.cli.support import run_command
 
 __all__ = ["main"]
 
 # name -> (module, help)
 SUBCOMMANDS = {
-    "fit": ("bsi_sklearn._cli_fit", "fit BSI on trace files and print the posterior"),
-    "monitor": ("bsi_sklearn._cli_monitor",
+    "fit": ("bsi_sklearn.cli._fit", "fit BSI on trace files and print the posterior"),
+    "monitor": ("bsi_sklearn.cli._monitor",
                 "replay demonstrations against a saved posterior: verdicts over time, plots"),
     "reproduce": ("bsi_sklearn.experiments.reproduce",
                   "reproduce the paper's synthetic-domain or dinner-table experiments"),
@@ -41,7 +41,3 @@ def main(argv=None):
     """Entry point of the ``bsi`` console script; returns the exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
     return run_command(build_parser(argv), argv)
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

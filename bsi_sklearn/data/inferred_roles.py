@@ -12,7 +12,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from bsi_sklearn.roles import _resolve_one, resolve_roles
+from bsi_sklearn.data.roles import _resolve_one, resolve_roles
 
 __all__ = ["infer_roles", "proposition_statistics", "infer_condition", "warn_all_roles"]
 
@@ -23,7 +23,7 @@ def proposition_statistics(traces):
     Parameters
     ----------
     traces : Traces
-        The demonstrations (see :func:`bsi_sklearn.traces.check_traces`).
+        The demonstrations (see :func:`bsi_sklearn.data.traces.check_traces`).
 
     Returns
     -------
@@ -37,7 +37,7 @@ def proposition_statistics(traces):
     Examples
     --------
     >>> import numpy as np
-    >>> from bsi_sklearn.traces import check_traces
+    >>> from bsi_sklearn.data.traces import check_traces
     >>> traces = check_traces([np.array([[1, 0], [1, 1]]), np.array([[0, 1]])])
     >>> initial, ever, always = proposition_statistics(traces)
     >>> initial.astype(int).tolist(), ever.astype(int).tolist(), always.astype(int).tolist()
@@ -109,7 +109,7 @@ def infer_roles(traces, y, global_candidates=None, subtasks=None, conditions=Non
     """Roles from the demonstrations, for every role the user did not give.
 
     Each of ``global_candidates``, ``subtasks`` and ``conditions`` that is not ``None`` is
-    the user's and is used as given (validated as :func:`bsi_sklearn.roles.resolve_roles`
+    the user's and is used as given (validated as :func:`bsi_sklearn.data.roles.resolve_roles`
     does); each that is ``None`` is inferred:
 
     - a **global candidate** is a proposition true at every step of at least one acceptable
@@ -145,7 +145,7 @@ def infer_roles(traces, y, global_candidates=None, subtasks=None, conditions=Non
     Examples
     --------
     >>> import numpy as np
-    >>> from bsi_sklearn.traces import check_traces
+    >>> from bsi_sklearn.data.traces import check_traces
     >>> # columns: safe (true throughout), closed (at the start), opened, done
     >>> X = [np.array([[1, 1, 0, 0], [1, 1, 1, 0], [1, 1, 1, 1]]),
     ...      np.array([[1, 0, 0, 0], [1, 0, 0, 1]]),

@@ -1,4 +1,4 @@
-"""Export of a `Specification`: LTLf text for other tools and its DFA (see ``dfa.py``).
+"""Export of a `Specification`: LTLf text for other tools and its DFA (see ``automaton.py``).
 
 The template's clauses (``G p``, ``pi -> F w``, ``pi_a -> (!w_b U w_a)``) mean the same on a
 finite trace read as it is (LTLf, as flloat and LTLf2DFA read it) and on the infinite trace
@@ -17,7 +17,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from bsi_sklearn._literals import Literal, literal, negation_reader
-from bsi_sklearn._trace_values import trace_columns
+from bsi_sklearn.data.values import trace_columns
 from bsi_sklearn.param_validation import StrOptions, validate_params
 
 __all__ = ["DIALECTS", "SpecificationAutomaton", "ltlf_atom_problem", "spot_atom", "to_ltlf"]
@@ -122,7 +122,7 @@ def to_ltlf(specification, dialect="spot", atoms=None, *, negations=None):
         never as a negation.
     negations : None, False or mapping, default=None
         Which propositions are negations of others (see :meth:`Specification.readable`): by
-        default a column ``"!q"`` (:class:`~bsi_sklearn.preprocessing.NegationAugmenter`,
+        default a column ``"!q"`` (:class:`~bsi_sklearn.data.preprocessing.NegationAugmenter`,
         :class:`~bsi_sklearn.io.EventLogEncoder`) is written as the negation ``!q`` of the
         atom ``q``, and an order on it, ``(!"!q" U a)``, as ``((q) U (a))``, never ``!!``; a
         mapping ``{negated: proposition}`` (their ``negations_``) names exactly those;
@@ -199,7 +199,7 @@ def _key(x):
 class SpecificationAutomaton:
     """A deterministic finite automaton accepting the traces that satisfy a specification.
 
-    Built by the project (:mod:`bsi_sklearn.dfa`): each clause is a small automaton and the
+    Built by the project (:mod:`bsi_sklearn.ltl.automaton`): each clause is a small automaton and the
     specification's is their product, minimised; usually obtained from
     :meth:`Specification.to_automaton`. No optional package is needed; flloat, given
     :attr:`formula`, builds the same language (the tests check it).
@@ -216,7 +216,7 @@ class SpecificationAutomaton:
         order of :attr:`propositions`), so any identifiers work.
     propositions : list
         The identifiers the formula mentions.
-    dfa : bsi_sklearn.dfa.DFA
+    dfa : bsi_sklearn.ltl.automaton.DFA
         The minimal automaton: ``dfa.n_states``, ``dfa.delta``, ``dfa.accepting``,
         ``dfa.to_dot()``, ``dfa.to_hoa()``.
 
@@ -233,7 +233,7 @@ class SpecificationAutomaton:
     """
 
     def __init__(self, specification):
-        from bsi_sklearn.dfa import specification_dfa
+        from bsi_sklearn.ltl.automaton import specification_dfa
 
         self.specification = specification
         spec = specification
@@ -253,7 +253,7 @@ class SpecificationAutomaton:
         return self.dfa.to_dot(name=self.specification.to_ltl())
 
     def to_hoa(self):
-        """The automaton in the HOA v1 format (:meth:`bsi_sklearn.dfa.DFA.to_hoa`).
+        """The automaton in the HOA v1 format (:meth:`bsi_sklearn.ltl.automaton.DFA.to_hoa`).
 
         The propositions are the ``AP:``, edges have explicit labels, accepting states are in
         acceptance set 0; the automaton is read over finite words.

@@ -8,7 +8,7 @@ import argparse
 import re
 from numbers import Integral
 
-from bsi_sklearn._cli_files import (
+from bsi_sklearn.cli._files import (
     add_format_argument,
     check_output_file,
     input_format,
@@ -302,7 +302,7 @@ def _proposition(token, names):
 
 def _roles(args, names, path):
     """The role options resolved against one file's propositions (as estimator parameters)."""
-    from bsi_sklearn.roles import resolve_roles
+    from bsi_sklearn.data.roles import resolve_roles
 
     def props(tokens):
         return None if tokens is None else [_proposition(t, names) for t in tokens]

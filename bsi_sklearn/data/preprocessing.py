@@ -10,8 +10,8 @@ from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn.param_validation import Satisfies, validate_params
-from bsi_sklearn.roles import resolve_propositions
-from bsi_sklearn.traces import check_consistent_traces, check_traces, is_frame
+from bsi_sklearn.data.roles import resolve_propositions
+from bsi_sklearn.data.traces import check_consistent_traces, check_traces, is_frame
 
 __all__ = ["NegationAugmenter", "add_negations"]
 
@@ -108,7 +108,7 @@ class NegationAugmenter(TransformerMixin, BaseEstimator, auto_wrap_output_keys=N
         Parameters
         ----------
         X : demonstrations
-            Any format accepted by :func:`bsi_sklearn.traces.check_traces`.
+            Any format accepted by :func:`bsi_sklearn.data.traces.check_traces`.
         y : ignored
 
         Returns
@@ -175,7 +175,7 @@ class NegationAugmenter(TransformerMixin, BaseEstimator, auto_wrap_output_keys=N
         Parameters
         ----------
         X : demonstrations
-            Any format accepted by :func:`bsi_sklearn.traces.check_traces`, with the
+            Any format accepted by :func:`bsi_sklearn.data.traces.check_traces`, with the
             propositions seen in fit.
 
         Returns
@@ -221,7 +221,7 @@ def add_negations(X, propositions=None, *, prefix="!"):
     Parameters
     ----------
     X : demonstrations
-        Any format accepted by :func:`bsi_sklearn.traces.check_traces`.
+        Any format accepted by :func:`bsi_sklearn.data.traces.check_traces`.
     propositions : list of str or int, default=None
         Propositions to negate; all by default.
     prefix : str, default="!"

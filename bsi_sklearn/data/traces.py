@@ -8,9 +8,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bsi_sklearn._labels import check_labels
-from bsi_sklearn._long_format_split import traces_from_frame
-from bsi_sklearn._trace_values import (
+from bsi_sklearn.data._labels import check_labels
+from bsi_sklearn.data.long_format import traces_from_frame
+from bsi_sklearn.data.values import (
     NonNumericTraceError,
     Place,
     frame_names,

@@ -1,4 +1,4 @@
-"""Labels of demonstrations: ``check_labels`` (re-exported by :mod:`bsi_sklearn.traces`)."""
+"""Labels of demonstrations: ``check_labels`` (re-exported by :mod:`bsi_sklearn.data.traces`)."""
 
 from __future__ import annotations
 

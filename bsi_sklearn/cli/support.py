@@ -40,7 +40,7 @@ def build_parser(prog, description, subcommands, argv=None):
 
     Examples
     --------
-    >>> parser = build_parser("bsi", "demo", {"fit": ("bsi_sklearn._cli_fit", "fit files"),
+    >>> parser = build_parser("bsi", "demo", {"fit": ("bsi_sklearn.cli._fit", "fit files"),
     ...                                       "gone": ("no_such_module_xyz", "left out")})
     >>> parser.parse_args(["fit", "a.trace"]).files
     ['a.trace']

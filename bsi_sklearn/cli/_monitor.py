@@ -10,7 +10,7 @@ when two inputs share a name), ``<demo>`` the demonstration's ``demo_id`` (CSV) 
 
 import io as _io
 
-from bsi_sklearn._cli_files import (
+from bsi_sklearn.cli._files import (
     add_format_argument,
     check_input,
     check_output_dir,
@@ -36,7 +36,7 @@ def add_arguments(parser):
 
 def _check_propositions(posterior, X, path, posterior_path):
     """The file's propositions must be the posterior's (by name, or by number)."""
-    from bsi_sklearn._trace_values import names_difference
+    from bsi_sklearn.data.values import names_difference
 
     names = posterior.feature_names_in_
     given = list(X[0].columns)
