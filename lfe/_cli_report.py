@@ -2,7 +2,7 @@
 
 ``bsi-lfe report --help`` builds its parser from here without loading BSI, the LFE simulator
 or matplotlib; :func:`run` imports :mod:`lfe.report` when the command runs. The choices are
-written out here; ``tests/test_cli_help.py`` checks them against the modules they come from.
+written out here; ``tests/cli/test_cli_help.py`` checks them against the modules they come from.
 """
 
 from lfe._settings import REPORT_QUICK as QUICK

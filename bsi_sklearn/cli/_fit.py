@@ -19,7 +19,7 @@ from bsi_sklearn.cli._files import (
 __all__ = ["add_arguments", "run", "parse_conditions"]
 
 # The choices of --prior and --likelihood, written here so that `bsi fit --help` need not load
-# numba (tests/test_cli_fit.py checks them against bsi_sklearn.priors.PRIORS and
+# numba (tests/cli/test_cli_fit.py checks them against bsi_sklearn.priors.PRIORS and
 # bsi_sklearn.likelihood.LIKELIHOODS).
 PRIOR_CHOICES = ("linear_chain", "sets_of_chains", "forest")
 LIKELIHOOD_CHOICES = ("cb", "ci", "calibrated")

@@ -16,7 +16,7 @@ from bsi_sklearn import Posterior
 from bsi_sklearn.cli import main
 from bsi_sklearn.io import write_traces_csv
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 NAMES = ["safe", "picked", "placed"]
 GOOD = [np.array([[1, 0, 0], [1, 1, 0], [1, 1, 1]]),
         np.array([[1, 0, 0], [1, 0, 0], [1, 1, 0], [1, 1, 1]])]
