@@ -386,7 +386,7 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
         self.n_hypotheses_ = result.n_hypotheses
         self.log_epsilon_ = model.log_eps
         self.map_specification_ = self.posterior_.specification(0)
-        self.vacuous_clauses_ = self.posterior_.mark_vacuous(traces, y01)
+        self.vacuous_clauses_ = self.posterior_.mark_vacuous(traces, y01, truth=truth)
         self.n_unique_specifications_ = len(self.posterior_)
         return self
 

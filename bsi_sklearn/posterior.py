@@ -239,14 +239,16 @@ class Posterior:
         )[:, :n_cl].astype(float)
         return self.probabilities @ bits
 
-    def mark_vacuous(self, X, y=None):
+    def mark_vacuous(self, X, y=None, *, truth=None):
         """Set :attr:`vacuous_clauses` to the candidate clauses every demonstration satisfies.
 
         ``X``: demonstrations (as ``BSIClassifier.fit`` takes them) or ``Traces``; ``y``: their
-        0/1 labels. Clauses no demonstration violates, acceptable or not, are untested; with no
+        0/1 labels; ``truth``: their clause truth (:func:`~bsi_sklearn.clauses.clause_truth`)
+        where the caller has computed it (``fit`` has), else it is computed from ``X``.
+        Clauses no demonstration violates, acceptable or not, are untested; with no
         unacceptable demonstration none is marked (positives alone separate nothing).
         """
-        truth = self._truth(X)
+        truth = self._truth(X) if truth is None else truth
         if y is not None and (np.shape(y) != (len(truth),) or not np.isin(y, (0, 1)).all()):
             raise ValueError(f"mark_vacuous: y must be one 0/1 label per demonstration "
                              f"({len(truth)}), got {y!r}")

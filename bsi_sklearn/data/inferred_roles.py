@@ -12,7 +12,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from bsi_sklearn.data.roles import _resolve_one, resolve_roles
+from bsi_sklearn.data.roles import resolve_propositions, resolve_roles
 
 __all__ = ["infer_roles", "proposition_statistics", "infer_condition", "warn_all_roles"]
 
@@ -165,13 +165,11 @@ def infer_roles(traces, y, global_candidates=None, subtasks=None, conditions=Non
     if subtasks is None:
         rises = (~initial & ever).any(0)
         if isinstance(conditions, Mapping):
-            for w in conditions:
-                rises[_resolve_one(w, names, "conditions")] = True
+            rises[resolve_propositions(list(conditions), names, "conditions")] = True
         subtasks = np.flatnonzero(rises).tolist()
     if conditions is None:
-        roles = resolve_roles(global_candidates, subtasks, None, traces.n_props, names)
         conditions = {}
-        for s in roles.subtask_idx.tolist():
+        for s in resolve_propositions(subtasks, names, "subtasks").tolist():
             c = infer_condition(initial[acceptable], ever[acceptable, s], s)
             if c is not None:
                 conditions[s] = c
