@@ -9,8 +9,10 @@ from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn._compile_progress import compile_progress
 from bsi_sklearn.clauses import clause_truth
-from bsi_sklearn.inference.policy import InferencePolicy, infer
 from bsi_sklearn.data.inferred_roles import infer_roles
+from bsi_sklearn.data.roles import resolve_roles
+from bsi_sklearn.data.traces import check_labels, check_traces
+from bsi_sklearn.inference.policy import InferencePolicy, infer
 from bsi_sklearn.likelihood import LIKELIHOODS, is_flip_prior
 from bsi_sklearn.model import make_model
 from bsi_sklearn.param_validation import (
@@ -23,8 +25,6 @@ from bsi_sklearn.param_validation import (
 from bsi_sklearn.posterior import Posterior
 from bsi_sklearn.predictive import PosteriorPredictiveMixin, misclassified
 from bsi_sklearn.priors import PRIORS
-from bsi_sklearn.data.roles import resolve_roles
-from bsi_sklearn.data.traces import check_labels, check_traces
 
 __all__ = ["BSIClassifier"]
 
@@ -396,12 +396,12 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
 
         Returns
         -------
-        monitor : bsi_sklearn.monitor.PosteriorMonitor
+        monitor : bsi_sklearn.monitor.posterior_monitor.PosteriorMonitor
             Feed it one step at a time (``monitor.update(step)``); each step's verdict gives
             the posterior mass of the specifications already satisfied, already violated and
             still open. ``monitor.finish()`` closes the trace.
         """
-        from bsi_sklearn.monitor import PosteriorMonitor
+        from bsi_sklearn.monitor.posterior_monitor import PosteriorMonitor
 
         check_is_fitted(self)
         return PosteriorMonitor(self.posterior_, binarize=self.binarize)
@@ -419,7 +419,7 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
             Row ``t`` is ``(p_satisfied, p_violated, p_open)`` after steps ``0..t`` of a trace
             still running; :meth:`predict_proba` gives the verdict of the closed trace.
         """
-        from bsi_sklearn.monitor import monitor_traces
+        from bsi_sklearn.monitor.posterior_monitor import monitor_traces
 
         traces = self._validated(X)
         return monitor_traces(self.posterior_, traces)

@@ -69,11 +69,11 @@ def _predict():
 
     from bsi_sklearn import BSIClassifier
     from bsi_sklearn.clauses import clause_truth
+    from bsi_sklearn.data.roles import resolve_roles
+    from bsi_sklearn.data.traces import check_traces
     from bsi_sklearn.inference.exact import exact_posterior
     from bsi_sklearn.model import make_model
     from bsi_sklearn.priors import enumerate_structures, log_prior_structure, n_orders_of
-    from bsi_sklearn.data.roles import resolve_roles
-    from bsi_sklearn.data.traces import check_traces
 
     X, y, roles = _problem()
     clf = BSIClassifier(**roles).fit(X, y)

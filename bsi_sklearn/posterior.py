@@ -11,6 +11,7 @@ from bsi_sklearn.clauses import (
     clause_truth,
     pack_rows,
 )
+from bsi_sklearn.data.traces import Traces, check_consistent_traces, check_traces
 from bsi_sklearn.io.posterior_file import (
     MAX_LISTED,
     SCHEMA,
@@ -23,7 +24,6 @@ from bsi_sklearn.io.posterior_file import (
 from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.satisfaction import clause_masks, vote
 from bsi_sklearn.specification import Specification
-from bsi_sklearn.data.traces import Traces, check_consistent_traces, check_traces
 
 __all__ = ["Posterior", "SCHEMA", "SCHEMA_VERSION"]
 

@@ -275,8 +275,9 @@ class Specification:
             acceptable or not). Keys of clauses the formula does not have are ignored.
         negations : None, False or mapping, default=None
             Which propositions are negations of others: by default a name ``"!p"`` is the
-            negation of ``p`` (the columns of :class:`~bsi_sklearn.data.preprocessing.NegationAugmenter`
-            and :class:`~bsi_sklearn.io.EventLogEncoder`); a mapping ``{negated: proposition}``
+            negation of ``p`` (the columns of
+            :class:`~bsi_sklearn.data.preprocessing.NegationAugmenter` and
+            :class:`~bsi_sklearn.io.EventLogEncoder`); a mapping ``{negated: proposition}``
             (their ``negations_``) names exactly those; ``False`` none.
 
         Returns

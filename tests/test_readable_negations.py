@@ -16,6 +16,8 @@ import pytest
 
 from bsi_sklearn import Specification
 from bsi_sklearn.clauses import clause_index_eventual, clause_index_order, clause_truth
+from bsi_sklearn.data.roles import resolve_roles
+from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.ltl import (
     And,
     Atom,
@@ -29,8 +31,6 @@ from bsi_sklearn.ltl import (
     parse_ltl,
 )
 from bsi_sklearn.report.wording import clause_specification, unicode_ltl
-from bsi_sklearn.data.roles import resolve_roles
-from bsi_sklearn.data.traces import check_traces
 
 BASE = ["p", "q"]
 COLUMNS = ["p", "q", "!p", "!q", "!!p", "!!q"]

@@ -61,7 +61,7 @@ def run(args):
     import numpy as np
 
     from bsi_sklearn.io import write_files_atomic
-    from bsi_sklearn.monitor_figure import monitor_frame, plot_monitor
+    from bsi_sklearn.monitor.figure import monitor_frame, plot_monitor
     from bsi_sklearn.posterior import Posterior
 
     check_input(args.posterior)

@@ -9,9 +9,9 @@ import pandas as pd
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from bsi_sklearn.param_validation import Satisfies, validate_params
 from bsi_sklearn.data.roles import resolve_propositions
 from bsi_sklearn.data.traces import check_consistent_traces, check_traces, is_frame
+from bsi_sklearn.param_validation import Satisfies, validate_params
 
 __all__ = ["NegationAugmenter", "add_negations"]
 

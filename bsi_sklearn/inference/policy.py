@@ -16,6 +16,7 @@ import numpy as np
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.utils import check_random_state
 
+from bsi_sklearn.data.inferred_roles import warn_all_roles
 from bsi_sklearn.inference.auto_budget import AUTO_EXACT_BYTES, auto_work_budget
 from bsi_sklearn.inference.diagnostics import disagreement_problems
 from bsi_sklearn.inference.exact import (
@@ -25,7 +26,6 @@ from bsi_sklearn.inference.exact import (
     exact_refusal,
 )
 from bsi_sklearn.inference.mcmc import sample_posterior
-from bsi_sklearn.data.inferred_roles import warn_all_roles
 from bsi_sklearn.likelihood import flip_rate_posterior
 from bsi_sklearn.priors import count_hypotheses, format_count
 

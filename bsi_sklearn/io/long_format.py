@@ -9,9 +9,9 @@ import numpy as np
 import pandas as pd
 
 from bsi_sklearn.data.long_format import traces_from_frame
+from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.io._atomic import write_atomic
 from bsi_sklearn.io._csv_rows import read_csv_rows
-from bsi_sklearn.data.traces import check_traces
 
 __all__ = ["traces_from_frame", "traces_to_frame", "read_traces_csv", "write_traces_csv"]
 

@@ -9,10 +9,10 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.io._atomic import write_atomic
 from bsi_sklearn.io._scarlet_formulas import scarlet_target
 from bsi_sklearn.ltl import Formula, parse_ltl
-from bsi_sklearn.data.traces import check_traces
 
 __all__ = ["TraceFile", "read_trace_file", "load_trace_file", "write_trace_file"]
 

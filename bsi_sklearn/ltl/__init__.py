@@ -9,7 +9,6 @@ names are imported on first use.
 """
 
 from bsi_sklearn._lazy import lazy_names
-
 from bsi_sklearn.ltl.formula import (
     And,
     Atom,

@@ -199,8 +199,8 @@ def _key(x):
 class SpecificationAutomaton:
     """A deterministic finite automaton accepting the traces that satisfy a specification.
 
-    Built by the project (:mod:`bsi_sklearn.ltl.automaton`): each clause is a small automaton and the
-    specification's is their product, minimised; usually obtained from
+    Built by the project (:mod:`bsi_sklearn.ltl.automaton`): each clause is a small automaton
+    and the specification's is their product, minimised; usually obtained from
     :meth:`Specification.to_automaton`. No optional package is needed; flloat, given
     :attr:`formula`, builds the same language (the tests check it).
 

@@ -1,6 +1,6 @@
 """``--help`` of every command and subcommand is quick and loads nothing heavy (issue 21).
 
-The parsers live in light modules (``bsi_sklearn._cli_*``, ``lfe._cli_*``, the experiments'
+The parsers live in light modules (``bsi_sklearn.cli._*``, ``lfe.cli._*``, the experiments'
 ``reproduce``) that import numpy, pandas, scikit-learn, numba, matplotlib or torch only when
 a command runs. Before: ``bsi-lfe simulate|compare|study|report --help`` took 1.5-2 s and
 loaded scikit-learn (and numba, matplotlib), ``bsi fit --help`` 0.6 s with pandas.
@@ -58,8 +58,8 @@ def test_help_is_quick_and_loads_nothing_heavy(module, argv):
 def test_report_choices_are_the_modules():
     from bsi_sklearn.likelihood import LIKELIHOODS
     from bsi_sklearn.priors import PRIORS
-    from lfe import _cli_report
     from lfe.annotate import MISSION_OBJECTIVES
+    from lfe.cli import _report as _cli_report
     from lfe.propositions import PROPOSITION_SETS
 
     assert _cli_report.OBJECTIVE_CHOICES == tuple(MISSION_OBJECTIVES)
@@ -70,17 +70,12 @@ def test_report_choices_are_the_modules():
 
 def test_study_and_compare_settings_have_one_home():
     # Issue 22: the settings live in a leaf both the parsers and the real modules import, so
-    # neither imports the other back (before: lfe.study <-> lfe._cli_study, and so on).
-    from lfe import (
-        _cli_compare,
-        _cli_report,
-        _cli_study,
-        _compare_protocol,
-        _settings,
-        compare,
-        report,
-        study,
-    )
+    # neither imports the other back (before: lfe.study <-> lfe.cli._study, and so on).
+    from lfe import _settings, compare, report, study
+    from lfe.cli import _compare as _cli_compare
+    from lfe.cli import _report as _cli_report
+    from lfe.cli import _study as _cli_study
+    from lfe.compare import _protocol as _compare_protocol
     from lfe.propositions import PROPOSITION_SETS
 
     assert study.DEFAULTS is _settings.STUDY_DEFAULTS and study.QUICK is _settings.STUDY_QUICK
@@ -98,7 +93,7 @@ def test_light_run_reaches_the_real_command(monkeypatch):
     import argparse
 
     import lfe.study
-    from lfe import _cli_study
+    from lfe.cli import _study as _cli_study
 
     seen = []
     monkeypatch.setattr(lfe.study, "run", lambda args: seen.append(args) or 0)

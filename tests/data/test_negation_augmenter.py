@@ -11,8 +11,8 @@ from sklearn.pipeline import make_pipeline
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
 from bsi_sklearn import BSIClassifier, Specification
-from bsi_sklearn.ltl import parse_ltl
 from bsi_sklearn.data.preprocessing import NegationAugmenter, add_negations
+from bsi_sklearn.ltl import parse_ltl
 
 
 @parametrize_with_checks(

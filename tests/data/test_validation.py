@@ -3,9 +3,9 @@ import pandas as pd
 import pytest
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.io import read_traces_csv, write_traces_csv
 from bsi_sklearn.data.roles import resolve_roles
 from bsi_sklearn.data.traces import check_labels, check_traces
+from bsi_sklearn.io import read_traces_csv, write_traces_csv
 
 
 def test_formats_agree():

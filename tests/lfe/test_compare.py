@@ -14,7 +14,6 @@ import pytest
 from sklearn.metrics import f1_score
 
 from lfe import make_lfe_dataset
-from lfe._compare_protocol import _folds, _weighted_f1
 from lfe.cli import main
 from lfe.compare import (
     BSI_ROWS,
@@ -25,6 +24,7 @@ from lfe.compare import (
     ROWS,
     compare,
 )
+from lfe.compare._protocol import _folds, _weighted_f1
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 PAPER = Path(__file__).parents[2] / ".." / "shared" / "paper"

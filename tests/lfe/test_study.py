@@ -9,9 +9,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from lfe._study_cells import BSI_ROWS, PRACTITIONER, ROWS, derive_seed, draw_training_set
-from lfe._study_stats import t_interval
 from lfe.cli import main
+from lfe.study._cells import BSI_ROWS, PRACTITIONER, ROWS, derive_seed, draw_training_set
+from lfe.study._stats import t_interval
 
 TINY = ["--quick", "--sizes", "4", "--test-size", "6", "--repeats", "2", "--verbose", "0"]
 TABLES = ("study.csv", "study_paired.csv", "study_runs.csv", "study_warnings.csv")
@@ -137,12 +137,12 @@ OUT = "must be a directory, or a path where one can be made (not a file), got "
 
 
 def _no_simulation(monkeypatch):
-    import lfe._study_cells
+    import lfe.study._cells
 
     def boom(**kwargs):
         raise AssertionError("simulated despite a bad argument")
 
-    monkeypatch.setattr(lfe._study_cells, "simulate_repeat", boom)
+    monkeypatch.setattr(lfe.study._cells, "simulate_repeat", boom)
     monkeypatch.setattr("lfe.study.simulate_repeat", boom)
 
 
@@ -254,7 +254,7 @@ def test_dask_local_cluster_matches_local(tiny_run, tmp_path):
             study(sizes=config["sizes"], repeats=config["repeats"],
                   test_size=config["test_size"], quick=True, n_jobs=-1, out=tmp_path,
                   verbose=0)
-        ran = client.run(lambda: "lfe._study_cells" in __import__("sys").modules)
+        ran = client.run(lambda: "lfe.study._cells" in __import__("sys").modules)
     _same_files(out, tmp_path)
     assert len(ran) == 2 and any(ran.values())
 

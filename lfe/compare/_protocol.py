@@ -30,10 +30,10 @@ from bsi_sklearn.param_validation import (
     Interval,
     validate_params,
 )
-from lfe._compare_result import ComparisonResult
-from lfe._compare_rows import BSI_ROWS, MAJORITY, PAPER_MAP_F1, ROWS, WITHOUT_ROLES
 from lfe._settings import COMPARE_QUICK
 from lfe.annotate import MISSION_OBJECTIVES
+from lfe.compare._result import ComparisonResult
+from lfe.compare._rows import BSI_ROWS, MAJORITY, PAPER_MAP_F1, ROWS, WITHOUT_ROLES
 from lfe.dataset import LFEDataset, load_lfe_dataset, make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
 from lfe.scenario import checked_once

@@ -2,7 +2,7 @@
 
 Light at import: ``bsi-lfe compare --help`` builds its parser from here without loading the
 comparison (pandas, scikit-learn, torch); :func:`run` imports the protocol
-(:mod:`lfe._compare_protocol`) when the command runs. :mod:`lfe.compare` re-exports
+(:mod:`lfe.compare._protocol`) when the command runs. :mod:`lfe.compare` re-exports
 :func:`add_arguments` and :func:`run`.
 """
 
@@ -56,7 +56,7 @@ def _option_constraints():
 def run(args):
     """Run the comparison, write its files to ``--out`` and print the table."""
     from bsi_sklearn.param_validation import check_options
-    from lfe._compare_protocol import compare
+    from lfe.compare._protocol import compare
     from lfe.dataset import load_lfe_dataset, make_lfe_dataset
 
     check_options(args, _option_constraints())
@@ -79,7 +79,7 @@ def run(args):
 
 def _console_table(result):
     """The F1 table, the MAP specifications and the times, as the command prints them."""
-    from lfe._compare_result import _fmt
+    from lfe.compare._result import _fmt
 
     buf = io.StringIO()
     c = result.config

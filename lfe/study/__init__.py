@@ -33,7 +33,9 @@ from bsi_sklearn.param_validation import (
 )
 from lfe._settings import STUDY_DEFAULTS as DEFAULTS
 from lfe._settings import STUDY_QUICK as QUICK
-from lfe._study_cells import (
+from lfe.annotate import MISSION_OBJECTIVES
+from lfe.extractor import PROPOSITION_SETS
+from lfe.study._cells import (
     ROWS,
     bsi_settings,
     derive_seed,
@@ -44,10 +46,8 @@ from lfe._study_cells import (
     search_grid,
     simulate_repeat,
 )
-from lfe._study_report import plot_learning_curves, study_markdown
-from lfe._study_stats import paired_differences, summarise, t_interval
-from lfe.annotate import MISSION_OBJECTIVES
-from lfe.extractor import PROPOSITION_SETS
+from lfe.study._report import plot_learning_curves, study_markdown
+from lfe.study._stats import paired_differences, summarise, t_interval
 
 # The repeat's missions, the cells' training draws and seeds, and the intervals are public:
 # a script that recomputes some rows of the study on its own cells (benchmarks/) needs them.
@@ -106,7 +106,7 @@ def _cell_name(noise, propositions, n_train, repeat):
 
 
 def _simulate(repeat, config, seeds):
-    """One repeat's missions (:func:`lfe._study_cells.simulate_repeat`)."""
+    """One repeat's missions (:func:`lfe.study._cells.simulate_repeat`)."""
     return repeat, simulate_repeat(
         n_pool=max(config["sizes"]), test_size=config["test_size"], noises=config["noise"],
         propositions=config["propositions"], dataset_seed=seeds["dataset_seed"],

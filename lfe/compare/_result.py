@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 
 from bsi_sklearn.experiments.tables import markdown_table
-from lfe._compare_rows import MAJORITY, PAPER_F1
+from lfe.compare._rows import MAJORITY, PAPER_F1
 
 __all__ = ["ComparisonResult"]
 

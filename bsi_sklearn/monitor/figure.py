@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from bsi_sklearn.monitor import PosteriorMonitor
 from bsi_sklearn.data.traces import is_frame
+from bsi_sklearn.monitor.posterior_monitor import PosteriorMonitor
 
 __all__ = ["monitor_frame", "plot_monitor"]
 
@@ -22,7 +22,7 @@ def monitor_frame(posterior, trace, *, binarize=None):
     trace : array-like of shape (T, n_props) or pandas.DataFrame
         One demonstration; a DataFrame's columns must be the posterior's propositions.
     binarize : float, default=None
-        As for :class:`~bsi_sklearn.monitor.PosteriorMonitor`.
+        As for :class:`~bsi_sklearn.monitor.posterior_monitor.PosteriorMonitor`.
 
     Returns
     -------

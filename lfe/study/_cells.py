@@ -25,12 +25,12 @@ from baselines.practitioner import (
     make_practitioner_baseline,
 )
 from bsi_sklearn.classifier import BSIClassifier
-from lfe._compare_protocol import (  # the comparison's scorer and fit of a BSI row, shared
+from lfe.annotate import MISSION_OBJECTIVES, annotate_scenarios
+from lfe.compare._protocol import (  # the comparison's scorer and fit of a BSI row, shared
     _fit_bsi,
     _weighted_f1,
 )
-from lfe._compare_rows import BSI_ROWS as COMPARE_BSI_ROWS
-from lfe.annotate import MISSION_OBJECTIVES, annotate_scenarios
+from lfe.compare._rows import BSI_ROWS as COMPARE_BSI_ROWS
 from lfe.dataset import make_lfe_dataset
 from lfe.extractor import LFEPropositionExtractor
 from lfe.scenario import checked_once

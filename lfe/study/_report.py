@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 
 from bsi_sklearn.experiments.tables import markdown_table
-from lfe._study_cells import (
+from lfe.study._cells import (
     BSI_CV,
     BSI_ROWS,
     CEILING,

@@ -31,9 +31,9 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn.clauses import clause_index_eventual, clause_index_order, n_clauses
+from bsi_sklearn.data.traces import Traces
 from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.posterior import Posterior
-from bsi_sklearn.data.traces import Traces
 
 __all__ = ["ClauseEvent", "PosteriorMonitor", "Verdict", "monitor_traces"]
 
@@ -113,8 +113,8 @@ class PosteriorMonitor:
 
     Notes
     -----
-    See the module docstring (:mod:`bsi_sklearn.monitor`) for the three-valued semantics and
-    the cost of a step.
+    See the module docstring (:mod:`bsi_sklearn.monitor.posterior_monitor`) for the
+    three-valued semantics and the cost of a step.
 
     Examples
     --------
@@ -362,7 +362,8 @@ def monitor_traces(posterior, traces):
         of a trace still running.
     """
     if not isinstance(traces, Traces):
-        raise TypeError("traces must be a Traces object (see bsi_sklearn.data.traces.check_traces)")
+        raise TypeError("traces must be a Traces object "
+                        "(see bsi_sklearn.data.traces.check_traces)")
     roles = posterior.roles
     out = _monitor_all(traces.data, traces.offsets, roles.global_idx, roles.subtask_idx,
                        roles.condition_idx, posterior._masks,

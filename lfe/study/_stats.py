@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from lfe._study_cells import BSI_CV, BSI_ROWS, NETWORKS, PRACTITIONER
+from lfe.study._cells import BSI_CV, BSI_ROWS, NETWORKS, PRACTITIONER
 
 __all__ = ["KEYS", "METRICS", "paired_differences", "summarise", "t_interval"]
 

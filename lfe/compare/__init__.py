@@ -10,18 +10,18 @@ features, and MiniRocket).
 
 The comparison's public face; its parts, one job each:
 
-- :mod:`lfe._compare_rows`: the rows (:data:`ROWS`, :data:`BSI_ROWS`...) and the paper's
+- :mod:`lfe.compare._rows`: the rows (:data:`ROWS`, :data:`BSI_ROWS`...) and the paper's
   values beside them (:data:`PAPER_F1`, :data:`PAPER_MAP_F1`);
-- :mod:`lfe._compare_protocol`: the folds, the fit of each row and :func:`compare`;
-- :mod:`lfe._compare_result`: :class:`ComparisonResult`, its tables, LaTeX, figure and files;
-- :mod:`lfe._cli_compare`: the command line (:func:`add_arguments`, :func:`run`, the
+- :mod:`lfe.compare._protocol`: the folds, the fit of each row and :func:`compare`;
+- :mod:`lfe.compare._result`: :class:`ComparisonResult`, its tables, LaTeX, figure and files;
+- :mod:`lfe.cli._compare`: the command line (:func:`add_arguments`, :func:`run`, the
   printed table), light at import.
 """
 
-from lfe._cli_compare import add_arguments, run
-from lfe._compare_protocol import compare
-from lfe._compare_result import ComparisonResult
-from lfe._compare_rows import (
+from lfe.cli._compare import add_arguments, run
+from lfe.compare._protocol import compare
+from lfe.compare._result import ComparisonResult
+from lfe.compare._rows import (
     BSI_PRIORS,
     BSI_ROWS,
     CLASSIFIERS,

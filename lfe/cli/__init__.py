@@ -1,7 +1,7 @@
 """The ``bsi-lfe`` command line: ``simulate``, ``compare``, ``study`` and ``report`` subcommands.
 
 Each subcommand's arguments live in a light module exposing ``add_arguments(parser)`` and
-``run(args)`` (``lfe._cli_*``: nothing heavy imported, so that ``--help`` is quick); ``run``
+``run(args)`` (``lfe.cli._*``: nothing heavy imported, so that ``--help`` is quick); ``run``
 imports the subcommand's real module when it runs. The real modules never import the light
 ones back: the settings both need (``--quick`` sizes, the study's defaults) live in
 ``lfe._settings``. This file only wires them, importing a module when its subcommand is chosen.
@@ -16,12 +16,12 @@ __all__ = ["main"]
 
 # name -> (module, help)
 SUBCOMMANDS = {
-    "simulate": ("lfe._cli_simulate", "simulate and annotate a dataset of LFE missions"),
-    "compare": ("lfe._cli_compare",
+    "simulate": ("lfe.cli._simulate", "simulate and annotate a dataset of LFE missions"),
+    "compare": ("lfe.cli._compare",
                 "BSI vs the LSTM baselines on the LFE missions (the paper's F1 table)"),
-    "study": ("lfe._cli_study",
+    "study": ("lfe.cli._study",
               "learning curves of BSI and the networks with 95% intervals over repeats"),
-    "report": ("lfe._cli_report",
+    "report": ("lfe.cli._report",
                "interpretability report of the MAP specification per mission objective"),
 }
 
@@ -45,7 +45,3 @@ def main(argv=None):
     """Entry point of the ``bsi-lfe`` console script; returns the exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
     return run_command(build_parser(argv), argv)
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
