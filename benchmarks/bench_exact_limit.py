@@ -26,7 +26,7 @@ from bsi_sklearn.data.traces import check_labels
 from bsi_sklearn.datasets import make_dinner_table_demos
 from bsi_sklearn.inference.exact import exact_posterior
 from bsi_sklearn.model import make_model
-from bsi_sklearn.priors import count_hypotheses
+from bsi_sklearn.model.priors import count_hypotheses
 
 _MEMORY_CHILD = textwrap.dedent("""
     import json, resource, sys

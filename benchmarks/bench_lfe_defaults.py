@@ -37,7 +37,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from benchmarks._common import machine_info, md_table  # noqa: E402
 from bsi_sklearn import BSIClassifier  # noqa: E402
-from bsi_sklearn.likelihood import LIKELIHOODS  # noqa: E402
+from bsi_sklearn.model.likelihood import LIKELIHOODS  # noqa: E402
 from lfe.annotate import MISSION_OBJECTIVES  # noqa: E402
 from lfe.compare import BSI_ROWS  # noqa: E402
 from lfe.compare import WITHOUT_ROLES as STUDY_WITHOUT_ROLES  # noqa: E402

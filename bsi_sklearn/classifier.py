@@ -8,13 +8,14 @@ from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn._compile_progress import compile_progress
-from bsi_sklearn.clauses import clause_truth
 from bsi_sklearn.data.inferred_roles import infer_roles
 from bsi_sklearn.data.roles import resolve_roles
 from bsi_sklearn.data.traces import check_labels, check_traces
 from bsi_sklearn.inference.policy import InferencePolicy, infer
-from bsi_sklearn.likelihood import LIKELIHOODS, is_flip_prior
 from bsi_sklearn.model import make_model
+from bsi_sklearn.model.clauses import clause_truth
+from bsi_sklearn.model.likelihood import LIKELIHOODS, is_flip_prior
+from bsi_sklearn.model.priors import PRIORS
 from bsi_sklearn.param_validation import (
     NONZERO_INTEGER,
     Interval,
@@ -24,7 +25,6 @@ from bsi_sklearn.param_validation import (
 )
 from bsi_sklearn.posterior import Posterior
 from bsi_sklearn.predictive import PosteriorPredictiveMixin, misclassified
-from bsi_sklearn.priors import PRIORS
 
 __all__ = ["BSIClassifier"]
 

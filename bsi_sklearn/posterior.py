@@ -6,11 +6,6 @@ import os
 import numpy as np
 import pandas as pd
 
-from bsi_sklearn.clauses import (
-    clause_index_order,
-    clause_truth,
-    pack_rows,
-)
 from bsi_sklearn.data.traces import Traces, check_consistent_traces, check_traces
 from bsi_sklearn.io.posterior_file import (
     MAX_LISTED,
@@ -20,6 +15,11 @@ from bsi_sklearn.io.posterior_file import (
     parse_posterior,
     read_posterior,
     write_posterior,
+)
+from bsi_sklearn.model.clauses import (
+    clause_index_order,
+    clause_truth,
+    pack_rows,
 )
 from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.satisfaction import clause_masks, vote
@@ -243,7 +243,7 @@ class Posterior:
         """Set :attr:`vacuous_clauses` to the candidate clauses every demonstration satisfies.
 
         ``X``: demonstrations (as ``BSIClassifier.fit`` takes them) or ``Traces``; ``y``: their
-        0/1 labels; ``truth``: their clause truth (:func:`~bsi_sklearn.clauses.clause_truth`)
+        0/1 labels; ``truth``: their clause truth (:func:`~bsi_sklearn.model.clauses.clause_truth`)
         where the caller has computed it (``fit`` has), else it is computed from ``X``.
         Clauses no demonstration violates, acceptable or not, are untested; with no
         unacceptable demonstration none is marked (positives alone separate nothing).

@@ -20,8 +20,8 @@ import numpy as np
 from numba import njit
 from sklearn.utils.validation import check_is_fitted
 
-from bsi_sklearn.clauses import pack_rows
 from bsi_sklearn.data.traces import check_consistent_traces, check_traces
+from bsi_sklearn.model.clauses import pack_rows
 from bsi_sklearn.param_validation import validate_params
 from bsi_sklearn.satisfaction import satisfied_masses, satisfies
 

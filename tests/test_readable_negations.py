@@ -15,7 +15,6 @@ import numpy as np
 import pytest
 
 from bsi_sklearn import Specification
-from bsi_sklearn.clauses import clause_index_eventual, clause_index_order, clause_truth
 from bsi_sklearn.data.roles import resolve_roles
 from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.ltl import (
@@ -30,6 +29,7 @@ from bsi_sklearn.ltl import (
     Until,
     parse_ltl,
 )
+from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order, clause_truth
 from bsi_sklearn.report.wording import clause_specification, unicode_ltl
 
 BASE = ["p", "q"]

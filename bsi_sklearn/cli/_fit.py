@@ -19,8 +19,8 @@ from bsi_sklearn.cli._files import (
 __all__ = ["add_arguments", "run", "parse_conditions"]
 
 # The choices of --prior and --likelihood, written here so that `bsi fit --help` need not load
-# numba (tests/cli/test_cli_fit.py checks them against bsi_sklearn.priors.PRIORS and
-# bsi_sklearn.likelihood.LIKELIHOODS).
+# numba (tests/cli/test_cli_fit.py checks them against bsi_sklearn.model.priors.PRIORS and
+# bsi_sklearn.model.likelihood.LIKELIHOODS).
 PRIOR_CHOICES = ("linear_chain", "sets_of_chains", "forest")
 LIKELIHOOD_CHOICES = ("cb", "ci", "calibrated")
 

@@ -26,8 +26,8 @@ from bsi_sklearn.inference.exact import (
     exact_refusal,
 )
 from bsi_sklearn.inference.mcmc import sample_posterior
-from bsi_sklearn.likelihood import flip_rate_posterior
-from bsi_sklearn.priors import count_hypotheses, format_count
+from bsi_sklearn.model.likelihood import flip_rate_posterior
+from bsi_sklearn.model.priors import count_hypotheses, format_count
 
 __all__ = ["InferencePolicy", "InferenceResult", "infer", "warn_disagreement"]
 
@@ -112,7 +112,7 @@ def infer(truth, y01, model, policy):
     Parameters
     ----------
     truth : ndarray (n_demos, n_clauses)
-        Clause truth (:func:`bsi_sklearn.clauses.clause_truth`).
+        Clause truth (:func:`bsi_sklearn.model.clauses.clause_truth`).
     y01 : ndarray (n_demos,)
         Labels in {0, 1}.
     model : Model

@@ -30,8 +30,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from bsi_sklearn.clauses import clause_index_eventual, clause_index_order, n_clauses
 from bsi_sklearn.data.traces import Traces
+from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order, n_clauses
 from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.posterior import Posterior
 

@@ -14,7 +14,7 @@ __all__ = ["LIKELIHOOD_CHOICES", "OBJECTIVE_CHOICES", "PRIOR_CHOICES",
 OBJECTIVE_CHOICES = ("MO1", "MO2", "MO3")
 #: The keys of ``lfe.propositions.PROPOSITION_SETS``.
 PROPOSITION_SET_CHOICES = ("paper", "extended")
-#: ``bsi_sklearn.priors.PRIORS`` and ``bsi_sklearn.likelihood.LIKELIHOODS``.
+#: ``bsi_sklearn.model.priors.PRIORS`` and ``bsi_sklearn.model.likelihood.LIKELIHOODS``.
 PRIOR_CHOICES = ("linear_chain", "sets_of_chains", "forest")
 LIKELIHOOD_CHOICES = ("cb", "ci", "calibrated")
 

@@ -312,7 +312,7 @@ def test_import_bsi_sklearn_is_light_until_a_name_is_used():
 
 def test_fit_choices_are_the_models():
     from bsi_sklearn.cli._fit import LIKELIHOOD_CHOICES, PRIOR_CHOICES
-    from bsi_sklearn.likelihood import LIKELIHOODS
-    from bsi_sklearn.priors import PRIORS
+    from bsi_sklearn.model.likelihood import LIKELIHOODS
+    from bsi_sklearn.model.priors import PRIORS
 
     assert PRIOR_CHOICES == tuple(PRIORS) and LIKELIHOOD_CHOICES == tuple(LIKELIHOODS)

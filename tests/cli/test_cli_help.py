@@ -56,8 +56,8 @@ def test_help_is_quick_and_loads_nothing_heavy(module, argv):
 
 
 def test_report_choices_are_the_modules():
-    from bsi_sklearn.likelihood import LIKELIHOODS
-    from bsi_sklearn.priors import PRIORS
+    from bsi_sklearn.model.likelihood import LIKELIHOODS
+    from bsi_sklearn.model.priors import PRIORS
     from lfe.annotate import MISSION_OBJECTIVES
     from lfe.cli import _report as _cli_report
     from lfe.propositions import PROPOSITION_SETS

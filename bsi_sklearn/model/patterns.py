@@ -25,8 +25,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from bsi_sklearn._ltlf_program import compile_program, parse_ltlf, placeholders, program_truth
-from bsi_sklearn._pattern_kernels import catalogue_truth
+from bsi_sklearn.model._ltlf_program import (
+    compile_program,
+    parse_ltlf,
+    placeholders,
+    program_truth,
+)
+from bsi_sklearn.model._pattern_kernels import catalogue_truth
 
 __all__ = ["Template", "TEMPLATES", "FAMILIES", "get_template", "instantiate", "pattern_truth"]
 
@@ -190,7 +195,7 @@ def pattern_truth(template, data, offsets, columns):
     -------
     truth : ndarray of shape (n_demos, n_instances), dtype uint8
         ``truth[i, k]`` is 1 when demonstration ``i`` satisfies instance ``k``
-        (:func:`bsi_sklearn.clauses.pack_rows` packs it like the clause truth).
+        (:func:`bsi_sklearn.model.clauses.pack_rows` packs it like the clause truth).
 
     Examples
     --------

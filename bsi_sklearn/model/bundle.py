@@ -2,16 +2,17 @@
 
 :class:`Model` is a NamedTuple of scalars and small arrays, which numba accepts as one
 argument: the clause, exact and MCMC kernels take it instead of a dozen positional parameters.
-Which prior and likelihood it holds travels as an integer code; only :mod:`bsi_sklearn.priors`
-and :mod:`bsi_sklearn.likelihood` give those codes meaning.
+Which prior and likelihood it holds travels as an integer code; only
+:mod:`bsi_sklearn.model.priors` and :mod:`bsi_sklearn.model.likelihood` give those codes
+meaning.
 """
 
 from typing import NamedTuple
 
 import numpy as np
 
-from bsi_sklearn.likelihood import likelihood_code, resolve_flip_prior, resolve_log_epsilon
-from bsi_sklearn.priors import prior_code, prior_tables
+from bsi_sklearn.model.likelihood import likelihood_code, resolve_flip_prior, resolve_log_epsilon
+from bsi_sklearn.model.priors import prior_code, prior_tables
 
 __all__ = ["Model", "make_model"]
 
@@ -56,7 +57,7 @@ def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_even
         Likelihood of a misclassified demonstration; ``None`` for the paper's default.
     flip_prior : tuple of float or None
         ``(a, b)``: with ``"ci"``, the flip rate integrated over a Beta(a, b) prior
-        (:func:`bsi_sklearn.likelihood.resolve_flip_prior` says where it applies).
+        (:func:`bsi_sklearn.model.likelihood.resolve_flip_prior` says where it applies).
 
     Returns
     -------

@@ -1,9 +1,9 @@
 """The catalogue's templates on demonstrations: one small recurrence per template, in numba.
 
-``code`` is the template's position in :data:`bsi_sklearn.patterns.TEMPLATES`; each recurrence
-reads one demonstration's rows ``d[s:e]`` once (no formula interpreter in the loop). Their
-formulas, read by the generic evaluator of :mod:`bsi_sklearn._ltlf_program`, by flloat and by a
-brute-force evaluator, give the same truth (``tests/test_patterns.py``).
+``code`` is the template's position in :data:`bsi_sklearn.model.patterns.TEMPLATES`; each
+recurrence reads one demonstration's rows ``d[s:e]`` once (no formula interpreter in the
+loop). Their formulas, read by the generic evaluator of :mod:`bsi_sklearn.model._ltlf_program`,
+by flloat and by a brute-force evaluator, give the same truth (``tests/test_patterns.py``).
 """
 
 from numba import njit
