@@ -2,7 +2,8 @@
 
 :class:`RecurrentNet` (stacked (Bi-)LSTM, objective head, optional per-step phase head),
 :class:`Batches` (one fit's sequences padded once, mini-batches cut from them),
-:func:`make_batch` (a batch padded on its own, for prediction).
+:func:`make_batch` (a batch padded on its own, for prediction), :func:`predict_batches`
+(every sequence through a fitted network).
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from baselines._sequences import length_mask, pad_sequences, reverse_index
 
 nn = torch.nn
 
-__all__ = ["Batches", "RecurrentNet", "make_batch"]
+__all__ = ["Batches", "RecurrentNet", "make_batch", "predict_batches"]
 
 
 class Batches:
@@ -125,3 +126,27 @@ class RecurrentNet(nn.Module):
         logits = self.objective_head(self.drop(summary))
         phase_logits = self.phase_head(h) if self.phase_head is not None else None
         return logits, phase_logits
+
+
+def predict_batches(module, data, offsets, lengths, n_outputs, step):
+    """Objective probabilities ``(n, n_outputs)`` and per-step phase logits of every sequence.
+
+    The sequences are read shortest first, ``step`` at a time, without gradients; the phase
+    logits are ``None`` per sequence when the network has no phase head.
+    """
+    device = next(module.parameters()).device
+    order = np.argsort(lengths, kind="stable")
+    proba = np.empty((len(lengths), n_outputs))
+    phase_logits = [None] * len(lengths)
+    module.eval()
+    with torch.no_grad():
+        for s in range(0, len(order), step):
+            indices = order[s : s + step]
+            batch = make_batch(data, offsets, indices, device)
+            logits, phases = module(*batch)
+            proba[indices] = torch.sigmoid(logits).double().cpu().numpy()
+            if phases is not None:
+                phases = phases.double().cpu().numpy()
+                for k, i in enumerate(indices):
+                    phase_logits[i] = phases[k, : lengths[i]]
+    return proba, phase_logits

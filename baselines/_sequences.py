@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bsi_sklearn.traces import (
+from bsi_sklearn.data.traces import (
     Traces,
     Wording,
     check_consistent_traces,
@@ -26,7 +26,7 @@ __all__ = [
 class Sequences(Traces):
     """Validated sequences, stacked one after the other.
 
-    A :class:`bsi_sklearn.traces.Traces` of numeric values, read as sequences of feature
+    A :class:`bsi_sklearn.data.traces.Traces` of numeric values, read as sequences of feature
     vectors.
 
     Attributes
@@ -66,7 +66,7 @@ def check_sequences(X, *, estimator_name="estimator"):
     Parameters
     ----------
     X : list of array-like or DataFrame, 3-D array or 2-D array
-        The formats of :func:`bsi_sklearn.traces.check_traces`, with numeric values
+        The formats of :func:`bsi_sklearn.data.traces.check_traces`, with numeric values
         allowed: a list (or tuple) of ``(T_i, n_features)`` arrays, a list of DataFrames
         (rows are time steps; column names must agree), a 3-D array
         ``(n_sequences, T, n_features)``, or a 2-D array ``(n_sequences, n_features)`` (or a

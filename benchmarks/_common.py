@@ -182,9 +182,9 @@ def target(name, wanted, measured, ok):
 
 def clause_problem(X, roles):
     """``(traces, resolved roles, clause truth)`` of demonstrations, as ``fit`` computes them."""
-    from bsi_sklearn.clauses import clause_truth
-    from bsi_sklearn.roles import resolve_roles
-    from bsi_sklearn.traces import check_traces
+    from bsi_sklearn.data.roles import resolve_roles
+    from bsi_sklearn.data.traces import check_traces
+    from bsi_sklearn.model.clauses import clause_truth
 
     traces = check_traces(X)
     r = resolve_roles(roles["global_candidates"], roles["subtasks"], roles["conditions"],

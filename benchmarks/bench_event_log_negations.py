@@ -27,7 +27,6 @@ HERE = Path(__file__).resolve().parent
 sys.path[:0] = [str(HERE.parent), str(HERE)]
 
 import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
 from _common import md_table  # noqa: E402
 from bench_event_logs import _header, run_grid  # noqa: E402
 

@@ -16,8 +16,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.io import EventLogEncoder, read_event_log
-from bsi_sklearn.traces import check_traces
 
 
 def write_xes(path, n_cases, n_events, n_activities=40, seed=0):

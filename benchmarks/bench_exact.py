@@ -6,7 +6,7 @@ from _common import Section, fmt_n, fmt_s, md_table, problem_roles, save_figure,
 from _data import make_demos
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.priors import count_hypotheses
+from bsi_sklearn.model.priors import count_hypotheses
 
 #: (prior, globals, subtasks), from a few hundred to about ten million hypotheses.
 GRID = [

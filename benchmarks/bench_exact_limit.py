@@ -22,11 +22,11 @@ from _common import (
 from _data import make_demos
 
 from bsi_sklearn import BSIClassifier
+from bsi_sklearn.data.traces import check_labels
 from bsi_sklearn.datasets import make_dinner_table_demos
 from bsi_sklearn.inference.exact import exact_posterior
 from bsi_sklearn.model import make_model
-from bsi_sklearn.priors import count_hypotheses
-from bsi_sklearn.traces import check_labels
+from bsi_sklearn.model.priors import count_hypotheses
 
 _MEMORY_CHILD = textwrap.dedent("""
     import json, resource, sys

@@ -53,21 +53,21 @@ sys.path.insert(0, str(HERE.parent))
 sys.path.insert(0, str(HERE))
 
 from _common import machine_info, md_table  # noqa: E402
+from _event_log_rows import _encoded, split_log  # noqa: E402
 from _reliability import (  # noqa: E402
     diagonal_axes,
     draw_reliability,
     reliability_bins,
     worst_gap,
 )
-from _event_log_rows import _encoded, split_log  # noqa: E402
 from bench_roles import _seeds, flip_labels  # noqa: E402
 from external import file_seed, split_indices  # noqa: E402
 
 from bsi_sklearn import BSIClassifier  # noqa: E402
+from bsi_sklearn.data.preprocessing import NegationAugmenter  # noqa: E402
 from bsi_sklearn.datasets.errands import make_errand_demos, make_errand_task  # noqa: E402
 from bsi_sklearn.datasets.process_logs import make_process_log  # noqa: E402
 from bsi_sklearn.io import load_trace_file  # noqa: E402
-from bsi_sklearn.preprocessing import NegationAugmenter  # noqa: E402
 from lfe.study import t_interval  # noqa: E402
 
 DATA = HERE.parent.parent / "shared" / "benchmarks-data"

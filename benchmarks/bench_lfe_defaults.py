@@ -5,9 +5,9 @@ it (no roles, every default) must be no worse than the best BSI row with the ext
 at every training size, paired on the same missions. This script recomputes only the BSI rows
 of ``bsi-lfe study`` (no networks): the same repeats (missions and labels from
 :func:`lfe.study.repeat_seeds`), the same training draws and model seeds per cell as
-``lfe/study.py``, the same scorer (weighted F1 on the 200 fresh test missions), and the same
-intervals (:func:`lfe.study.t_interval`: Student-t over repeats, paired differences repeat by
-repeat). A variant whose option this version of the classifier lacks is listed as not
+``lfe/study/__init__.py``, the same scorer (weighted F1 on the 200 fresh test missions), and
+the same intervals (:func:`lfe.study.t_interval`: Student-t over repeats, paired differences
+repeat by repeat). A variant whose option this version of the classifier lacks is listed as not
 available. Every warning is counted per variant, none is silenced.
 
 Run from the repository root::
@@ -37,7 +37,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from benchmarks._common import machine_info, md_table  # noqa: E402
 from bsi_sklearn import BSIClassifier  # noqa: E402
-from bsi_sklearn.likelihood import LIKELIHOODS  # noqa: E402
+from bsi_sklearn.model.likelihood import LIKELIHOODS  # noqa: E402
 from lfe.annotate import MISSION_OBJECTIVES  # noqa: E402
 from lfe.compare import BSI_ROWS  # noqa: E402
 from lfe.compare import WITHOUT_ROLES as STUDY_WITHOUT_ROLES  # noqa: E402

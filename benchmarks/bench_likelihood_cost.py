@@ -16,13 +16,13 @@ import time
 
 import numpy as np
 
-from bsi_sklearn.clauses import clause_truth
+from bsi_sklearn.data.roles import resolve_roles
+from bsi_sklearn.data.traces import check_labels, check_traces
 from bsi_sklearn.datasets import make_dinner_table_demos
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
-from bsi_sklearn.likelihood import LIKELIHOODS
 from bsi_sklearn.model import make_model
-from bsi_sklearn.roles import resolve_roles
-from bsi_sklearn.traces import check_labels, check_traces
+from bsi_sklearn.model.clauses import clause_truth
+from bsi_sklearn.model.likelihood import LIKELIHOODS
 
 #: (likelihood, flip prior) of each column; the flip prior only where this checkout has it.
 SETTINGS = (("cb", None), ("ci", None), ("calibrated", None), ("ci", (1.0, 9.0)))

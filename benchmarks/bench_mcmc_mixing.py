@@ -45,9 +45,9 @@ from external import DEFAULT_DATA, scarlet_subset  # noqa: E402
 from sklearn.exceptions import ConvergenceWarning  # noqa: E402
 
 from bsi_sklearn import BSIClassifier  # noqa: E402
+from bsi_sklearn.data.preprocessing import NegationAugmenter  # noqa: E402
 from bsi_sklearn.inference.diagnostics import total_variation  # noqa: E402
 from bsi_sklearn.io import load_trace_file  # noqa: E402
-from bsi_sklearn.preprocessing import NegationAugmenter  # noqa: E402
 
 LFE_CELLS = ((2, 18), (3, 36), (1, 72))  # (random_state, missions)
 OBJECTIVES = ("MO1", "MO2", "MO3")

@@ -92,7 +92,7 @@ def run(cfg):
 def example_figure(path):
     """The README picture: a new demonstration monitored under a posterior of few data."""
     from bsi_sklearn.datasets import make_poi_threat_demos
-    from bsi_sklearn.monitor_figure import monitor_frame, plot_monitor
+    from bsi_sklearn.monitor.figure import monitor_frame, plot_monitor
 
     data = make_poi_threat_demos(2, n_demos=8, n_negative=8, random_state=3)
     train = [0, 1, 8]

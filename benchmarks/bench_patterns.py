@@ -1,7 +1,7 @@
 """The pattern library's truth at real sizes: every template, its instances over all propositions.
 
-For each catalogue template, :func:`bsi_sklearn.patterns.pattern_truth` on every instance over
-``n_props`` propositions (ordered pairs for an asymmetric binary template), on ``n_demos``
+For each catalogue template, :func:`bsi_sklearn.model.patterns.pattern_truth` on every instance
+over ``n_props`` propositions (ordered pairs for an asymmetric binary template), on ``n_demos``
 random demonstrations of ``T`` steps (each proposition true with probability 0.1, as sparse as
 event logs' "current activity" columns). One user template (``G(x -> F(y))``, the generic
 evaluator) on the same data, for its cost against the catalogue's recurrence of the same
@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 from _common import machine_info, md_table
 
-from bsi_sklearn.patterns import TEMPLATES, get_template, instantiate, pattern_truth
+from bsi_sklearn.model.patterns import TEMPLATES, get_template, instantiate, pattern_truth
 
 HERE = Path(__file__).resolve().parent
 

@@ -18,7 +18,7 @@ the default before issue 20; ``infer``: ``roles="infer"``, the default now) x li
 (``cb``, ``ci``, ``calibrated``, ``ci`` with ``flip_prior``). Each is fitted with every other
 default (``inference="auto"``, ``random_state`` = the seed, ``n_jobs=1``). A variant whose
 option the installed classifier does not have (detected from ``BSIClassifier().get_params()``
-and ``bsi_sklearn.likelihood.LIKELIHOODS``) is listed as not available. Every warning a fit
+and ``bsi_sklearn.model.likelihood.LIKELIHOODS``) is listed as not available. Every warning a fit
 raises is recorded (never silenced) and counted per variant.
 """
 
@@ -44,7 +44,7 @@ from _roles_report import write_outputs  # noqa: E402
 
 from bsi_sklearn import BSIClassifier  # noqa: E402
 from bsi_sklearn.datasets.errands import make_errand_demos, make_errand_task  # noqa: E402
-from bsi_sklearn.likelihood import LIKELIHOODS  # noqa: E402
+from bsi_sklearn.model.likelihood import LIKELIHOODS  # noqa: E402
 
 __all__ = ["Variant", "variants", "skip_variants", "flip_labels", "run_cell", "in_chains",
            "run_benchmark", "main", "SIZES", "NOISES", "KINDS", "FLIP_PRIOR"]

@@ -20,7 +20,7 @@ from _data import make_demos
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.inference.mcmc import deduplicate_demos, run_chain
 from bsi_sklearn.model import make_model
-from bsi_sklearn.priors import count_hypotheses
+from bsi_sklearn.model.priors import count_hypotheses
 
 MCMC = dict(inference="mcmc", n_chains=1, n_samples=10_000, burn_in=100, random_state=0)
 EXACT_LIMIT = 10_000_000  # largest support the sweeps enumerate

@@ -9,7 +9,7 @@ For every ``.trace`` file under ``--data`` (default ``../shared/benchmarks-data`
 repository): a deterministic stratified split (70 % train / 30 % test, seeded by the file's
 relative path), then
 
-* **BSI**: :class:`~bsi_sklearn.preprocessing.NegationAugmenter` adds ``!p`` for every
+* **BSI**: :class:`~bsi_sklearn.data.preprocessing.NegationAugmenter` adds ``!p`` for every
   proposition (so ``G(!p)`` is reachable), candidate clauses are screened on the training
   positives (see :func:`external_bsi.select_roles`), and :class:`~bsi_sklearn.BSIClassifier`
   is fitted on the training positives and negatives: exact enumeration when the support is at most

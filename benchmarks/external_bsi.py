@@ -1,6 +1,6 @@
 """The BSI side of the external benchmarks: screen the candidate clauses, then fit.
 
-With a negation for every proposition (:class:`~bsi_sklearn.preprocessing.NegationAugmenter`)
+With a negation for every proposition (:class:`~bsi_sklearn.data.preprocessing.NegationAugmenter`)
 the support of the posterior is far too large on the samples2LTL / Scarlet files;
 :func:`select_roles` keeps the global candidates and subtasks whose clauses hold on the
 training positives and best separate the classes, and :func:`fit_bsi` fits
@@ -15,7 +15,7 @@ import warnings
 import numpy as np
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.preprocessing import NegationAugmenter
+from bsi_sklearn.data.preprocessing import NegationAugmenter
 
 __all__ = ["NEG", "fit_bsi", "select_roles"]
 

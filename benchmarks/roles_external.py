@@ -49,8 +49,8 @@ from external import (  # noqa: E402
 from external_bsi import fit_bsi  # noqa: E402
 
 from bsi_sklearn import BSIClassifier  # noqa: E402
+from bsi_sklearn.data.preprocessing import NegationAugmenter  # noqa: E402
 from bsi_sklearn.io import load_trace_file  # noqa: E402
-from bsi_sklearn.preprocessing import NegationAugmenter  # noqa: E402
 
 __all__ = ["seen_files", "evaluate_file", "run_external", "TARGET_UNSEEN"]
 

@@ -12,7 +12,7 @@ ahead of time, :mod:`bsi_sklearn.compile`). Two things say so:
   is a plain line, not a warning (no warning filter repeats or hides it); every process that
   compiles prints its own (each joblib or dask worker that starts cold waits too, and its
   standard error is where its output goes). :func:`install_notice` starts listening;
-  :mod:`bsi_sklearn.clauses`, which every fit, prediction and monitor imports, calls it.
+  :mod:`bsi_sklearn.model.clauses`, which every fit, prediction and monitor imports, calls it.
 - a *bar* (tqdm) over the kernels being compiled, for ``verbose > 0`` inside
   :func:`compile_progress`; the notice stays quiet while a bar is shown
   (:func:`quiet_notice`), as it does while the compile step runs.

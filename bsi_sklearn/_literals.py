@@ -1,6 +1,6 @@
 """Negated propositions in rendered formulas: which column negates which, clauses over literals.
 
-:class:`~bsi_sklearn.preprocessing.NegationAugmenter` (default ``prefix="!"``) and
+:class:`~bsi_sklearn.data.preprocessing.NegationAugmenter` (default ``prefix="!"``) and
 :class:`~bsi_sklearn.io.EventLogEncoder` (``negations=True``) name the negation of a column
 ``p`` ``"!p"``, and :meth:`bsi_sklearn.ltl.Formula.to_specification` names a negated literal
 so; the readable renderings (``Specification.readable``, ``unicode_ltl``, the sentences of

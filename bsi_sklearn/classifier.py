@@ -8,11 +8,14 @@ from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.utils.validation import check_is_fitted
 
 from bsi_sklearn._compile_progress import compile_progress
-from bsi_sklearn.clauses import clause_truth
+from bsi_sklearn.data.inferred_roles import infer_roles
+from bsi_sklearn.data.roles import resolve_roles
+from bsi_sklearn.data.traces import check_labels, check_traces
 from bsi_sklearn.inference.policy import InferencePolicy, infer
-from bsi_sklearn.inferred_roles import infer_roles
-from bsi_sklearn.likelihood import LIKELIHOODS, is_flip_prior
 from bsi_sklearn.model import make_model
+from bsi_sklearn.model.clauses import clause_truth
+from bsi_sklearn.model.likelihood import LIKELIHOODS, is_flip_prior
+from bsi_sklearn.model.priors import PRIORS
 from bsi_sklearn.param_validation import (
     NONZERO_INTEGER,
     Interval,
@@ -22,9 +25,6 @@ from bsi_sklearn.param_validation import (
 )
 from bsi_sklearn.posterior import Posterior
 from bsi_sklearn.predictive import PosteriorPredictiveMixin, misclassified
-from bsi_sklearn.priors import PRIORS
-from bsi_sklearn.roles import resolve_roles
-from bsi_sklearn.traces import check_labels, check_traces
 
 __all__ = ["BSIClassifier"]
 
@@ -60,7 +60,7 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
         What the roles left at ``None`` become. ``"infer"``: read from the training
         demonstrations (propositions whose clauses they can test, each subtask's condition
         from the initial values that separate the acceptable demonstrations completing it
-        from those skipping it; :func:`bsi_sklearn.inferred_roles.infer_roles`). ``"all"``:
+        from those skipping it; :func:`bsi_sklearn.data.inferred_roles.infer_roles`). ``"all"``:
         every proposition a global candidate and a subtask, no conditions (the paper's
         setting without an expert's roles: vacuous clauses and chance orders then enter the
         MAP). Roles given explicitly are used as given; ``roles_`` says what was used; see
@@ -329,7 +329,7 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
         Parameters
         ----------
         X : list of array-like or DataFrame, or ndarray
-            Demonstrations (see :func:`bsi_sklearn.traces.check_traces`): a list of
+            Demonstrations (see :func:`bsi_sklearn.data.traces.check_traces`): a list of
             ``(T_i, n_props)`` boolean traces or DataFrames (``[df]`` for one), a 3-D array
             ``(n_demos, T, n_props)``, a long-format DataFrame with a ``demo_id`` column, or a
             2-D array whose rows are traces of length one. A single DataFrame without
@@ -386,7 +386,7 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
         self.n_hypotheses_ = result.n_hypotheses
         self.log_epsilon_ = model.log_eps
         self.map_specification_ = self.posterior_.specification(0)
-        self.vacuous_clauses_ = self.posterior_.mark_vacuous(traces, y01)
+        self.vacuous_clauses_ = self.posterior_.mark_vacuous(traces, y01, truth=truth)
         self.n_unique_specifications_ = len(self.posterior_)
         return self
 
@@ -396,12 +396,12 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
 
         Returns
         -------
-        monitor : bsi_sklearn.monitor.PosteriorMonitor
+        monitor : bsi_sklearn.monitor.posterior_monitor.PosteriorMonitor
             Feed it one step at a time (``monitor.update(step)``); each step's verdict gives
             the posterior mass of the specifications already satisfied, already violated and
             still open. ``monitor.finish()`` closes the trace.
         """
-        from bsi_sklearn.monitor import PosteriorMonitor
+        from bsi_sklearn.monitor.posterior_monitor import PosteriorMonitor
 
         check_is_fitted(self)
         return PosteriorMonitor(self.posterior_, binarize=self.binarize)
@@ -419,7 +419,7 @@ class BSIClassifier(PosteriorPredictiveMixin, ClassifierMixin, BaseEstimator):
             Row ``t`` is ``(p_satisfied, p_violated, p_open)`` after steps ``0..t`` of a trace
             still running; :meth:`predict_proba` gives the verdict of the closed trace.
         """
-        from bsi_sklearn.monitor import monitor_traces
+        from bsi_sklearn.monitor.posterior_monitor import monitor_traces
 
         traces = self._validated(X)
         return monitor_traces(self.posterior_, traces)

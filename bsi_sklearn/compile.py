@@ -68,12 +68,12 @@ def _predict():
     import numpy as np
 
     from bsi_sklearn import BSIClassifier
-    from bsi_sklearn.clauses import clause_truth
+    from bsi_sklearn.data.roles import resolve_roles
+    from bsi_sklearn.data.traces import check_traces
     from bsi_sklearn.inference.exact import exact_posterior
     from bsi_sklearn.model import make_model
-    from bsi_sklearn.priors import enumerate_structures, log_prior_structure, n_orders_of
-    from bsi_sklearn.roles import resolve_roles
-    from bsi_sklearn.traces import check_traces
+    from bsi_sklearn.model.clauses import clause_truth
+    from bsi_sklearn.model.priors import enumerate_structures, log_prior_structure, n_orders_of
 
     X, y, roles = _problem()
     clf = BSIClassifier(**roles).fit(X, y)

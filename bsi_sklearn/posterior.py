@@ -6,11 +6,7 @@ import os
 import numpy as np
 import pandas as pd
 
-from bsi_sklearn.clauses import (
-    clause_index_order,
-    clause_truth,
-    pack_rows,
-)
+from bsi_sklearn.data.traces import Traces, check_consistent_traces, check_traces
 from bsi_sklearn.io.posterior_file import (
     MAX_LISTED,
     SCHEMA,
@@ -20,10 +16,14 @@ from bsi_sklearn.io.posterior_file import (
     read_posterior,
     write_posterior,
 )
+from bsi_sklearn.model.clauses import (
+    clause_index_order,
+    clause_truth,
+    pack_rows,
+)
 from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.satisfaction import clause_masks, vote
 from bsi_sklearn.specification import Specification
-from bsi_sklearn.traces import Traces, check_consistent_traces, check_traces
 
 __all__ = ["Posterior", "SCHEMA", "SCHEMA_VERSION"]
 
@@ -239,14 +239,16 @@ class Posterior:
         )[:, :n_cl].astype(float)
         return self.probabilities @ bits
 
-    def mark_vacuous(self, X, y=None):
+    def mark_vacuous(self, X, y=None, *, truth=None):
         """Set :attr:`vacuous_clauses` to the candidate clauses every demonstration satisfies.
 
         ``X``: demonstrations (as ``BSIClassifier.fit`` takes them) or ``Traces``; ``y``: their
-        0/1 labels. Clauses no demonstration violates, acceptable or not, are untested; with no
+        0/1 labels; ``truth``: their clause truth (:func:`~bsi_sklearn.model.clauses.clause_truth`)
+        where the caller has computed it (``fit`` has), else it is computed from ``X``.
+        Clauses no demonstration violates, acceptable or not, are untested; with no
         unacceptable demonstration none is marked (positives alone separate nothing).
         """
-        truth = self._truth(X)
+        truth = self._truth(X) if truth is None else truth
         if y is not None and (np.shape(y) != (len(truth),) or not np.isin(y, (0, 1)).all()):
             raise ValueError(f"mark_vacuous: y must be one 0/1 label per demonstration "
                              f"({len(truth)}), got {y!r}")

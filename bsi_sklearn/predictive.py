@@ -20,10 +20,10 @@ import numpy as np
 from numba import njit
 from sklearn.utils.validation import check_is_fitted
 
-from bsi_sklearn.clauses import pack_rows
+from bsi_sklearn.data.traces import check_consistent_traces, check_traces
+from bsi_sklearn.model.clauses import pack_rows
 from bsi_sklearn.param_validation import validate_params
 from bsi_sklearn.satisfaction import satisfied_masses, satisfies
-from bsi_sklearn.traces import check_consistent_traces, check_traces
 
 __all__ = ["LabelNoise", "LEARNED_PRIOR", "fixed_noise", "learned_noise", "misclassified",
            "label_noise", "predictive_log_proba", "PosteriorPredictiveMixin"]

@@ -1,6 +1,6 @@
 """Which specifications a demonstration satisfies: clause bitsets and the masses they hold.
 
-A specification's clauses are a bitset over the clause slots (:mod:`bsi_sklearn.clauses`); a
+A specification's clauses are a bitset over the clause slots (:mod:`bsi_sklearn.model.clauses`); a
 demonstration satisfies it when every one of those clauses is true on it. The paper's vote
 (:meth:`bsi_sklearn.Posterior.predict_proba`) and the posterior predictive
 (:mod:`bsi_sklearn.predictive`) both sum posterior mass over that test, here.
@@ -9,7 +9,7 @@ demonstration satisfies it when every one of those clauses is true on it. The pa
 import numpy as np
 from numba import njit
 
-from bsi_sklearn.clauses import clause_index_eventual, clause_index_order, n_clauses
+from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order, n_clauses
 
 __all__ = ["clause_masks", "satisfies", "satisfied_masses", "vote"]
 

@@ -7,7 +7,7 @@ from collections.abc import Hashable, Iterable, Mapping
 import numpy as np
 
 from bsi_sklearn._literals import clause_form, negation_reader, readable_atom, render_clause
-from bsi_sklearn._trace_values import trace_columns
+from bsi_sklearn.data.values import trace_columns
 
 __all__ = ["Specification", "transitive_closure"]
 
@@ -275,8 +275,9 @@ class Specification:
             acceptable or not). Keys of clauses the formula does not have are ignored.
         negations : None, False or mapping, default=None
             Which propositions are negations of others: by default a name ``"!p"`` is the
-            negation of ``p`` (the columns of :class:`~bsi_sklearn.preprocessing.NegationAugmenter`
-            and :class:`~bsi_sklearn.io.EventLogEncoder`); a mapping ``{negated: proposition}``
+            negation of ``p`` (the columns of
+            :class:`~bsi_sklearn.data.preprocessing.NegationAugmenter` and
+            :class:`~bsi_sklearn.io.EventLogEncoder`); a mapping ``{negated: proposition}``
             (their ``negations_``) names exactly those; ``False`` none.
 
         Returns
@@ -331,11 +332,11 @@ class Specification:
     def to_ltlf(self, dialect="spot", atoms=None, *, negations=None):
         """The formula as text for Spot (``"spot"``) or LTLf2DFA / flloat (``"ltlf2dfa"``).
 
-        See :func:`bsi_sklearn.automaton.to_ltlf` (a negated column ``"!q"`` is written
+        See :func:`bsi_sklearn.ltl.ltlf_export.to_ltlf` (a negated column ``"!q"`` is written
         ``!q``, the negation of the atom ``q``); on this template the text means the same
         under LTLf (the finite trace) and LTL (the last state repeating forever).
         """
-        from bsi_sklearn.automaton import to_ltlf
+        from bsi_sklearn.ltl.ltlf_export import to_ltlf
 
         return to_ltlf(self, dialect=dialect, atoms=atoms, negations=negations)
 
@@ -344,7 +345,7 @@ class Specification:
 
         Returns
         -------
-        automaton : bsi_sklearn.automaton.SpecificationAutomaton
+        automaton : bsi_sklearn.ltl.ltlf_export.SpecificationAutomaton
             ``automaton.accepts(trace)`` equals :meth:`satisfied_by`; ``automaton.to_dot()``
             exports it.
 
@@ -354,7 +355,7 @@ class Specification:
         package): milliseconds when the subtasks are ordered; the size grows as 2^k with k
         mutually unordered eventual subtasks, as any DFA of the formula must.
         """
-        from bsi_sklearn.automaton import SpecificationAutomaton
+        from bsi_sklearn.ltl.ltlf_export import SpecificationAutomaton
 
         return SpecificationAutomaton(self)
 

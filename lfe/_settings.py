@@ -1,6 +1,6 @@
 """The sizes a ``bsi-lfe`` command and its parser share: the ``--quick`` runs, the study's grid.
 
-Both the light parsers (``lfe._cli_*``: their help texts) and the modules that run the
+Both the light parsers (``lfe.cli._*``: their help texts) and the modules that run the
 commands read them here; this module imports nothing, so neither imports the other.
 """
 

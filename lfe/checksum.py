@@ -148,7 +148,7 @@ def dataset_digest(dataset, *, annotations=()):
 def study_repeat_digest(seed=0, repeat=0):
     """Digest of one repeat of the default ``bsi-lfe study --seed SEED``.
 
-    The repeat's missions (:func:`lfe._study_cells.repeat_dataset`: the default study's
+    The repeat's missions (:func:`lfe.study.repeat_dataset`: the default study's
     training pool and test set, 72 + 200 missions), their noise-free verdicts and phase
     times, then their annotations at each of the study's default noise rates with the study's
     time noise and label seed.
@@ -166,7 +166,7 @@ def study_repeat_digest(seed=0, repeat=0):
         What was hashed, in words.
     """
     from lfe._settings import STUDY_DEFAULTS as DEFAULTS
-    from lfe._study_cells import TIME_NOISE, repeat_dataset, repeat_seeds
+    from lfe.study import TIME_NOISE, repeat_dataset, repeat_seeds
 
     seeds = repeat_seeds(seed, repeat)
     n_pool, test_size = max(DEFAULTS["sizes"]), DEFAULTS["test_size"]

@@ -26,15 +26,15 @@ import numpy as np
 import pandas as pd
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.clauses import clause_truth
+from bsi_sklearn.data.inferred_roles import infer_roles
+from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.inference.auto_budget import AUTO_EXACT_WORK, AUTO_MAX_WORK
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.inference.mcmc import sampling_count
-from bsi_sklearn.inferred_roles import infer_roles
 from bsi_sklearn.model import make_model
-from bsi_sklearn.traces import check_traces
-from lfe._study_cells import draw_training_set, repeat_seeds, search_grid, simulate_repeat
+from bsi_sklearn.model.clauses import clause_truth
 from lfe.study import derive_seed
+from lfe.study._cells import draw_training_set, repeat_seeds, search_grid, simulate_repeat
 
 
 def _problem(clf, X, y):

@@ -74,7 +74,7 @@ def brute_force_posterior(X, y, names, globals_, subtasks, conditions, prior, li
     import math
 
     from bsi_sklearn import Specification
-    from bsi_sklearn.likelihood import default_log_epsilon, log_likelihood_reference
+    from bsi_sklearn.model.likelihood import default_log_epsilon, log_likelihood_reference
 
     n_g, n = len(globals_), len(subtasks)
     if log_eps is None:

@@ -6,6 +6,7 @@ not these.
 
 import ast
 import pathlib
+import re
 import sys
 
 import pytest
@@ -82,12 +83,18 @@ def test_no_function_takes_more_than_12_positional_parameters():
 PACKAGES = ("bsi_sklearn", "lfe", "baselines")
 
 
-def test_modules_stay_small():
-    # Issue 22: lfe/compare.py (712 lines) was the last exception; it is now its rows, its
-    # protocol, its result and its command line, each a module.
+def test_long_modules_are_looked_at():
+    # About 500 lines is a signal to look, not a limit to cut to (DESIGN §9): a class lives in
+    # one module. Every module over 500 lines is named, with why, in docs/architecture.md's
+    # "Modules over 500 lines"; one that shrinks below is dropped from that list.
+    doc = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
+    listed = doc.split("## Modules over 500 lines", 1)[1].split("\n## ", 1)[0]
     sizes = {_rel(p): len(p.read_text(encoding="utf-8").splitlines())
              for p in _modules(*PACKAGES)}
-    assert {k: v for k, v in sizes.items() if v > 500} == {}
+    long = {k for k, v in sizes.items() if v > 500}
+    named = set(re.findall(r"^- `([^`]+\.py)`", listed, flags=re.M))
+    assert long <= named, sorted(long - named)
+    assert named <= long, sorted(named - long)
 
 
 def _is_private(part):
@@ -146,7 +153,7 @@ def test_only_the_priors_module_knows_the_priors():
     # Experiments and reports select results by prior name; that is not the model.
     bad = []
     for path in _modules("bsi_sklearn"):
-        if path.name in {"priors.py", "model.py"}:
+        if _rel(path) in {"bsi_sklearn/model/priors.py", "bsi_sklearn/model/bundle.py"}:
             continue
         inference_layer = not {"experiments", "datasets", "report"} & set(path.parts)
         for node in ast.walk(_tree(path)):
@@ -183,22 +190,29 @@ def test_every_module_says_what_it_holds():
     assert missing == []
 
 
-# The layers of docs/architecture.md, bottom up; a module imports only from its own layer and
-# the layers below. Modules not named here (reports, experiments, datasets, command lines) sit
-# on top and may import any layer.
-LAYERS = [
-    # Specification is a value (imports nothing); ltl/ reads formulas into it.
-    {"traces", "_trace_values", "_labels", "_long_format_split", "roles", "inferred_roles",
-     "io", "ltl", "param_validation", "preprocessing", "specification", "automaton", "dfa",
-     "_literals",
-     "_compile_progress", "_numba_cache", "_lazy", "_jit"},
-    {"clauses", "patterns", "_pattern_kernels", "_ltlf_program"},
-    {"priors", "likelihood", "model"},
-    {"inference"},
-    {"satisfaction", "posterior", "predictive", "metrics", "monitor", "monitor_figure",
-     "active"},
-    {"classifier"},
-]
+# The layers, bottom up, as docs/architecture.md's "Layers" table draws them: a module imports
+# only from its own layer and the layers below. Folders and modules not named there (reports,
+# experiments, datasets, command lines) sit on top and may import any layer.
+def _doc_layers():
+    doc = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
+    table = doc.split("## Layers", 1)[1].split("\n## ", 1)[0]
+    layers = []
+    for line in table.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 2 and cells[0] not in ("layer", "---"):
+            layers.append({name.rstrip("/").removesuffix(".py")
+                           for name in re.findall(r"`([^`]+)`", cells[1])})
+    return layers
+
+
+LAYERS = _doc_layers()
+
+
+def test_the_layers_table_names_folders_and_modules_that_exist():
+    assert [len(layer) > 0 for layer in LAYERS] == [True] * 5
+    for layer in LAYERS:
+        for name in layer:
+            assert (PACKAGE / name).is_dir() or (PACKAGE / f"{name}.py").is_file(), name
 
 
 def _layer(module_parts):
@@ -309,7 +323,7 @@ _ALLOWED_CYCLES = [{"bsi_sklearn.ltl.formula", "bsi_sklearn.ltl.parser",
 def test_no_import_circles(package):
     # Issue 21: traces <-> io/long_format (the data layer reached up into io) and
     # specification <-> automaton (the automaton took the private _trace_columns).
-    # Issue 22: lfe._cli_compare|_cli_study|_cli_report <-> lfe.compare|study|report (each
+    # Issue 22: lfe's light parsers (now lfe.cli._*) <-> lfe.compare|study|report (each
     # light parser's run imported the real module, which imported the parser's settings back).
     cycles = [sorted(c) for c in _cycles(_import_graph(package)) if c not in _ALLOWED_CYCLES]
     assert cycles == []
@@ -327,12 +341,13 @@ def test_the_circle_check_sees_a_lazy_import(tmp_path, monkeypatch):
 
 
 def test_the_clause_layout_is_written_in_one_place():
-    # The index of an order clause, n_g + n + a*n + b, lives in bsi_sklearn.clauses; everywhere
-    # else calls clause_index_order / clause_index_eventual / n_clauses.
+    # The index of an order clause, n_g + n + a*n + b, lives in bsi_sklearn.model.clauses;
+    # everywhere else calls clause_index_order / clause_index_eventual / n_clauses.
     import re
 
     pattern = re.compile(r"n_g \+ n \+ \w+ \* n|base \+ \w+ \* n \+|n_g \+ n \+ n \* n")
-    bad = [f"{_rel(p)}:{i}" for p in _modules("bsi_sklearn") if p.name != "clauses.py"
+    bad = [f"{_rel(p)}:{i}" for p in _modules("bsi_sklearn")
+           if _rel(p) != "bsi_sklearn/model/clauses.py"
            for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
            if pattern.search(line.split("#")[0])]
     assert bad == []

@@ -5,9 +5,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from bsi_sklearn.clauses import clause_truth
-from bsi_sklearn.roles import resolve_roles
-from bsi_sklearn.traces import check_traces
+from bsi_sklearn.data.roles import resolve_roles
+from bsi_sklearn.data.traces import check_traces
+from bsi_sklearn.model.clauses import clause_truth
 
 
 def brute_force(trace, g_idx, s_idx, c_idx):

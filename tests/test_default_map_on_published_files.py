@@ -11,8 +11,8 @@ import pytest
 from _shared_data import BENCHMARKS_DATA
 
 from bsi_sklearn import BSIClassifier
+from bsi_sklearn.data.preprocessing import NegationAugmenter
 from bsi_sklearn.io import load_trace_file
-from bsi_sklearn.preprocessing import NegationAugmenter
 
 DATA = BENCHMARKS_DATA
 FILES = sorted(DATA.rglob("*.trace"))[::40] if DATA.is_dir() else []

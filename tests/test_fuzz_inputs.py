@@ -16,8 +16,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from bsi_sklearn.cli import main
+from bsi_sklearn.data.traces import Traces, check_traces
 from bsi_sklearn.io import read_trace_file, read_traces_csv
-from bsi_sklearn.traces import Traces, check_traces
 
 FAST = settings(max_examples=60, deadline=2000, derandomize=True,
                 suppress_health_check=[HealthCheck.too_slow])

@@ -22,15 +22,15 @@ import bsi_sklearn.inference._exact_kernels as kernels
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.inference.diagnostics import total_variation
 from bsi_sklearn.inference.exact import exact_posterior
-from bsi_sklearn.likelihood import (
+from bsi_sklearn.model import make_model
+from bsi_sklearn.model.likelihood import (
     default_log_epsilon,
     flip_rate_posterior,
     likelihood_code,
     log_likelihood,
     log_likelihood_reference,
 )
-from bsi_sklearn.model import make_model
-from bsi_sklearn.priors import PRIORS
+from bsi_sklearn.model.priors import PRIORS
 
 #: (likelihood, flip_prior) of the new settings.
 NEW = [("calibrated", None), ("ci", (1.0, 9.0)), ("ci", (2.5, 0.7))]

@@ -8,8 +8,8 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from bsi_sklearn import BSIClassifier, Posterior
-from bsi_sklearn.monitor import PosteriorMonitor, Verdict
-from bsi_sklearn.roles import resolve_roles
+from bsi_sklearn.data.roles import resolve_roles
+from bsi_sklearn.monitor.posterior_monitor import PosteriorMonitor, Verdict
 
 NAMES = ["safe", "a", "b", "c_ok"]
 
@@ -256,7 +256,7 @@ def test_integer_proposition_names_without_frames():
 def test_bsi_monitor_writes_tables_and_plots(tmp_path, capsys):
     from bsi_sklearn.cli import main
     from bsi_sklearn.io import write_traces_csv
-    from bsi_sklearn.monitor_figure import monitor_frame
+    from bsi_sklearn.monitor.figure import monitor_frame
 
     clf = CLASSIFIERS["plain"]
     clf.posterior_.to_json(tmp_path / "posterior.json")
@@ -279,7 +279,7 @@ def test_bsi_monitor_writes_tables_and_plots(tmp_path, capsys):
 
 
 def test_monitor_frame_marks_events_and_closes():
-    from bsi_sklearn.monitor_figure import monitor_frame, plot_monitor
+    from bsi_sklearn.monitor.figure import monitor_frame, plot_monitor
 
     post = POSTERIORS["plain"]
     trace = np.array([[1, 0, 0, 1], [1, 1, 0, 1], [0, 1, 1, 1]])

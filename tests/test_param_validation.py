@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from bsi_sklearn import BSIClassifier, Specification
+from bsi_sklearn.data.preprocessing import NegationAugmenter
 from bsi_sklearn.param_validation import (
     NONZERO_INTEGER,
     Interval,
@@ -18,7 +19,6 @@ from bsi_sklearn.param_validation import (
     is_satisfied,
     validate_params,
 )
-from bsi_sklearn.preprocessing import NegationAugmenter
 
 
 # ---------------------------------------------------------------- intervals

@@ -14,7 +14,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from bsi_sklearn.patterns import FAMILIES, TEMPLATES, get_template, instantiate, pattern_truth
+from bsi_sklearn.model.patterns import (
+    FAMILIES,
+    TEMPLATES,
+    get_template,
+    instantiate,
+    pattern_truth,
+)
 
 # ----------------------------------------------------------- a tiny LTLf parser and evaluator
 _TOK = re.compile(r"\s*(<->|->|WX|[()!&|]|[A-Za-z_]+)")

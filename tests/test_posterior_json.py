@@ -50,7 +50,7 @@ def test_round_trip_gives_identical_predictions(kwargs, frames, tmp_path):
 
 
 def test_monitor_of_a_loaded_posterior_agrees():
-    from bsi_sklearn.monitor import PosteriorMonitor
+    from bsi_sklearn.monitor.posterior_monitor import PosteriorMonitor
 
     X, y = _data()
     clf = BSIClassifier(random_state=0).fit(X, y)

@@ -8,7 +8,7 @@ import pytest
 from _reference import program_distribution
 
 from bsi_sklearn.model import make_model
-from bsi_sklearn.priors import (
+from bsi_sklearn.model.priors import (
     count_structures,
     enumerate_structures,
     log_prior_structure,

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 from bsi_sklearn import Specification
+from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.ltl import parse_ltl
 from bsi_sklearn.ltl.evaluation import evaluate_traces
-from bsi_sklearn.traces import check_traces
 
 SUBTASKS = ["a", "b", "c"]
 NAMES = ["a", "b", "c", "p", "q"]  # p and q serve as conditions (and as globals)

@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 from bsi_sklearn import Specification
-from bsi_sklearn.clauses import clause_index_eventual, clause_index_order, clause_truth
+from bsi_sklearn.data.roles import resolve_roles
+from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.ltl import (
     And,
     Atom,
@@ -28,9 +29,8 @@ from bsi_sklearn.ltl import (
     Until,
     parse_ltl,
 )
+from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order, clause_truth
 from bsi_sklearn.report.wording import clause_specification, unicode_ltl
-from bsi_sklearn.roles import resolve_roles
-from bsi_sklearn.traces import check_traces
 
 BASE = ["p", "q"]
 COLUMNS = ["p", "q", "!p", "!q", "!!p", "!!q"]
@@ -208,7 +208,7 @@ def test_a_column_named_with_a_bang_that_is_no_negation_stays_an_atom():
 def test_a_mapping_names_negations_of_any_prefix():
     import pandas as pd
 
-    from bsi_sklearn.preprocessing import NegationAugmenter
+    from bsi_sklearn.data.preprocessing import NegationAugmenter
 
     aug = NegationAugmenter(prefix="not_").fit([pd.DataFrame({"a": [1, 0], "b": [0, 1]})])
     assert aug.negations_ == {"not_a": "a", "not_b": "b"}

@@ -344,10 +344,10 @@ def comparison():
 @pytest.mark.parametrize("kind", ["EACCES", "full:2", "full:5", "write:ENOSPC"])
 def test_lfe_compare_out_faults(comparison, tmp_path, capsys, monkeypatch, kind):
     # Before: the six files (tables, LaTeX, figure) were written one by one, in place.
-    import lfe._compare_protocol
+    import lfe.compare._protocol
 
-    # the command line (lfe._cli_compare.run) calls the protocol's compare
-    monkeypatch.setattr(lfe._compare_protocol, "compare", lambda *args, **kwargs: comparison)
+    # the command line (lfe.cli._compare.run) calls the protocol's compare
+    monkeypatch.setattr(lfe.compare._protocol, "compare", lambda *args, **kwargs: comparison)
     folder = tmp_path / "results"
     assert _lfe(["compare", "--out", str(folder), "--verbose", "0"]) == 0
     before = _mark_previous(folder)

@@ -74,10 +74,10 @@ def problem_from_demos(X, y, roles, *, prior="sets_of_chains", likelihood="cb", 
     passes the traces themselves (the columns the template reads), and webppl checks the
     formula on them at every likelihood evaluation. Returns ``(problem, resolved_roles)``.
     """
-    from bsi_sklearn.clauses import clause_truth
-    from bsi_sklearn.likelihood import resolve_log_epsilon
-    from bsi_sklearn.roles import resolve_roles
-    from bsi_sklearn.traces import check_traces
+    from bsi_sklearn.data.roles import resolve_roles
+    from bsi_sklearn.data.traces import check_traces
+    from bsi_sklearn.model.clauses import clause_truth
+    from bsi_sklearn.model.likelihood import resolve_log_epsilon
 
     for name, value, allowed in (("prior", prior, PRIORS), ("likelihood", likelihood, LIKELIHOODS),
                                  ("input", input, INPUTS)):

@@ -42,7 +42,7 @@ the first t events; step 0: nothing yet):
 on that encoding (Declare's LTLf definitions):
 
 * ``("absence", (a,))``: ``G(!a)``, *a never occurs* (in BSI's template only once a negated
-  column ``not_a`` is added, e.g. by :class:`~bsi_sklearn.preprocessing.NegationAugmenter`,
+  column ``not_a`` is added, e.g. by :class:`~bsi_sklearn.data.preprocessing.NegationAugmenter`,
   as ``G(not_a)``);
 * ``("response", (a, b))``: ``G(a -> F(b))``, *every a is eventually followed by a b*;
 * ``("at_most_once", (a,))``: ``!F(a & X(F(a)))``, *a occurs at most once* (Declare's

@@ -11,7 +11,7 @@ from bsi_sklearn.experiments._claims import Claim, fraction_by_size, mean_at, se
 from bsi_sklearn.experiments._plots import PRIOR_LABELS
 from bsi_sklearn.experiments.synthetic_grid import ALT_HYPERPARAMETERS, PRIORS_23, _domain
 from bsi_sklearn.model import make_model
-from bsi_sklearn.priors import enumerate_structures, log_prior_structure, n_orders_of
+from bsi_sklearn.model.priors import enumerate_structures, log_prior_structure, n_orders_of
 
 __all__ = [
     "PAPER_RUNTIME_MINUTES",

@@ -23,7 +23,6 @@ from numba import carray, njit
 from numba.core import types
 from numba.extending import intrinsic
 
-from bsi_sklearn.clauses import clause_index_order
 from bsi_sklearn.inference._gibbs_moves import (
     add_pair,
     chain_move,
@@ -32,9 +31,15 @@ from bsi_sklearn.inference._gibbs_moves import (
     forest_move,
     sat_counts,
 )
-from bsi_sklearn.likelihood import cb_rejected, log_likelihood
 from bsi_sklearn.model import Model
-from bsi_sklearn.priors import log_inclusion, log_prior, log_prior_structure, log_prior_subset
+from bsi_sklearn.model.clauses import clause_index_order
+from bsi_sklearn.model.likelihood import cb_rejected, log_likelihood
+from bsi_sklearn.model.priors import (
+    log_inclusion,
+    log_prior,
+    log_prior_structure,
+    log_prior_subset,
+)
 
 __all__ = ["Demos", "ChainState", "ChainBuffers", "ChainLoop", "make_buffers", "make_loop",
            "chain_kernel",

@@ -19,8 +19,8 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn._jit import helper
-from bsi_sklearn.clauses import popcount, popcounts
-from bsi_sklearn.likelihood import depends_on_conjuncts, log_likelihood, splits_by_label
+from bsi_sklearn.model.clauses import popcount, popcounts
+from bsi_sklearn.model.likelihood import depends_on_conjuncts, log_likelihood, splits_by_label
 
 __all__ = ["StructureSide", "SubsetSide", "Likelihoods", "likelihood_tables", "pair_ll",
            "pair_ll_many", "pair_lls", "group_pair_lls", "log_evidence", "group_masses",

@@ -15,7 +15,7 @@ import numpy as np
 
 from bsi_sklearn.inference._grouping import Groups, group_rows
 from bsi_sklearn.inference._structures import whole_kind
-from bsi_sklearn.priors import log_prior_subset
+from bsi_sklearn.model.priors import log_prior_subset
 
 __all__ = ["PartTable", "SubsetGroups", "subset_table", "group_subsets", "top_entries",
            "structure_groups", "subset_items", "ROW_COST", "PAIR_COST"]

@@ -12,10 +12,10 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from bsi_sklearn.clauses import clause_index_order, popcount
 from bsi_sklearn.inference._exact_parts import PartTable
-from bsi_sklearn.likelihood import log_likelihood
-from bsi_sklearn.priors import log_prior_structure
+from bsi_sklearn.model.clauses import clause_index_order, popcount
+from bsi_sklearn.model.likelihood import log_likelihood
+from bsi_sklearn.model.priors import log_prior_structure
 
 __all__ = ["LabelMasks", "ungrouped_kernel", "structure_tables"]
 

@@ -27,9 +27,9 @@ import math
 import numpy as np
 from numba import njit
 
-from bsi_sklearn.clauses import clause_index_eventual, clause_index_order, popcount
-from bsi_sklearn.likelihood import log_likelihood, log_likelihood_cb
-from bsi_sklearn.priors import log_inclusion
+from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order, popcount
+from bsi_sklearn.model.likelihood import log_likelihood, log_likelihood_cb
+from bsi_sklearn.model.priors import log_inclusion
 
 __all__ = ["add_pair", "draw", "sat_counts", "zero_mask", "bit_sums", "flip_move",
            "chain_move", "forest_move"]

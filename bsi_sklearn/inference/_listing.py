@@ -13,7 +13,7 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn._jit import helper
-from bsi_sklearn.priors import structure_log_prior
+from bsi_sklearn.model.priors import structure_log_prior
 
 __all__ = ["Listing", "Members", "members", "walk_scratch", "list_hypotheses"]
 

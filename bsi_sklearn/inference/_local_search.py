@@ -21,10 +21,10 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn._jit import helper
-from bsi_sklearn.clauses import clause_index_order
 from bsi_sklearn.inference._gibbs_moves import sat_counts
-from bsi_sklearn.likelihood import log_likelihood
-from bsi_sklearn.priors import log_prior
+from bsi_sklearn.model.clauses import clause_index_order
+from bsi_sklearn.model.likelihood import log_likelihood
+from bsi_sklearn.model.priors import log_prior
 
 __all__ = ["beam_search", "neighbourhood", "n_neighbours_max"]
 

@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn._jit import helper
-from bsi_sklearn.clauses import popcount
+from bsi_sklearn.model.clauses import popcount
 
 __all__ = ["BLOCK", "PART", "PRIOR_SETS", "COMBO_COST", "STEP_COST", "ENTRY_COST", "whole_kind",
            "problem", "scratch", "n_bits", "and_pop", "find", "append_block", "candidates",

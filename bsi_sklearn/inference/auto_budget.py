@@ -33,7 +33,7 @@ def auto_work_budget(truth, y01, model, *, n_chains, n_samples, burn_in,
     Parameters
     ----------
     truth : ndarray (n_demos, n_clauses)
-        Clause truth (:func:`bsi_sklearn.clauses.clause_truth`).
+        Clause truth (:func:`bsi_sklearn.model.clauses.clause_truth`).
     y01 : ndarray (n_demos,)
         Labels in {0, 1}.
     model : Model

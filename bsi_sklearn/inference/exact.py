@@ -25,7 +25,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from bsi_sklearn.clauses import clause_index_order, n_clauses, pack_rows, popcounts
 from bsi_sklearn.inference._budget import (
     SUBSET_BYTES,
     Budget,
@@ -57,7 +56,8 @@ from bsi_sklearn.inference._listing import Listing, list_hypotheses, members, wa
 from bsi_sklearn.inference._listing_bound import listing_work_lower_bound, log_evidence_upper
 from bsi_sklearn.inference._structure_walk import descend
 from bsi_sklearn.inference._structures import STEP_COST, StructureTables, structure_tables
-from bsi_sklearn.priors import PRIORS, count_hypotheses, format_count, support_structures
+from bsi_sklearn.model.clauses import clause_index_order, n_clauses, pack_rows, popcounts
+from bsi_sklearn.model.priors import PRIORS, count_hypotheses, format_count, support_structures
 
 __all__ = ["exact_posterior", "exact_refusal", "ExactResult", "ExactWorkExceeded",
            "ExactMemoryExceeded", "MAX_KEPT", "MAX_BYTES"]
@@ -393,7 +393,7 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
     Parameters
     ----------
     truth : ndarray (n_demos, n_clauses) uint8
-        Clause truth matrix (:func:`bsi_sklearn.clauses.clause_truth`).
+        Clause truth matrix (:func:`bsi_sklearn.model.clauses.clause_truth`).
     y01 : ndarray (n_demos,)
         Labels in {0, 1}.
     model : Model

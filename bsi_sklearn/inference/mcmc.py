@@ -19,7 +19,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from bsi_sklearn.clauses import n_clauses, pack_rows
 from bsi_sklearn.inference._chain_kernel import (
     ChainState,
     Demos,
@@ -32,8 +31,9 @@ from bsi_sklearn.inference._chain_kernel import (
 from bsi_sklearn.inference._local_search import beam_search, n_neighbours_max, neighbourhood
 from bsi_sklearn.inference.diagnostics import MODE_WARN, missed_mass, split_rhat
 from bsi_sklearn.inference.stopping import MAX_SAMPLES, rounds, should_stop
-from bsi_sklearn.likelihood import step_scale
-from bsi_sklearn.priors import draw_hypothesis, next_structure
+from bsi_sklearn.model.clauses import n_clauses, pack_rows
+from bsi_sklearn.model.likelihood import step_scale
+from bsi_sklearn.model.priors import draw_hypothesis, next_structure
 
 __all__ = ["Demos", "ChainResult", "MCMCResult", "ChainRun", "run_chain", "deduplicate_demos",
            "score_states", "unique_states", "temperature_ladder", "deterministic_optimum",
@@ -148,7 +148,7 @@ def temperature_ladder(demos, model, n_temperatures="auto"):
     has ``beta = 1 / L``, where one such step costs at most about one nat, so that it moves
     nearly as freely as the prior; the rungs halve beta (``LADDER_RATIO``), which gives
     ``"auto"`` ``1 + ceil(log2 L)`` rungs (one when ``L <= 1``). The other likelihoods'
-    steps are in :func:`bsi_sklearn.likelihood.step_scale`. An integer sets the number
+    steps are in :func:`bsi_sklearn.model.likelihood.step_scale`. An integer sets the number
     of rungs (1: no tempering), spread geometrically between 1 and ``1 / L``.
 
     Examples
@@ -377,7 +377,7 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     Parameters
     ----------
     truth : ndarray of shape (n_demos, n_clauses)
-        Clause truth (:func:`bsi_sklearn.clauses.clause_truth`).
+        Clause truth (:func:`bsi_sklearn.model.clauses.clause_truth`).
     y01 : ndarray of shape (n_demos,)
         Labels, 1 acceptable and 0 not.
     model : Model

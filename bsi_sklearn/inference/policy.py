@@ -16,6 +16,7 @@ import numpy as np
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.utils import check_random_state
 
+from bsi_sklearn.data.inferred_roles import warn_all_roles
 from bsi_sklearn.inference.auto_budget import AUTO_EXACT_BYTES, auto_work_budget
 from bsi_sklearn.inference.diagnostics import disagreement_problems
 from bsi_sklearn.inference.exact import (
@@ -25,9 +26,8 @@ from bsi_sklearn.inference.exact import (
     exact_refusal,
 )
 from bsi_sklearn.inference.mcmc import sample_posterior
-from bsi_sklearn.inferred_roles import warn_all_roles
-from bsi_sklearn.likelihood import flip_rate_posterior
-from bsi_sklearn.priors import count_hypotheses, format_count
+from bsi_sklearn.model.likelihood import flip_rate_posterior
+from bsi_sklearn.model.priors import count_hypotheses, format_count
 
 __all__ = ["InferencePolicy", "InferenceResult", "infer", "warn_disagreement"]
 
@@ -112,7 +112,7 @@ def infer(truth, y01, model, policy):
     Parameters
     ----------
     truth : ndarray (n_demos, n_clauses)
-        Clause truth (:func:`bsi_sklearn.clauses.clause_truth`).
+        Clause truth (:func:`bsi_sklearn.model.clauses.clause_truth`).
     y01 : ndarray (n_demos,)
         Labels in {0, 1}.
     model : Model

@@ -8,10 +8,10 @@ import os
 import numpy as np
 import pandas as pd
 
-from bsi_sklearn._long_format_split import traces_from_frame
+from bsi_sklearn.data.long_format import traces_from_frame
+from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.io._atomic import write_atomic
 from bsi_sklearn.io._csv_rows import read_csv_rows
-from bsi_sklearn.traces import check_traces
 
 __all__ = ["traces_from_frame", "traces_to_frame", "read_traces_csv", "write_traces_csv"]
 
@@ -23,7 +23,7 @@ def traces_to_frame(X, y=None, *, feature_names=None, demo_col="demo_id", time_c
     Parameters
     ----------
     X : demonstrations
-        Any format accepted by :func:`bsi_sklearn.traces.check_traces`.
+        Any format accepted by :func:`bsi_sklearn.data.traces.check_traces`.
     y : array-like of shape (n_demos,), default=None
         Labels, written to ``label_col`` when given.
     feature_names : sequence of str, default=None
@@ -126,7 +126,7 @@ def write_traces_csv(X, y, path_or_buffer=None, *, feature_names=None, demo_col=
     Parameters
     ----------
     X : demonstrations
-        Any format accepted by :func:`bsi_sklearn.traces.check_traces`.
+        Any format accepted by :func:`bsi_sklearn.data.traces.check_traces`.
     y : array-like of shape (n_demos,) or None
         Labels (a ``label`` column), or ``None`` for none.
     path_or_buffer : str, path-like, file-like or None, default=None

@@ -19,8 +19,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from bsi_sklearn.data.roles import Roles
 from bsi_sklearn.io._atomic import write_atomic
-from bsi_sklearn.roles import Roles
 from bsi_sklearn.specification import Specification
 
 __all__ = [

@@ -9,10 +9,10 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.io._atomic import write_atomic
 from bsi_sklearn.io._scarlet_formulas import scarlet_target
 from bsi_sklearn.ltl import Formula, parse_ltl
-from bsi_sklearn.traces import check_traces
 
 __all__ = ["TraceFile", "read_trace_file", "load_trace_file", "write_trace_file"]
 
@@ -426,7 +426,7 @@ def write_trace_file(path, X, y, *, operators=_DEFAULT_OPERATORS, depth=None, ta
     path : str, path-like or file-like
         Destination (a writable text buffer is accepted).
     X : demonstrations
-        Any format accepted by :func:`bsi_sklearn.traces.check_traces`.
+        Any format accepted by :func:`bsi_sklearn.data.traces.check_traces`.
     y : array-like of shape (n_demos,)
         1 (or True) for positives, 0 for negatives.
     operators : sequence of str, default=("G", "F", "!", "U", "&", "|", "->", "X")

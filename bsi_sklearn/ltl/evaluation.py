@@ -22,7 +22,7 @@ def evaluate_traces(formula, traces, feature_names=None):
     formula : Formula
         The formula.
     traces : Traces
-        Validated traces (:func:`bsi_sklearn.traces.check_traces`).
+        Validated traces (:func:`bsi_sklearn.data.traces.check_traces`).
     feature_names : sequence of str, default=None
         Proposition names of the columns; default ``traces.feature_names``.
 
@@ -34,7 +34,7 @@ def evaluate_traces(formula, traces, feature_names=None):
     --------
     >>> import numpy as np
     >>> from bsi_sklearn.ltl import parse_ltl
-    >>> from bsi_sklearn.traces import check_traces
+    >>> from bsi_sklearn.data.traces import check_traces
     >>> traces = check_traces([np.array([[0, 1], [1, 1]]), np.array([[0, 0]])])
     >>> evaluate_traces(parse_ltl("F(a) & G(b)"), traces, ["a", "b"])
     array([ True, False])

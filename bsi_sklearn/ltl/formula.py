@@ -7,8 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.ltl.evaluation import evaluate_traces
-from bsi_sklearn.traces import check_traces
 
 __all__ = [
     "Formula",
@@ -134,7 +134,7 @@ class Formula:
         Parameters
         ----------
         X : demonstrations
-            Any format accepted by :func:`bsi_sklearn.traces.check_traces` (list of
+            Any format accepted by :func:`bsi_sklearn.data.traces.check_traces` (list of
             ``(T_i, n_props)`` arrays or DataFrames, 3-D array, 2-D array of length-one
             traces).
         feature_names : sequence of str, default=None
@@ -170,10 +170,10 @@ class Formula:
         ``(!b U a)`` and ``pi -> (!b U a)`` clauses over propositions (see
         :class:`~bsi_sklearn.specification.Specification`).
         Literals are read as propositions: ``!p`` becomes the proposition named
-        ``negation_prefix + p`` (the column :class:`~bsi_sklearn.preprocessing.NegationAugmenter`
-        adds), so ``G(!p)`` is in the template through ``G("!p")`` and ``(p U a)`` through
-        ``(!"!p" U a)``. ``G`` distributes over ``&``; ``true U a`` and ``!a U a`` read as
-        ``F(a)``; ``l | C`` reads as ``!l -> C``.
+        ``negation_prefix + p`` (the column
+        :class:`~bsi_sklearn.data.preprocessing.NegationAugmenter` adds), so ``G(!p)`` is in the
+        template through ``G("!p")`` and ``(p U a)`` through ``(!"!p" U a)``. ``G`` distributes
+        over ``&``; ``true U a`` and ``!a U a`` read as ``F(a)``; ``l | C`` reads as ``!l -> C``.
 
         ``None`` is returned when the formula has another shape (disjunctions of clauses,
         nested temporal operators such as ``F(a & F(b))``, ``G(p -> q)``...), when one

@@ -9,6 +9,7 @@ import pandas as pd
 from sklearn.metrics import confusion_matrix, f1_score
 from sklearn.utils.validation import check_is_fitted
 
+from bsi_sklearn.data.traces import check_consistent_traces, check_traces
 from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.report.specification_report import SpecificationReport
 from bsi_sklearn.report.wording import (
@@ -21,7 +22,6 @@ from bsi_sklearn.report.wording import (
     clause_specification,
     ordered_clauses,
 )
-from bsi_sklearn.traces import check_consistent_traces, check_traces
 
 __all__ = ["explain"]
 

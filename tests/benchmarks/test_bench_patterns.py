@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from bsi_sklearn.patterns import TEMPLATES, instantiate
+from bsi_sklearn.model.patterns import TEMPLATES, instantiate
 
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "benchmarks" / "bench_patterns.py"

@@ -78,7 +78,7 @@ def test_flip_labels_flips_the_rounded_share(bench):
 
 def test_variants_follow_what_the_classifier_has(bench):
     from bsi_sklearn import BSIClassifier
-    from bsi_sklearn.likelihood import LIKELIHOODS
+    from bsi_sklearn.model.likelihood import LIKELIHOODS
 
     params = BSIClassifier().get_params()
     vs = {v.name: v for v in bench.variants()}

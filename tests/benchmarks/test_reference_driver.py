@@ -32,9 +32,9 @@ from reference.webppl import (  # noqa: E402
 )
 
 from bsi_sklearn import BSIClassifier, Specification  # noqa: E402
-from bsi_sklearn.clauses import clause_index_order  # noqa: E402
 from bsi_sklearn.inference.diagnostics import total_variation  # noqa: E402
-from bsi_sklearn.likelihood import default_log_epsilon  # noqa: E402
+from bsi_sklearn.model.clauses import clause_index_order  # noqa: E402
+from bsi_sklearn.model.likelihood import default_log_epsilon  # noqa: E402
 
 # columns: safe (global), a, b (subtasks), a_ok (condition of a)
 ROLES = {"global_candidates": [0], "subtasks": [1, 2], "conditions": {1: 3}}

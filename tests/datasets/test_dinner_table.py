@@ -2,6 +2,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from bsi_sklearn.data.roles import resolve_roles
+from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.datasets import (
     dinner_table_labels,
     dinner_table_specification,
@@ -10,8 +12,6 @@ from bsi_sklearn.datasets import (
     make_pose,
 )
 from bsi_sklearn.datasets.dinner_table import MEALS, PIECES, STACK
-from bsi_sklearn.roles import resolve_roles
-from bsi_sklearn.traces import check_traces
 
 TABLE = 0.75
 

@@ -6,15 +6,15 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from bsi_sklearn.data.roles import resolve_roles
+from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.datasets import (
     make_poi_threat_demos,
     plot_demos,
     poi_threat_labels,
     poi_threat_specification,
 )
-from bsi_sklearn.roles import resolve_roles
 from bsi_sklearn.specification import Specification
-from bsi_sklearn.traces import check_traces
 
 
 # ---------------------------------------------------------------- labelling functions

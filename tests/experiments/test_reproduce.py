@@ -161,7 +161,7 @@ def test_alternative_priors_use_their_hyperparameters(synthetic_run):
 ])
 def test_prior_expected_orders_agree_with_sampling(prior, n, params):
     from bsi_sklearn.experiments.synthetic import prior_expected_orders
-    from bsi_sklearn.priors import n_orders_of, sample_order_structure
+    from bsi_sklearn.model.priors import n_orders_of, sample_order_structure
 
     rng = np.random.default_rng(0)
     draws = [n_orders_of(sample_order_structure(prior, n, rng, **params)) for _ in range(4000)]

@@ -5,12 +5,12 @@ import pytest
 
 import bsi_sklearn.inference.auto_budget as auto_budget
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.clauses import clause_truth
+from bsi_sklearn.data.roles import resolve_roles
+from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.inference.mcmc import deduplicate_demos, sampling_count, temperature_ladder
 from bsi_sklearn.model import make_model
-from bsi_sklearn.roles import resolve_roles
-from bsi_sklearn.traces import check_traces
+from bsi_sklearn.model.clauses import clause_truth
 
 
 def _problem():

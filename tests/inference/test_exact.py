@@ -10,7 +10,7 @@ from sklearn.base import clone
 
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.inference.diagnostics import total_variation
-from bsi_sklearn.likelihood import (
+from bsi_sklearn.model.likelihood import (
     default_log_epsilon,
     likelihood_code,
     log_likelihood,

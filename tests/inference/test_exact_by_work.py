@@ -18,12 +18,12 @@ from sklearn.exceptions import ConvergenceWarning
 import bsi_sklearn.inference._budget as _budget
 import bsi_sklearn.inference.auto_budget as auto_budget
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.clauses import clause_truth
+from bsi_sklearn.data.roles import resolve_roles
+from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.model import make_model
-from bsi_sklearn.priors import PRIORS
-from bsi_sklearn.roles import resolve_roles
-from bsi_sklearn.traces import check_traces
+from bsi_sklearn.model.clauses import clause_truth
+from bsi_sklearn.model.priors import PRIORS
 
 
 def _traces(seed, n_props, n_demos):

@@ -13,13 +13,13 @@ from _exact_checks import _assert_same_posterior, _problem
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from bsi_sklearn.clauses import pack_rows
 from bsi_sklearn.inference._exact_parts import structure_groups
 from bsi_sklearn.inference._grouping import group_rows
 from bsi_sklearn.inference._structures import structure_tables
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.model import make_model
-from bsi_sklearn.priors import (
+from bsi_sklearn.model.clauses import pack_rows
+from bsi_sklearn.model.priors import (
     PRIORS,
     count_structures,
     enumerate_structures,

@@ -14,7 +14,7 @@ import pytest
 from bsi_sklearn.inference import exact
 from bsi_sklearn.inference.exact import ExactWorkExceeded, exact_posterior
 from bsi_sklearn.model import make_model
-from bsi_sklearn.priors import PRIORS
+from bsi_sklearn.model.priors import PRIORS
 
 SEEDS = range(36)
 

@@ -25,7 +25,7 @@ from bsi_sklearn.inference.mcmc import (
 from bsi_sklearn.inference.stopping import FIRST_ROUND, MAX_SAMPLES, rounds, should_stop
 from bsi_sklearn.io import EventLogEncoder, read_event_log
 from bsi_sklearn.model import make_model
-from bsi_sklearn.priors import PRIORS
+from bsi_sklearn.model.priors import PRIORS
 
 
 def _poi(**kw):

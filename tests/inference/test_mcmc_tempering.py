@@ -21,7 +21,7 @@ from bsi_sklearn.inference.mcmc import (
     temperature_ladder,
 )
 from bsi_sklearn.model import make_model
-from bsi_sklearn.priors import PRIORS
+from bsi_sklearn.model.priors import PRIORS
 
 
 def _problem(prior, likelihood="ci", epsilon=0.2, seed=1, n_g=1, n=3, n_demos=12):

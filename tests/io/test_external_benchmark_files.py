@@ -8,9 +8,9 @@ import pandas as pd
 import pytest
 from _shared_data import BENCHMARKS_DATA
 
+from bsi_sklearn.data.preprocessing import add_negations
 from bsi_sklearn.io import load_trace_file, read_trace_file, write_trace_file
 from bsi_sklearn.ltl import parse_ltl
-from bsi_sklearn.preprocessing import add_negations
 
 DATA = BENCHMARKS_DATA
 SAMPLES = DATA / "samples2LTL" / "traces" / "finite"

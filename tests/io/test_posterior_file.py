@@ -18,8 +18,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from bsi_sklearn import BSIClassifier, Posterior
+from bsi_sklearn.data.roles import Roles
 from bsi_sklearn.io.posterior_file import MAX_LISTED
-from bsi_sklearn.roles import Roles
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 NAMES = ["safe", "a", "b", "c_ok"]

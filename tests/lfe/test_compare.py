@@ -14,7 +14,6 @@ import pytest
 from sklearn.metrics import brier_score_loss, f1_score, log_loss
 
 from lfe import make_lfe_dataset
-from lfe._compare_protocol import _folds, _weighted_f1
 from lfe.cli import main
 from lfe.compare import (
     BSI_ROWS,
@@ -25,6 +24,7 @@ from lfe.compare import (
     ROWS,
     compare,
 )
+from lfe.compare._protocol import _folds, weighted_f1
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 PAPER = Path(__file__).parents[2] / ".." / "shared" / "paper"
@@ -222,7 +222,7 @@ def test_weighted_f1_matches_scikit_learn():
                 y_pred[:] = y_pred[0]
             if rng.random() < 0.3:
                 y_true[:] = y_true[0]
-            assert _weighted_f1(y_true, y_pred) == pytest.approx(
+            assert weighted_f1(y_true, y_pred) == pytest.approx(
                 f1_score(y_true, y_pred, average="weighted", zero_division=0.0))
 
 

@@ -10,9 +10,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from lfe._study_cells import BSI_ROWS, PRACTITIONER, ROWS, derive_seed, draw_training_set
-from lfe._study_stats import t_interval
 from lfe.cli import main
+from lfe.study._cells import BSI_ROWS, PRACTITIONER, ROWS, derive_seed, draw_training_set
+from lfe.study._stats import t_interval
 
 TINY = ["--quick", "--sizes", "4", "--test-size", "6", "--repeats", "2", "--verbose", "0"]
 TABLES = ("study.csv", "study_paired.csv", "study_paired_log_loss.csv", "study_runs.csv",
@@ -148,12 +148,12 @@ OUT = "must be a directory, or a path where one can be made (not a file), got "
 
 
 def _no_simulation(monkeypatch):
-    import lfe._study_cells
+    import lfe.study._cells
 
     def boom(**kwargs):
         raise AssertionError("simulated despite a bad argument")
 
-    monkeypatch.setattr(lfe._study_cells, "simulate_repeat", boom)
+    monkeypatch.setattr(lfe.study._cells, "simulate_repeat", boom)
     monkeypatch.setattr("lfe.study.simulate_repeat", boom)
 
 
@@ -265,7 +265,7 @@ def test_dask_local_cluster_matches_local(tiny_run, tmp_path):
             study(sizes=config["sizes"], repeats=config["repeats"],
                   test_size=config["test_size"], quick=True, n_jobs=-1, out=tmp_path,
                   verbose=0)
-        ran = client.run(lambda: "lfe._study_cells" in __import__("sys").modules)
+        ran = client.run(lambda: "lfe.study._cells" in __import__("sys").modules)
     _same_files(out, tmp_path)
     assert len(ran) == 2 and any(ran.values())
 
@@ -317,9 +317,9 @@ def test_log_loss_is_scikit_learns_on_the_rows_probabilities(tiny_run):
     from sklearn.metrics import brier_score_loss, log_loss
 
     from baselines.practitioner import TemporalLogisticRegression
-    from lfe._compare_protocol import _fit_bsi
-    from lfe._study_cells import bsi_settings
+    from lfe.compare import fit_bsi
     from lfe.study import simulate_repeat
+    from lfe.study._cells import bsi_settings
 
     out, _ = tiny_run
     runs = pd.read_csv(out / "study_runs.csv")
@@ -340,7 +340,7 @@ def test_log_loss_is_scikit_learns_on_the_rows_probabilities(tiny_run):
         proba = logistic.predict_proba(X_test)[k]
         labels = list(logistic.classes_[k])
         p1 = proba[:, labels.index(1)] if 1 in labels else np.zeros(len(test))
-        bsi = _fit_bsi("BSI (Prior 2)", X_train, y[train, k], data["roles"]["paper"],
+        bsi = fit_bsi("BSI (Prior 2)", X_train, y[train, k], data["roles"]["paper"],
                        bsi_settings(True), model_seed)
         for name, p in (("Logistic regression", p1),
                         ("BSI (Prior 2)", None if bsi is None

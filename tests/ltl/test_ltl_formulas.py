@@ -8,6 +8,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from bsi_sklearn import ltl
+from bsi_sklearn.data.preprocessing import add_negations
 from bsi_sklearn.ltl import (
     And,
     Atom,
@@ -23,7 +24,6 @@ from bsi_sklearn.ltl import (
     evaluation,
     parse_ltl,
 )
-from bsi_sklearn.preprocessing import add_negations
 from bsi_sklearn.specification import Specification
 
 ATOMS = ["a", "b", "c"]

@@ -16,7 +16,7 @@ PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 def _run_cli(argv):
     try:
         from lfe.cli import main
-    except ImportError:  # the command line is wired by lfe/cli.py; fall back to the module
+    except ImportError:  # the command line is wired by lfe/cli/__init__.py; else the module
         import argparse
 
         from lfe import report

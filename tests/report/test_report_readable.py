@@ -78,7 +78,7 @@ def test_unicode_ltl_readable():
 def test_a_report_on_negated_columns_never_shows_a_double_negation(tmp_path):
     import pandas as pd
 
-    from bsi_sklearn.preprocessing import NegationAugmenter
+    from bsi_sklearn.data.preprocessing import NegationAugmenter
 
     def demo(a_at, b_until, T=4):  # b holds until a comes in the acceptable ones
         a, b = np.zeros(T, bool), np.zeros(T, bool)

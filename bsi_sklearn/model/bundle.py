@@ -1,0 +1,82 @@
+"""The model bundle: every parameter of the BSI model that a kernel reads, built once per fit.
+
+:class:`Model` is a NamedTuple of scalars and small arrays, which numba accepts as one
+argument: the clause, exact and MCMC kernels take it instead of a dozen positional parameters.
+Which prior and likelihood it holds travels as an integer code; only
+:mod:`bsi_sklearn.model.priors` and :mod:`bsi_sklearn.model.likelihood` give those codes
+meaning.
+"""
+
+from typing import NamedTuple
+
+import numpy as np
+
+from bsi_sklearn.model.likelihood import likelihood_code, resolve_flip_prior, resolve_log_epsilon
+from bsi_sklearn.model.priors import prior_code, prior_tables
+
+__all__ = ["Model", "make_model"]
+
+
+class Model(NamedTuple):
+    """Parameters of the prior and the likelihood for one template size.
+
+    Built by :func:`make_model`; the field order is part of the kernels' typing, so add
+    fields at the end.
+    """
+
+    n_g: int                  # number of global candidates |T|
+    n: int                    # number of subtasks |Omega|
+    prior: int                # prior_code(prior name)
+    forest: bool              # order structures are forests (Prior 3), not sets of chains
+    p_global: float
+    p_eventual: float
+    p_part: float
+    n_new: float
+    log_eps: float
+    likelihood: int           # likelihood_code(likelihood name)
+    lp_chains: np.ndarray     # log prior of a chain structure by its number of chains
+    forest_g: np.ndarray      # Prior 3: log prior = forest_const + sum_v forest_g[size of v]
+    forest_const: float
+    flip_a: float             # Beta(a, b) prior of the flip rate (likelihood code 2), else 0
+    flip_b: float
+
+
+def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_eventual=0.8,
+               p_part=0.3, n_new=5.0, epsilon=None, flip_prior=None):
+    """Build the model bundle of one fit.
+
+    Parameters
+    ----------
+    prior : {"linear_chain", "sets_of_chains", "forest"}
+    likelihood : {"cb", "ci", "calibrated"}
+    n_globals, n_subtasks : int
+        Numbers of global candidates and subtasks.
+    p_global, p_eventual, p_part, n_new : float
+        Prior parameters (see :class:`~bsi_sklearn.BSIClassifier`).
+    epsilon : float or None
+        Likelihood of a misclassified demonstration; ``None`` for the paper's default.
+    flip_prior : tuple of float or None
+        ``(a, b)``: with ``"ci"``, the flip rate integrated over a Beta(a, b) prior
+        (:func:`bsi_sklearn.model.likelihood.resolve_flip_prior` says where it applies).
+
+    Returns
+    -------
+    Model
+
+    Examples
+    --------
+    >>> m = make_model(prior="forest", likelihood="cb", n_globals=2, n_subtasks=3)
+    >>> m.n_g, m.n, m.forest, round(m.log_eps, 3)
+    (2, 3, True, -22.181)
+    """
+    n_g, n = int(n_globals), int(n_subtasks)
+    flip_a, flip_b = resolve_flip_prior(likelihood, flip_prior, epsilon)
+    forest, lp_chains, forest_g, forest_const = prior_tables(prior, n, float(p_part),
+                                                             float(n_new))
+    return Model(
+        n_g=n_g, n=n, prior=prior_code(prior), forest=bool(forest), p_global=float(p_global),
+        p_eventual=float(p_eventual), p_part=float(p_part), n_new=float(n_new),
+        log_eps=float(resolve_log_epsilon(epsilon, n_g, n)),
+        likelihood=likelihood_code(likelihood, flip_prior), lp_chains=lp_chains,
+        forest_g=forest_g, forest_const=float(forest_const), flip_a=flip_a, flip_b=flip_b,
+    )

@@ -1,0 +1,7 @@
+"""``python -m lfe.cli``: the ``bsi-lfe`` command line."""
+
+import sys
+
+from lfe.cli import main
+
+sys.exit(main())
