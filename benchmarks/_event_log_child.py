@@ -10,11 +10,10 @@ limit (``RLIMIT_AS``) before this starts and kills it at its wall-clock timeout;
 import json
 import resource
 import sys
-from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
-# this checkout's packages first (not an installed copy), then the benchmarks' helpers
-sys.path[:0] = [str(HERE.parent), str(HERE)]
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
+
+# isort: split
 
 
 def _peak_mib():

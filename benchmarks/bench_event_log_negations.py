@@ -24,7 +24,9 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-sys.path[:0] = [str(HERE.parent), str(HERE)]
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
+
+# isort: split
 
 import numpy as np  # noqa: E402
 from _common import md_table  # noqa: E402

@@ -16,6 +16,10 @@ import tempfile
 import time
 from pathlib import Path
 
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
+
+# isort: split
+
 from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.io import EventLogEncoder, read_event_log
 

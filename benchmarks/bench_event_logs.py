@@ -32,8 +32,9 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-# this checkout's packages first (not an installed copy), then the benchmarks' helpers
-sys.path[:0] = [str(HERE.parent), str(HERE)]
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
+
+# isort: split
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 import numpy as np  # noqa: E402

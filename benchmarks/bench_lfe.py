@@ -9,6 +9,10 @@ import sys
 
 os.environ.setdefault("MPLBACKEND", "Agg")  # figures are written to files, never shown
 
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
+
+# isort: split
+
 from _common import Section, fmt_n, fmt_s, md_table, save_figure, target, time_call  # noqa: E402
 from sklearn.utils import check_random_state  # noqa: E402
 

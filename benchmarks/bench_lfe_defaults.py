@@ -28,14 +28,16 @@ import time
 import warnings
 from pathlib import Path
 
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
 import numpy as np
 import pandas as pd
 from joblib import Parallel, delayed
 from sklearn.metrics import f1_score
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+# isort: split
 
-from benchmarks._common import machine_info, md_table  # noqa: E402
+from _common import machine_info, md_table  # noqa: E402
+
 from bsi_sklearn import BSIClassifier  # noqa: E402
 from bsi_sklearn.model.likelihood import LIKELIHOODS  # noqa: E402
 from lfe.annotate import MISSION_OBJECTIVES  # noqa: E402

@@ -14,6 +14,10 @@ import json
 import statistics
 import time
 
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
+
+# isort: split
+
 import numpy as np
 
 from bsi_sklearn.data.roles import resolve_roles

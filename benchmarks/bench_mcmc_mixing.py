@@ -37,8 +37,9 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-if str(HERE) not in sys.path:
-    sys.path.insert(0, str(HERE))
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
+
+# isort: split
 
 from _common import Section, fmt_s, md_table, target  # noqa: E402
 from external import DEFAULT_DATA, scarlet_subset  # noqa: E402

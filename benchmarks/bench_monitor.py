@@ -8,6 +8,10 @@ import sys
 import time
 from pathlib import Path
 
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
+
+# isort: split
+
 import numpy as np
 from _common import Config, Section, fmt_n, machine_info, md_table, problem_roles, target
 from _data import make_demos

@@ -20,6 +20,10 @@ import argparse
 import time
 from pathlib import Path
 
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
+
+# isort: split
+
 import numpy as np
 from _common import machine_info, md_table
 

@@ -46,21 +46,23 @@ import time
 import warnings
 from pathlib import Path
 
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
 import numpy as np
 import pandas as pd
 from sklearn.metrics import accuracy_score, brier_score_loss, log_loss
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+# isort: split
 
-from baselines.practitioner import TemporalLogisticRegression, temporal_features  # noqa: E402
-from benchmarks._common import machine_info, md_table  # noqa: E402
-from benchmarks._reliability import (  # noqa: E402
+from _common import machine_info, md_table  # noqa: E402
+from _reliability import (  # noqa: E402
     N_BINS,
     diagonal_axes,
     draw_reliability,
     reliability_bins,
 )
-from benchmarks._reliability import worst_gap as _worst_gap  # noqa: E402
+from _reliability import worst_gap as _worst_gap  # noqa: E402
+
+from baselines.practitioner import TemporalLogisticRegression, temporal_features  # noqa: E402
 from bsi_sklearn import BSIClassifier  # noqa: E402
 from lfe.annotate import MISSION_OBJECTIVES  # noqa: E402
 from lfe.study import (  # noqa: E402

@@ -32,8 +32,9 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-if str(HERE) not in sys.path:  # standalone run: make _common / reference importable
-    sys.path.insert(0, str(HERE))
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
+
+# isort: split
 
 from _common import (  # noqa: E402
     Config,

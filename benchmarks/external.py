@@ -45,8 +45,9 @@ import numpy as np
 import pandas as pd
 
 HERE = Path(__file__).resolve().parent
-if str(HERE) not in sys.path:
-    sys.path.insert(0, str(HERE))
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
+
+# isort: split
 
 from external_bsi import NEG, fit_bsi  # noqa: E402
 from external_report import summarize, write_report  # noqa: E402

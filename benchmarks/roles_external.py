@@ -24,7 +24,6 @@ means not looked at one by one, not never evaluated.
 from __future__ import annotations
 
 import argparse
-import sys
 import time
 import warnings
 from pathlib import Path
@@ -32,8 +31,9 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-if str(HERE) not in sys.path:
-    sys.path.insert(0, str(HERE))
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
+
+# isort: split
 
 from _common import md_table  # noqa: E402
 from _roles_report import t_interval  # noqa: E402

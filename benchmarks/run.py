@@ -25,8 +25,9 @@ from pathlib import Path
 
 os.environ.setdefault("MPLBACKEND", "Agg")  # figures are written to files, never shown
 HERE = Path(__file__).resolve().parent
-if str(HERE) not in sys.path:
-    sys.path.insert(0, str(HERE))
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
+
+# isort: split
 
 from _common import Config, Section, fmt_s, machine_info, md_table  # noqa: E402
 

@@ -7,6 +7,10 @@ row per objective and size with every BSI row's paired differences. Nothing is c
 the means and intervals are the study's own.
 
     python benchmarks/study_tables.py benchmarks/study > /tmp/tables.md
+    python benchmarks/study_tables.py benchmarks/study --out docs/results/study.md
+
+``--out`` writes the results page the README links to: the headline, the README's compact
+tables and every cell's table, in one file.
 """
 
 import argparse
@@ -14,7 +18,7 @@ from pathlib import Path
 
 import pandas as pd
 
-__all__ = ["headline", "cell_table", "readme_table", "main"]
+__all__ = ["headline", "cell_table", "readme_table", "results_page", "main"]
 
 
 def _signed(mean, low, high, significant):
@@ -133,28 +137,69 @@ def readme_table(study, paired, noise, propositions):
     return lines
 
 
+def _props(paired):
+    return sorted(set(paired.propositions), key=lambda s: (s != "paper", s))
+
+
+def _compact(study, paired):
+    out = []
+    for props in _props(paired):
+        out += [f"### Noise 0.04, {props} propositions", "",
+                *readme_table(study, paired, 0.04, props), ""]
+    return out
+
+
+def _full(study, paired):
+    out = ["## Headline", "", *headline(paired)]
+    for props in _props(paired):
+        for noise in sorted(set(paired.noise), reverse=True):
+            out += ["", f"### Noise {noise:g}, {props} propositions", "",
+                    *cell_table(study, paired, noise, props)]
+    return out
+
+
+def results_page(study, paired, folder):
+    """The Markdown page of a study's tables (``docs/results/study.md``): every table, one file.
+
+    Parameters
+    ----------
+    study, paired : DataFrame
+        The study's ``study.csv`` and ``study_paired.csv``.
+    folder : str or Path
+        Where they were read from, named in the page.
+
+    Returns
+    -------
+    text : str
+    """
+    return "\n".join([
+        "# `bsi-lfe study`: every table", "",
+        f"Rendered by `python benchmarks/study_tables.py {Path(folder).as_posix()} --out "
+        "docs/results/study.md` from the study's own `study.csv` and `study_paired.csv` "
+        "(nothing computed anew). The run, its machine and its warnings: "
+        "[`benchmarks/RESULTS_study.md`](../../benchmarks/RESULTS_study.md).", "",
+        "Weighted F1, mean [95 % interval over repeats]; `*`: the paired interval excludes 0.",
+        "", "## With the default noise (0.04), per proposition set", "",
+        *_compact(study, paired), *_full(study, paired), ""])
+
+
 def main(argv=None):
-    """Print the tables of a study folder (the README's with --readme)."""
+    """Print the tables of a study folder (the README's with --readme), or write --out."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("folder", type=Path, help="a bsi-lfe study --out folder")
     ap.add_argument("--readme", action="store_true",
                     help="the README's compact tables instead (noise 0.04, per proposition set)")
+    ap.add_argument("--out", type=Path, default=None,
+                    help="write the results page (every table) to this file instead")
     args = ap.parse_args(argv)
     study = pd.read_csv(args.folder / "study.csv")
     paired = pd.read_csv(args.folder / "study_paired.csv")
-    if args.readme:
-        out = []
-        for props in sorted(set(paired.propositions), key=lambda s: (s != "paper", s)):
-            out += [f"### Noise 0.04, {props} propositions", "",
-                    *readme_table(study, paired, 0.04, props), ""]
-        print("\n".join(out))
+    if args.out is not None:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        args.out.write_text(results_page(study, paired, args.folder), encoding="utf-8")
+        print(f"wrote {args.out}")
         return
-    out = ["## Headline", "", *headline(paired)]
-    for props in sorted(set(paired.propositions), key=lambda s: (s != "paper", s)):
-        for noise in sorted(set(paired.noise), reverse=True):
-            out += ["", f"### Noise {noise:g}, {props} propositions", "",
-                    *cell_table(study, paired, noise, props)]
-    print("\n".join(out))
+    print("\n".join(_compact(study, paired) if args.readme else _full(study, paired)))
 
 
 if __name__ == "__main__":

@@ -70,3 +70,19 @@ def test_readme_table_takes_prior_2_and_its_differences():
                         "0.850 [0.750, 0.950] | +0.050 [+0.030, +0.070] * | "
                         "+0.070 [+0.050, +0.090] * | +0.000 [-0.020, +0.020] | "
                         "-0.010 [-0.030, +0.010] |")
+
+
+def test_the_results_page_is_what_the_recorded_study_renders():
+    # docs/results/study.md holds the study's full tables; it must be the recorded study's
+    # rendering, not a hand-edited copy (rerun the command in the page after a new study).
+    root = BENCH.parent
+    page = root / "docs" / "results" / "study.md"
+    folder = BENCH / "study"
+    if not (folder / "study.csv").is_file():
+        pytest.skip("benchmarks/study/ holds no recorded study")
+    tables = _load()
+    study = pd.read_csv(folder / "study.csv")
+    paired = pd.read_csv(folder / "study_paired.csv")
+    assert page.read_text(encoding="utf-8") == tables.results_page(study, paired,
+                                                                    "benchmarks/study")
+    assert "| MO2 | 36 |" in page.read_text(encoding="utf-8")
