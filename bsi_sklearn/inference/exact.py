@@ -25,7 +25,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from bsi_sklearn.clauses import clause_index_order, n_clauses, pack_rows, popcounts
+from bsi_sklearn._state_layout import max_conjuncts
+from bsi_sklearn.clauses import (
+    clause_index_eventual,
+    clause_index_order,
+    n_clauses,
+    pack_rows,
+    popcounts,
+)
 from bsi_sklearn.inference._budget import (
     SUBSET_BYTES,
     Budget,
@@ -268,7 +275,7 @@ def _give_up_early(first, hs, h_order, subsets, lik, n_pos, log_keep, margin, bu
 def _grouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol):
     subsets = group_subsets(clause_bits, full, model, budget.spend, budget.allocate)
     hs, h_order = _subset_side(subsets.groups, labels)
-    max_conj = model.n_g + model.n + model.n * (model.n - 1) // 2
+    max_conj = max_conjuncts(model.n_g, model.n)
     lik = likelihood_tables(int(labels.n_pos), int(labels.n_neg), max_conj, model)
     # What is skipped holds at most exp(margin) of the evidence, and no kept hypothesis.
     margin = min(_MARGIN, log_keep)
@@ -351,7 +358,8 @@ def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol
     structures = support_structures(model)
     parts_s = ungrouped_structures(structures, clause_bits, full, model)
     parts_t = PartTable(*subset_table(clause_bits, 0, n_g, model.p_global, full))
-    parts_e = PartTable(*subset_table(clause_bits, n_g, n, model.p_eventual, full))
+    parts_e = PartTable(*subset_table(clause_bits, clause_index_eventual(0, n_g), n,
+                                      model.p_eventual, full))
     log_z, keep_idx, keep_lp, mass_s, mass_t, mass_e, mass_v = ungrouped_kernel(
         parts_s, parts_t, parts_e, labels, model, log_keep)
     order = np.argsort(-keep_lp, kind="stable")
@@ -362,7 +370,7 @@ def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol
         marg[j] = mass_t[((t_ids >> j) & 1).astype(bool)].sum()
     e_ids = np.arange(len(mass_e))
     for w in range(n):
-        marg[n_g + w] = mass_e[((e_ids >> w) & 1).astype(bool)].sum()
+        marg[clause_index_eventual(w, n_g)] = mass_e[((e_ids >> w) & 1).astype(bool)].sum()
     for s in np.flatnonzero(mass_s):
         parent = structures[s]
         for v in range(n):

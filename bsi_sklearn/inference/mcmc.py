@@ -19,6 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from bsi_sklearn._state_layout import join_state, split_state, split_states
 from bsi_sklearn.clauses import n_clauses, pack_rows
 from bsi_sklearn.inference._chain_kernel import (
     ChainState,
@@ -192,7 +193,7 @@ def deterministic_optimum(demos, model, width=BEAM_WIDTH):
     ``[tau, w1, parent]`` (int16).
     """
     n_g, n = model.n_g, model.n
-    start = np.concatenate([np.zeros(n_g + n, dtype=np.int64), _first_structure(model)])
+    start = join_state(np.zeros(n_g), np.zeros(n), _first_structure(model))
     max_steps = 4 * n_clauses(n_g, n) + 10
     row, lp = beam_search(start[None, :], demos, model, int(width), max_steps)
     return row.astype(np.int16), float(lp)
@@ -218,7 +219,7 @@ class ChainRun:
             draws = [draw_hypothesis(model, self.rng) for _ in range(n_rungs)]
         else:
             start = np.asarray(start, dtype=np.int64)
-            draws = [(start[:n_g], start[n_g:n_g + n], start[n_g + n:])] * n_rungs
+            draws = [split_state(start, n_g, n)] * n_rungs
         # The kernel's state and scratch buffers live here, for every call (see _unmanaged).
         self.state = ChainState(*(
             np.ascontiguousarray(np.stack([d[i] for d in draws]), dtype=np.int64)
@@ -458,5 +459,6 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     # The flip rate's posterior needs each specification's misclassified demonstrations.
     violations = (violation_rows(np.ascontiguousarray(uniq, dtype=np.int64), demos, model)
                   if model.flip_a > 0 else None)
-    return MCMCResult(uniq[:, n_g + n:].astype(np.int64), uniq[:, :n_g].astype(bool),
-                      uniq[:, n_g:n_g + n].astype(bool), probs, diagnostics, violations)
+    tau, w1, parent = split_states(uniq, n_g, n)
+    return MCMCResult(parent.astype(np.int64), tau.astype(bool), w1.astype(bool), probs,
+                      diagnostics, violations)
