@@ -35,7 +35,13 @@ from bsi_sklearn.inference._gibbs_moves import (
 )
 from bsi_sklearn.likelihood import cb_rejected, log_likelihood
 from bsi_sklearn.model import Model
-from bsi_sklearn.priors import log_inclusion, log_prior, log_prior_structure, log_prior_subset
+from bsi_sklearn.priors import (
+    is_forest,
+    log_inclusion,
+    log_prior,
+    log_prior_structure,
+    log_prior_subset,
+)
 
 __all__ = ["Demos", "ChainState", "ChainBuffers", "ChainLoop", "make_buffers", "make_loop",
            "chain_kernel",
@@ -295,7 +301,7 @@ def _sweep(r, beta, state, demos, model, bufs, cache, u0):
         for u in range(n):  # element loops, not slice copies: cheaper to compile
             old_parent[u] = parent[u]
         old_w = w1[v]
-        if model.forest:
+        if is_forest(model):
             n_conj[r], lp_struct[r], ll[r], n_cand, j = forest_move(
                 v, parent, w1, viol, n_conj[r], demos, model, bufs, ubuf[upos], beta)
         else:

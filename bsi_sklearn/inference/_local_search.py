@@ -25,7 +25,7 @@ from bsi_sklearn._state_layout import parent_offset, split_state, state_width, w
 from bsi_sklearn.inference._chain_kernel import fill_viol
 from bsi_sklearn.inference._gibbs_moves import sat_counts
 from bsi_sklearn.likelihood import log_likelihood
-from bsi_sklearn.priors import log_prior
+from bsi_sklearn.priors import is_forest, log_prior
 
 __all__ = ["beam_search", "neighbourhood", "n_neighbours_max"]
 
@@ -90,7 +90,7 @@ def _neighbours(row, model, out, k, work):
         for u in range(n):
             rest[u] = row[base + u]
             in_s[u] = 0
-        if model.forest:
+        if is_forest(model):
             for u in range(n):
                 a = u
                 while a >= 0 and a != v:
@@ -118,10 +118,10 @@ def _neighbours(row, model, out, k, work):
                 for w in range(n):
                     out[k, base + w] = rest[w]
                 out[k, base + v] = u
-                if u >= 0 and not model.forest and child[u] >= 0:
+                if u >= 0 and not is_forest(model) and child[u] >= 0:
                     out[k, base + child[u]] = v
                 k += 1
-            if u >= 0 and not model.forest and rest[u] < 0:  # v at the head of u's chain
+            if u >= 0 and not is_forest(model) and rest[u] < 0:  # v at the head of u's chain
                 for f in range(2):
                     _put(out, k, row, base)
                     out[k, w1_offset(n_g) + v] = f

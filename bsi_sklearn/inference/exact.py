@@ -64,7 +64,7 @@ from bsi_sklearn.inference._listing import Listing, list_hypotheses, members, wa
 from bsi_sklearn.inference._listing_bound import listing_work_lower_bound, log_evidence_upper
 from bsi_sklearn.inference._structure_walk import descend
 from bsi_sklearn.inference._structures import STEP_COST, StructureTables, structure_tables
-from bsi_sklearn.priors import PRIORS, count_hypotheses, format_count, support_structures
+from bsi_sklearn.priors import count_model_hypotheses, format_count, support_structures
 
 __all__ = ["exact_posterior", "exact_refusal", "ExactResult", "ExactWorkExceeded",
            "ExactMemoryExceeded", "MAX_KEPT", "MAX_BYTES"]
@@ -457,7 +457,7 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
         neg=pack_rows((y01 == 0).astype(np.uint8)[None, :])[0],
         n_pos=float((y01 == 1).sum()), n_neg=float((y01 == 0).sum()),
     )
-    n_hyp = count_hypotheses(PRIORS[model.prior], n_g, n)
+    n_hyp = count_model_hypotheses(model)
     log_keep = math.log(tol) - math.log(n_hyp) if tol > 0 else -np.inf  # n_hyp may pass 1e308
     engine = _grouped if grouped else _ungrouped
     budget = Budget(max_work, max_bytes)

@@ -34,7 +34,7 @@ from bsi_sklearn.inference._local_search import beam_search, n_neighbours_max, n
 from bsi_sklearn.inference.diagnostics import MODE_WARN, missed_mass, split_rhat
 from bsi_sklearn.inference.stopping import MAX_SAMPLES, rounds, should_stop
 from bsi_sklearn.likelihood import step_scale
-from bsi_sklearn.priors import draw_hypothesis, next_structure
+from bsi_sklearn.priors import draw_hypothesis, first_structure
 
 __all__ = ["Demos", "ChainResult", "MCMCResult", "ChainRun", "run_chain", "deduplicate_demos",
            "score_states", "unique_states", "temperature_ladder", "deterministic_optimum",
@@ -174,14 +174,6 @@ def temperature_ladder(demos, model, n_temperatures="auto"):
     return np.exp(-np.log(scale) * np.arange(n_rungs) / (n_rungs - 1))
 
 
-def _first_structure(model):
-    # The first order structure of the prior's support (no orders where the prior allows it).
-    parent = np.full(model.n, -2, dtype=np.int64)
-    state = np.zeros(4, dtype=np.int64)
-    next_structure(parent, np.zeros(model.n, dtype=np.int64), state, model.prior)
-    return parent
-
-
 def deterministic_optimum(demos, model, width=BEAM_WIDTH):
     """A cheap optimum of the posterior, found without random numbers.
 
@@ -193,7 +185,7 @@ def deterministic_optimum(demos, model, width=BEAM_WIDTH):
     ``[tau, w1, parent]`` (int16).
     """
     n_g, n = model.n_g, model.n
-    start = join_state(np.zeros(n_g), np.zeros(n), _first_structure(model))
+    start = join_state(np.zeros(n_g), np.zeros(n), first_structure(model))
     max_steps = 4 * n_clauses(n_g, n) + 10
     row, lp = beam_search(start[None, :], demos, model, int(width), max_steps)
     return row.astype(np.int16), float(lp)
