@@ -397,7 +397,7 @@ def _init_cache(state, demos, model, bufs, loop):
     for r in range(loop.slot.shape[0]):
         viol = bufs.viol[r]
         loop.n_conj[r] = fill_viol(viol, state.tau[r], state.w1[r], state.parent[r],
-                                    demos.truth_t, model)
+                                   demos.truth_t, model)
         loop.lp_sub[r] = (log_prior_subset(state.tau[r].sum(), n_g, model.p_global)
                           + log_prior_subset(state.w1[r].sum(), n, model.p_eventual))
         loop.lp_struct[r] = log_prior_structure(state.parent[r], model)
