@@ -17,8 +17,10 @@ from bsi_sklearn.io.posterior_file import (
     write_posterior,
 )
 from bsi_sklearn.model.clauses import (
+    clause_index_eventual,
     clause_index_order,
     clause_truth,
+    n_clauses,
     pack_rows,
 )
 from bsi_sklearn.param_validation import Interval, validate_params
@@ -184,7 +186,7 @@ class Posterior:
 
     def _clause_slots(self):
         n_g, n = self.roles.n_globals, self.roles.n_subtasks
-        return list(range(n_g + n)) + [
+        return list(range(n_g)) + [clause_index_eventual(w, n_g) for w in range(n)] + [
             clause_index_order(a, b, n_g, n) for a in range(n) for b in range(n) if a != b
         ]
 
@@ -194,7 +196,7 @@ class Posterior:
         Columns follow :meth:`clause_keys`; no Specification objects are built, so this is the
         fast path for metrics over large posteriors.
         """
-        n_cl = self.roles.n_globals + self.roles.n_subtasks + self.roles.n_subtasks ** 2
+        n_cl = n_clauses(self.roles.n_globals, self.roles.n_subtasks)
         bits = np.unpackbits(self._masks.view(np.uint8), axis=1, bitorder="little")[:, :n_cl]
         return bits[:, self._clause_slots()].astype(bool)
 
@@ -233,7 +235,7 @@ class Posterior:
         )
 
     def _marginals_from_specs(self):
-        n_cl = self.roles.n_globals + self.roles.n_subtasks + self.roles.n_subtasks ** 2
+        n_cl = n_clauses(self.roles.n_globals, self.roles.n_subtasks)
         bits = np.unpackbits(
             self._masks.view(np.uint8), axis=1, bitorder="little"
         )[:, :n_cl].astype(float)

@@ -148,17 +148,35 @@ def _is_prior_code(node):
             and isinstance(node.value, ast.Name) and node.value.id == "model")
 
 
+#: The model bundle's fields that say which prior it holds: only the priors read them.
+PRIOR_FIELDS = {"prior", "forest"}
+
+
+def _bundle_rebuilt(tree):
+    # The fields passed as they are to Model(...) (a bundle rebuilt field by field).
+    return {id(arg) for node in ast.walk(tree) if isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Name) and node.func.id == "Model" for arg in node.args}
+
+
 def test_only_the_priors_module_knows_the_priors():
-    # Branching on a prior's name or code anywhere else spreads the model over several files.
+    # Branching on a prior's name or code anywhere else spreads the model over several files:
+    # the engines ask priors.py (is_forest, structures_are_sets, ...), a new prior touches it.
     # Experiments and reports select results by prior name; that is not the model.
     bad = []
     for path in _modules("bsi_sklearn"):
-        if _rel(path) in {"bsi_sklearn/model/priors.py", "bsi_sklearn/model/bundle.py"}:
+        if _rel(path) in {"bsi_sklearn/model/priors.py", "bsi_sklearn/model/_prior_support.py",
+                          "bsi_sklearn/model/bundle.py"}:
             continue
         inference_layer = not {"experiments", "datasets", "report"} & set(path.parts)
-        for node in ast.walk(_tree(path)):
+        tree = _tree(path)
+        passed_on = _bundle_rebuilt(tree)
+        for node in ast.walk(tree):
             if isinstance(node, ast.Name) and node.id == "prior_code":
                 bad.append(f"{_rel(path)}:{node.lineno} uses prior_code")
+            if (isinstance(node, ast.Attribute) and node.attr in PRIOR_FIELDS
+                    and isinstance(node.value, ast.Name) and node.value.id == "model"
+                    and id(node) not in passed_on):
+                bad.append(f"{_rel(path)}:{node.lineno} reads model.{node.attr}")
             if not isinstance(node, ast.Compare):
                 continue
             for side in [node.left, *node.comparators]:
@@ -345,9 +363,27 @@ def test_the_clause_layout_is_written_in_one_place():
     # everywhere else calls clause_index_order / clause_index_eventual / n_clauses.
     import re
 
-    pattern = re.compile(r"n_g \+ n \+ \w+ \* n|base \+ \w+ \* n \+|n_g \+ n \+ n \* n")
+    pattern = re.compile(r"n_g \+ n \+ \w+ \* n|base \+ \w+ \* n \+|n_g \+ n \+ n \* n"
+                         r"|n_subtasks \*\* 2")
     bad = [f"{_rel(p)}:{i}" for p in _modules("bsi_sklearn")
            if _rel(p) != "bsi_sklearn/model/clauses.py"
+           for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
+           if pattern.search(line.split("#")[0])]
+    assert bad == []
+
+
+def test_the_state_layout_is_written_in_one_place():
+    # A hypothesis as a row [tau | W1 | parent] (the sampler's states, the local search's rows,
+    # the monitor's packed roles) is cut and sized by bsi_sklearn.model.state_layout only: slices
+    # such as [:n_g], [n_g:n_g + n], [n_g + n:], widths n_g + 2 * n, entries n_g + w, and the
+    # most conjuncts n_g + n + n (n - 1) / 2.
+    import re
+
+    pattern = re.compile(r"n_g \+ 2 \* n|n_g \+ n:|\[:n_g\]|, :n_g\]|\[:, :n_g|n_g:n_g"
+                         r"|n_g \+ n \+ \w\]|n_g \+ \w\]|\* \(n - 1\) // 2|2 \+ n_g"
+                         r"|n_subtasks \* \(n_subtasks - 1\)")
+    bad = [f"{_rel(p)}:{i}" for p in _modules("bsi_sklearn")
+           if _rel(p) != "bsi_sklearn/model/state_layout.py"
            for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
            if pattern.search(line.split("#")[0])]
     assert bad == []

@@ -64,3 +64,27 @@ def test_structures_outside_support_have_zero_probability():
     assert log_prior_structure(two_roots, _model("linear_chain", 0.3, 5.0)) == -np.inf
     assert log_prior_structure(branching, _model("sets_of_chains", 0.3, 5.0)) == -np.inf
     assert np.isfinite(log_prior_structure(branching, _model("forest", 0.3, 5.0)))
+
+
+@pytest.mark.parametrize("prior", ["linear_chain", "sets_of_chains", "forest"])
+@pytest.mark.parametrize("n", [0, 1, 3])
+def test_what_the_engines_ask_of_a_prior(prior, n):
+    # The engines' questions (priors.py) answer as the prior codes' meanings did there.
+    from bsi_sklearn.model.priors import (
+        count_hypotheses,
+        count_model_hypotheses,
+        first_structure,
+        is_forest,
+        structures_are_sets,
+        whole_structure_log_factor,
+    )
+
+    model = make_model(prior=prior, likelihood="cb", n_globals=2, n_subtasks=n)
+    assert is_forest(model) == (prior == "forest")
+    assert structures_are_sets(model) == (prior != "linear_chain")
+    np.testing.assert_array_equal(first_structure(model), enumerate_structures(prior, n)[0])
+    assert count_model_hypotheses(model) == count_hypotheses(prior, 2, n)
+    blocks = np.arange(1, n + 1)
+    want = (np.full(n, model.forest_const) if prior == "forest"
+            else np.asarray(model.lp_chains)[blocks])
+    np.testing.assert_array_equal(whole_structure_log_factor(model, blocks), want)

@@ -32,18 +32,20 @@ from bsi_sklearn.inference._gibbs_moves import (
     sat_counts,
 )
 from bsi_sklearn.model import Model
-from bsi_sklearn.model.clauses import clause_index_order
+from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order
 from bsi_sklearn.model.likelihood import cb_rejected, log_likelihood
 from bsi_sklearn.model.priors import (
+    is_forest,
     log_inclusion,
     log_prior,
     log_prior_structure,
     log_prior_subset,
 )
+from bsi_sklearn.model.state_layout import max_conjuncts, split_state, state_width
 
 __all__ = ["Demos", "ChainState", "ChainBuffers", "ChainLoop", "make_buffers", "make_loop",
            "chain_kernel",
-           "init_viol", "score_one", "score_rows", "violation_rows"]
+           "init_viol", "fill_viol", "score_one", "score_rows", "violation_rows"]
 
 
 class Demos(NamedTuple):
@@ -105,7 +107,7 @@ class ChainBuffers(NamedTuple):
 def make_buffers(n_g, n, n_rows, n_rungs):
     """Scratch buffers of a chain with ``n_rungs`` replicas over ``n_rows`` unique rows."""
     k = 2 * (2 * n + 2)  # the most candidates of one structure move (places x eventual bit)
-    need = n_g + 2 * n + n_rungs
+    need = state_width(n_g, n) + n_rungs  # one uniform per entry of a state, the swaps
     n_words = (n_rows + 63) // 64
     return ChainBuffers(
         ubuf=np.empty(max(1024, 2 * need)),
@@ -127,7 +129,7 @@ def make_buffers(n_g, n, n_rows, n_rungs):
         cache_ver=np.full((n_rungs, max(n, 1)), -1, dtype=np.int64),
         cache_beta=np.zeros((n_rungs, max(n, 1))),
         version=np.zeros(n_rungs, dtype=np.int64),
-        cb_rejected=np.array([cb_rejected(k) for k in range(n_g + n + n * (n - 1) // 2 + 2)]),
+        cb_rejected=np.array([cb_rejected(k) for k in range(max_conjuncts(n_g, n) + 2)]),
     )
 
 
@@ -182,12 +184,15 @@ def init_viol(tau, w1, parent, truth_t, model):
     """Per-row violation counts of a hypothesis (int32) and its number of conjuncts."""
     # int32 counts (not int64): twice as many lanes in the kernels' vectorised loops.
     viol = np.zeros(truth_t.shape[1], dtype=np.int32)
-    return viol, _fill_viol(viol, tau, w1, parent, truth_t, model)
+    return viol, fill_viol(viol, tau, w1, parent, truth_t, model)
 
 
 @njit(cache=True, nogil=True)
-def _fill_viol(viol, tau, w1, parent, truth_t, model):
-    # Per demonstration, the number of clauses of the hypothesis it violates; returns N.
+def fill_viol(viol, tau, w1, parent, truth_t, model):
+    """Per demonstration, the number of the hypothesis' clauses it violates, into ``viol``.
+
+    Returns the hypothesis' number of conjuncts.
+    """
     n_g, n = model.n_g, model.n
     viol[:] = 0
     n_conj = 0
@@ -197,7 +202,7 @@ def _fill_viol(viol, tau, w1, parent, truth_t, model):
             n_conj += 1
     for w in range(n):
         if w1[w]:
-            add_pair(viol, truth_t, n_g + w, np.int64(1))
+            add_pair(viol, truth_t, clause_index_eventual(w, n_g), np.int64(1))
             n_conj += 1
     for v in range(n):
         a = parent[v]
@@ -221,12 +226,11 @@ def score_one(tau, w1, parent, demos, model):
 @njit(cache=True, nogil=True)
 def score_rows(states, demos, model):
     """Exact unnormalised log posterior of every state row ``[tau, w1, parent]``."""
-    n_g, n = model.n_g, model.n
     out = np.empty(states.shape[0])
     for r in range(states.shape[0]):
-        lp, ll = score_one(states[r, :n_g].astype(np.int64),
-                           states[r, n_g:n_g + n].astype(np.int64),
-                           states[r, n_g + n:].astype(np.int64), demos, model)
+        tau, w1, parent = split_state(states[r], model.n_g, model.n)
+        lp, ll = score_one(tau.astype(np.int64), w1.astype(np.int64), parent.astype(np.int64),
+                           demos, model)
         out[r] = lp + ll
     return out
 
@@ -237,12 +241,11 @@ def violation_rows(states, demos, model):
 
     The acceptable ones it violates plus the unacceptable ones it satisfies (weighted).
     """
-    n_g, n = model.n_g, model.n
     out = np.empty(states.shape[0])
     for r in range(states.shape[0]):
-        viol, _ = init_viol(states[r, :n_g].astype(np.int64),
-                            states[r, n_g:n_g + n].astype(np.int64),
-                            states[r, n_g + n:].astype(np.int64), demos.truth_t, model)
+        tau, w1, parent = split_state(states[r], model.n_g, model.n)
+        viol, _ = init_viol(tau.astype(np.int64), w1.astype(np.int64), parent.astype(np.int64),
+                            demos.truth_t, model)
         ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
         out[r] = demos.n_pos - ps + ns
     return out
@@ -274,8 +277,8 @@ def _sweep(r, beta, state, demos, model, bufs, cache, u0):
             bufs.version[r] += 1
     if n <= 1:
         for w in range(n):
-            new, ll[r], used = flip_move(n_g + w, w1[w], le_in, le_out, viol, n_conj[r], demos,
-                                         model, ubuf[upos], beta)
+            new, ll[r], used = flip_move(clause_index_eventual(w, n_g), w1[w], le_in, le_out,
+                                         viol, n_conj[r], demos, model, ubuf[upos], beta)
             upos += used
             if new != w1[w]:
                 n_conj[r] += 1 if new else -1
@@ -298,7 +301,7 @@ def _sweep(r, beta, state, demos, model, bufs, cache, u0):
         for u in range(n):  # element loops, not slice copies: cheaper to compile
             old_parent[u] = parent[u]
         old_w = w1[v]
-        if model.forest:
+        if is_forest(model):
             n_conj[r], lp_struct[r], ll[r], n_cand, j = forest_move(
                 v, parent, w1, viol, n_conj[r], demos, model, bufs, ubuf[upos], beta)
         else:
@@ -341,22 +344,23 @@ def _record(states, k, state, r, n_g, n):
     # Write replica r's state into row k + 1 unless it equals row k; returns the new k and
     # whether a row was written.
     if k >= 0:
+        tau, w1, parent = split_state(states[k], n_g, n)
         same = True
         for j in range(n_g):
-            if states[k, j] != state.tau[r, j]:
+            if tau[j] != state.tau[r, j]:
                 same = False
         for w in range(n):
-            if states[k, n_g + w] != state.w1[r, w] or states[k, n_g + n + w] != \
-                    state.parent[r, w]:
+            if w1[w] != state.w1[r, w] or parent[w] != state.parent[r, w]:
                 same = False
         if same:
             return k, False
     k += 1
+    tau, w1, parent = split_state(states[k], n_g, n)
     for j in range(n_g):
-        states[k, j] = state.tau[r, j]
+        tau[j] = state.tau[r, j]
     for w in range(n):
-        states[k, n_g + w] = state.w1[r, w]
-        states[k, n_g + n + w] = state.parent[r, w]
+        w1[w] = state.w1[r, w]
+        parent[w] = state.parent[r, w]
     return k, True
 
 
@@ -392,8 +396,8 @@ def _init_cache(state, demos, model, bufs, loop):
     n_g, n = model.n_g, model.n
     for r in range(loop.slot.shape[0]):
         viol = bufs.viol[r]
-        loop.n_conj[r] = _fill_viol(viol, state.tau[r], state.w1[r], state.parent[r],
-                                    demos.truth_t, model)
+        loop.n_conj[r] = fill_viol(viol, state.tau[r], state.w1[r], state.parent[r],
+                                   demos.truth_t, model)
         loop.lp_sub[r] = (log_prior_subset(state.tau[r].sum(), n_g, model.p_global)
                           + log_prior_subset(state.w1[r].sum(), n, model.p_eventual))
         loop.lp_struct[r] = log_prior_structure(state.parent[r], model)
@@ -433,10 +437,11 @@ def chain_kernel(state, demos, model, bufs, betas, rng, loop, n_samples, burn_in
         counters[5] = 1
     sweep, burned, upos, moved, updates = (counters[0], counters[1], counters[2],
                                            counters[3], counters[4])
-    need = n_g + 2 * n + n_rungs  # the most uniforms of one replica's sweep and the swaps
+    # The most uniforms of one replica's sweep (one per entry of its state) and the swaps.
+    need = state_width(n_g, n) + n_rungs
     cache = (loop.n_conj, loop.lp_sub, loop.lp_struct, loop.ll)
     ll = loop.ll
-    states = np.empty((n_samples, n_g + 2 * n), dtype=np.int16)
+    states = np.empty((n_samples, state_width(n_g, n)), dtype=np.int16)
     trace_lp = np.empty(n_samples)
     counts = np.zeros(n_samples, dtype=np.int64)
     per_sweep = n_g + n  # blocks one sweep updates

@@ -15,7 +15,8 @@ import numpy as np
 
 from bsi_sklearn.inference._grouping import Groups, group_rows
 from bsi_sklearn.inference._structures import whole_kind
-from bsi_sklearn.model.priors import log_prior_subset
+from bsi_sklearn.model.clauses import clause_index_eventual
+from bsi_sklearn.model.priors import log_prior_subset, whole_structure_log_factor
 
 __all__ = ["PartTable", "SubsetGroups", "subset_table", "group_subsets", "top_entries",
            "structure_groups", "subset_items", "ROW_COST", "PAIR_COST"]
@@ -92,7 +93,7 @@ def group_subsets(clause_bits, full, model, spend=None, allocate=None):
     if allocate is not None:  # a row, and as much twice again while it is grouped
         allocate(3.0 * (8 * n_words + 24) * (2.0**n_g + 2.0**n), what)
     t_tab = subset_table(clause_bits, 0, n_g, model.p_global, full)
-    e_tab = subset_table(clause_bits, n_g, n, model.p_eventual, full)
+    e_tab = subset_table(clause_bits, clause_index_eventual(0, n_g), n, model.p_eventual, full)
     t_gid, tg = group_rows(t_tab.bits, t_tab.size, t_tab.lp)
     e_gid, eg = group_rows(e_tab.bits, e_tab.size, e_tab.lp)
     t_start, t_items = _members(t_gid, len(tg.size))
@@ -133,11 +134,10 @@ def top_entries(tables, model):
     ids = np.arange(tables.lo[kind, whole], tables.hi[kind, whole])
     if n == 0:
         top = np.zeros(len(ids))
-    elif model.forest:
-        top = np.full(len(ids), float(model.forest_const))
     else:
-        aux = tables.aux[ids] if kind == 1 else np.ones(len(ids), dtype=np.int64)  # one chain
-        top = np.asarray(model.lp_chains, dtype=np.float64)[aux]
+        # The number of blocks of each structure (counted for chains; one block: one chain).
+        aux = tables.aux[ids] if kind == 1 else np.ones(len(ids), dtype=np.int64)
+        top = whole_structure_log_factor(model, aux)
     with np.errstate(divide="ignore"):
         lw = np.log(tables.weight[ids]) + tables.ref[kind, whole] + top
     return ids, lw, tables.best[ids] + top

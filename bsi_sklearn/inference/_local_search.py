@@ -21,10 +21,11 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn._jit import helper
+from bsi_sklearn.inference._chain_kernel import fill_viol
 from bsi_sklearn.inference._gibbs_moves import sat_counts
-from bsi_sklearn.model.clauses import clause_index_order
 from bsi_sklearn.model.likelihood import log_likelihood
-from bsi_sklearn.model.priors import log_prior
+from bsi_sklearn.model.priors import is_forest, log_prior
+from bsi_sklearn.model.state_layout import parent_offset, split_state, state_width, w1_offset
 
 __all__ = ["beam_search", "neighbourhood", "n_neighbours_max"]
 
@@ -48,30 +49,16 @@ def _score(row, demos, model, scratch):
     # Exact log posterior of a row [tau, w1, parent].
     n_g, n = model.n_g, model.n
     tau, w1, parent, viol = scratch.tau, scratch.w1, scratch.parent, scratch.viol
+    row_tau, row_w1, row_parent = split_state(row, n_g, n)
     for j in range(n_g):
-        tau[j] = row[j]
+        tau[j] = row_tau[j]
     for w in range(n):
-        w1[w] = row[n_g + w]
-        parent[w] = row[n_g + n + w]
+        w1[w] = row_w1[w]
+        parent[w] = row_parent[w]
     lp = log_prior(tau, w1, parent, model)
     if lp == -np.inf:
         return lp
-    truth_t = demos.truth_t
-    viol[:] = 0
-    n_conj = np.int64(0)  # not a literal 0: log_likelihood compiles once
-    for c in range(n_g + n):
-        if row[c]:
-            n_conj += 1
-            for d in range(viol.shape[0]):
-                viol[d] += 1 if truth_t[c, d] == 0 else 0
-    for v in range(n):
-        a = parent[v]
-        while a >= 0:
-            n_conj += 1
-            c = clause_index_order(a, v, n_g, n)
-            for d in range(viol.shape[0]):
-                viol[d] += 1 if truth_t[c, d] == 0 else 0
-            a = parent[a]
+    n_conj = fill_viol(viol, tau, w1, parent, demos.truth_t, model)
     ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
     return lp + log_likelihood(ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps,
                                model.likelihood, model.flip_a, model.flip_b)
@@ -88,9 +75,9 @@ def _neighbours(row, model, out, k, work):
     # Every row one block away from ``row``, into out[k:]; returns the new k. work: (3, n)
     # int64 scratch (the structure without v, its successors, v's subtree).
     n_g, n = model.n_g, model.n
-    base = n_g + n
-    n_cols = base + n
-    for j in range(n_g + (n if n <= 1 else 0)):
+    base, n_cols = parent_offset(n_g, n), state_width(n_g, n)
+    # The inclusion bits: tau's, and W1's too when there is no order to move them with.
+    for j in range(base if n <= 1 else w1_offset(n_g)):
         _put(out, k, row, n_cols)
         out[k, j] = 1 - row[j]
         k += 1
@@ -103,7 +90,7 @@ def _neighbours(row, model, out, k, work):
         for u in range(n):
             rest[u] = row[base + u]
             in_s[u] = 0
-        if model.forest:
+        if is_forest(model):
             for u in range(n):
                 a = u
                 while a >= 0 and a != v:
@@ -127,17 +114,17 @@ def _neighbours(row, model, out, k, work):
                 continue
             for f in range(2):
                 _put(out, k, row, base)
-                out[k, n_g + v] = f
+                out[k, w1_offset(n_g) + v] = f
                 for w in range(n):
                     out[k, base + w] = rest[w]
                 out[k, base + v] = u
-                if u >= 0 and not model.forest and child[u] >= 0:
+                if u >= 0 and not is_forest(model) and child[u] >= 0:
                     out[k, base + child[u]] = v
                 k += 1
-            if u >= 0 and not model.forest and rest[u] < 0:  # v at the head of u's chain
+            if u >= 0 and not is_forest(model) and rest[u] < 0:  # v at the head of u's chain
                 for f in range(2):
                     _put(out, k, row, base)
-                    out[k, n_g + v] = f
+                    out[k, w1_offset(n_g) + v] = f
                     for w in range(n):
                         out[k, base + w] = rest[w]
                     out[k, base + u] = v
@@ -201,7 +188,7 @@ class _Beam(NamedTuple):
 
 def beam_search(start, demos, model, width, max_steps):
     """Beam search from the rows of ``start``; returns ``(best row, its log posterior)``."""
-    n_cols = model.n_g + 2 * model.n
+    n_cols = state_width(model.n_g, model.n)
     rows = width * (n_neighbours_max(model.n_g, model.n) + 1)
     bufs = _Beam(np.empty((rows, n_cols), dtype=np.int64), np.empty(rows),
                  np.empty(rows, dtype=np.bool_), np.empty((width, n_cols), dtype=np.int64),
@@ -213,7 +200,7 @@ def beam_search(start, demos, model, width, max_steps):
 
 @njit(cache=True, nogil=True)
 def _beam_search(start, demos, model, width, max_steps, scratch, work, bufs):
-    n_cols = model.n_g + 2 * model.n
+    n_cols = state_width(model.n_g, model.n)
     pool, pool_lp, taken, beam, beam_lp, nxt, nxt_lp = bufs
     n_beam = min(width, start.shape[0])
     for i in range(n_beam):

@@ -14,17 +14,16 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn._jit import helper
-from bsi_sklearn.model.clauses import popcount
+from bsi_sklearn.model.clauses import clause_index_order, popcount
+from bsi_sklearn.model.priors import is_forest, structures_are_sets
 
-__all__ = ["BLOCK", "PART", "PRIOR_SETS", "COMBO_COST", "STEP_COST", "ENTRY_COST", "whole_kind",
+__all__ = ["BLOCK", "PART", "COMBO_COST", "STEP_COST", "ENTRY_COST", "whole_kind",
            "problem", "scratch", "n_bits", "and_pop", "find", "append_block", "candidates",
            "first_subtasks"]
 
 #: The two kinds of table entries: blocks (one chain, one tree) and whole structures.
 BLOCK = 0
 PART = 1
-#: By prior code: whether structures are sets of blocks (True) or one block (Prior 1: a chain).
-PRIOR_SETS = (False, True, True)
 #: Work units (evaluations of a pair of groups, about 5-10 ns) of one combination of two table
 #: entries (an AND, a popcount, a hash probe), of one step over subsets or subtasks, and of a
 #: new entry (its time, and as much again for its memory: about 60 bytes, so that the work
@@ -50,16 +49,17 @@ class _Problem(NamedTuple):
 
 def whole_kind(model):
     """Which table (0: blocks, 1: structures) holds the whole structures of the model's prior."""
-    return PART if PRIOR_SETS[model.prior] or model.n == 0 else BLOCK
+    return PART if structures_are_sets(model) or model.n == 0 else BLOCK
 
 
 def problem(clause_bits, full, pos, thr, model):
     """The bundle both passes over the tables read."""
     n = model.n
-    chains = not model.forest
+    chains = not is_forest(model)
     factor = np.zeros(n + 2) if chains else np.asarray(model.forest_g, dtype=np.float64)
-    return _Problem(clause_bits, model.n_g + n, n, full, pos, int(thr), factor,
-                    1 if chains else 0, BLOCK if chains else PART, PRIOR_SETS[model.prior])
+    return _Problem(clause_bits, clause_index_order(0, 0, model.n_g, n), n, full, pos, int(thr),
+                    factor, 1 if chains else 0, BLOCK if chains else PART,
+                    structures_are_sets(model))
 
 
 @njit(cache=True, nogil=True, inline="always")

@@ -56,8 +56,15 @@ from bsi_sklearn.inference._listing import Listing, list_hypotheses, members, wa
 from bsi_sklearn.inference._listing_bound import listing_work_lower_bound, log_evidence_upper
 from bsi_sklearn.inference._structure_walk import descend
 from bsi_sklearn.inference._structures import STEP_COST, StructureTables, structure_tables
-from bsi_sklearn.model.clauses import clause_index_order, n_clauses, pack_rows, popcounts
-from bsi_sklearn.model.priors import PRIORS, count_hypotheses, format_count, support_structures
+from bsi_sklearn.model.clauses import (
+    clause_index_eventual,
+    clause_index_order,
+    n_clauses,
+    pack_rows,
+    popcounts,
+)
+from bsi_sklearn.model.priors import count_model_hypotheses, format_count, support_structures
+from bsi_sklearn.model.state_layout import max_conjuncts
 
 __all__ = ["exact_posterior", "exact_refusal", "ExactResult", "ExactWorkExceeded",
            "ExactMemoryExceeded", "MAX_KEPT", "MAX_BYTES"]
@@ -268,7 +275,7 @@ def _give_up_early(first, hs, h_order, subsets, lik, n_pos, log_keep, margin, bu
 def _grouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol):
     subsets = group_subsets(clause_bits, full, model, budget.spend, budget.allocate)
     hs, h_order = _subset_side(subsets.groups, labels)
-    max_conj = model.n_g + model.n + model.n * (model.n - 1) // 2
+    max_conj = max_conjuncts(model.n_g, model.n)
     lik = likelihood_tables(int(labels.n_pos), int(labels.n_neg), max_conj, model)
     # What is skipped holds at most exp(margin) of the evidence, and no kept hypothesis.
     margin = min(_MARGIN, log_keep)
@@ -351,7 +358,8 @@ def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol
     structures = support_structures(model)
     parts_s = ungrouped_structures(structures, clause_bits, full, model)
     parts_t = PartTable(*subset_table(clause_bits, 0, n_g, model.p_global, full))
-    parts_e = PartTable(*subset_table(clause_bits, n_g, n, model.p_eventual, full))
+    parts_e = PartTable(*subset_table(clause_bits, clause_index_eventual(0, n_g), n,
+                                      model.p_eventual, full))
     log_z, keep_idx, keep_lp, mass_s, mass_t, mass_e, mass_v = ungrouped_kernel(
         parts_s, parts_t, parts_e, labels, model, log_keep)
     order = np.argsort(-keep_lp, kind="stable")
@@ -362,7 +370,7 @@ def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol
         marg[j] = mass_t[((t_ids >> j) & 1).astype(bool)].sum()
     e_ids = np.arange(len(mass_e))
     for w in range(n):
-        marg[n_g + w] = mass_e[((e_ids >> w) & 1).astype(bool)].sum()
+        marg[clause_index_eventual(w, n_g)] = mass_e[((e_ids >> w) & 1).astype(bool)].sum()
     for s in np.flatnonzero(mass_s):
         parent = structures[s]
         for v in range(n):
@@ -449,7 +457,7 @@ def exact_posterior(truth, y01, model, tol=1e-9, grouped=True, max_kept=MAX_KEPT
         neg=pack_rows((y01 == 0).astype(np.uint8)[None, :])[0],
         n_pos=float((y01 == 1).sum()), n_neg=float((y01 == 0).sum()),
     )
-    n_hyp = count_hypotheses(PRIORS[model.prior], n_g, n)
+    n_hyp = count_model_hypotheses(model)
     log_keep = math.log(tol) - math.log(n_hyp) if tol > 0 else -np.inf  # n_hyp may pass 1e308
     engine = _grouped if grouped else _ungrouped
     budget = Budget(max_work, max_bytes)

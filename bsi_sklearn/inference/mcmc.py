@@ -33,7 +33,8 @@ from bsi_sklearn.inference.diagnostics import MODE_WARN, missed_mass, split_rhat
 from bsi_sklearn.inference.stopping import MAX_SAMPLES, rounds, should_stop
 from bsi_sklearn.model.clauses import n_clauses, pack_rows
 from bsi_sklearn.model.likelihood import step_scale
-from bsi_sklearn.model.priors import draw_hypothesis, next_structure
+from bsi_sklearn.model.priors import draw_hypothesis, first_structure
+from bsi_sklearn.model.state_layout import join_state, split_state, split_states
 
 __all__ = ["Demos", "ChainResult", "MCMCResult", "ChainRun", "run_chain", "deduplicate_demos",
            "score_states", "unique_states", "temperature_ladder", "deterministic_optimum",
@@ -173,14 +174,6 @@ def temperature_ladder(demos, model, n_temperatures="auto"):
     return np.exp(-np.log(scale) * np.arange(n_rungs) / (n_rungs - 1))
 
 
-def _first_structure(model):
-    # The first order structure of the prior's support (no orders where the prior allows it).
-    parent = np.full(model.n, -2, dtype=np.int64)
-    state = np.zeros(4, dtype=np.int64)
-    next_structure(parent, np.zeros(model.n, dtype=np.int64), state, model.prior)
-    return parent
-
-
 def deterministic_optimum(demos, model, width=BEAM_WIDTH):
     """A cheap optimum of the posterior, found without random numbers.
 
@@ -192,7 +185,7 @@ def deterministic_optimum(demos, model, width=BEAM_WIDTH):
     ``[tau, w1, parent]`` (int16).
     """
     n_g, n = model.n_g, model.n
-    start = np.concatenate([np.zeros(n_g + n, dtype=np.int64), _first_structure(model)])
+    start = join_state(np.zeros(n_g), np.zeros(n), first_structure(model))
     max_steps = 4 * n_clauses(n_g, n) + 10
     row, lp = beam_search(start[None, :], demos, model, int(width), max_steps)
     return row.astype(np.int16), float(lp)
@@ -218,7 +211,7 @@ class ChainRun:
             draws = [draw_hypothesis(model, self.rng) for _ in range(n_rungs)]
         else:
             start = np.asarray(start, dtype=np.int64)
-            draws = [(start[:n_g], start[n_g:n_g + n], start[n_g + n:])] * n_rungs
+            draws = [split_state(start, n_g, n)] * n_rungs
         # The kernel's state and scratch buffers live here, for every call (see _unmanaged).
         self.state = ChainState(*(
             np.ascontiguousarray(np.stack([d[i] for d in draws]), dtype=np.int64)
@@ -458,5 +451,6 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     # The flip rate's posterior needs each specification's misclassified demonstrations.
     violations = (violation_rows(np.ascontiguousarray(uniq, dtype=np.int64), demos, model)
                   if model.flip_a > 0 else None)
-    return MCMCResult(uniq[:, n_g + n:].astype(np.int64), uniq[:, :n_g].astype(bool),
-                      uniq[:, n_g:n_g + n].astype(bool), probs, diagnostics, violations)
+    tau, w1, parent = split_states(uniq, n_g, n)
+    return MCMCResult(parent.astype(np.int64), tau.astype(bool), w1.astype(bool), probs,
+                      diagnostics, violations)

@@ -12,6 +12,7 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn._jit import helper
+from bsi_sklearn.model.state_layout import max_conjuncts
 
 __all__ = ["default_log_epsilon", "resolve_log_epsilon", "log_likelihood", "log_likelihood_cb",
            "cb_rejected", "LIKELIHOODS",
@@ -35,7 +36,7 @@ def default_log_epsilon(n_globals, n_subtasks):
     >>> round(default_log_epsilon(5, 5), 4)
     -55.4518
     """
-    m = n_globals + n_subtasks + n_subtasks * (n_subtasks - 1) / 2
+    m = max_conjuncts(n_globals, n_subtasks)  # the most conjuncts of a hypothesis
     return -4.0 * math.log(2.0) * m
 
 

@@ -2,7 +2,10 @@
 
 This is the one module that knows what each prior is. Its numba functions take the model bundle
 (:class:`bsi_sklearn.model.Model`) and are what the exact and MCMC kernels call; the tables in
-the bundle (log prior by number of chains, Prior 3's subtree-size terms) are built here.
+the bundle (log prior by number of chains, Prior 3's subtree-size terms) are built here, and
+the engines ask it what they need of a prior's structures (:func:`is_forest`,
+:func:`structures_are_sets`, ...) instead of reading the prior's code. The depth-first walk over
+the support lives in :mod:`bsi_sklearn.model._prior_support`, re-exported here.
 
 An order structure is a forest over the subtasks stored as a parent array (``-1`` = root):
 Prior 1 (``"linear_chain"``) is a single chain through every subtask, Prior 2
@@ -14,11 +17,25 @@ import math
 
 import numpy as np
 from numba import njit
+from numba.extending import register_jitable
+
+from bsi_sklearn.model._prior_support import (
+    FOREST,
+    LINEAR_CHAIN,
+    enumerate_codes,
+    next_assignment,
+    next_structure,
+)
 
 __all__ = [
     "PRIORS",
     "format_count",
     "prior_code",
+    "is_forest",
+    "structures_are_sets",
+    "first_structure",
+    "count_model_hypotheses",
+    "whole_structure_log_factor",
     "sample_order_structure",
     "sample_hypothesis",
     "draw_hypothesis",
@@ -38,7 +55,6 @@ __all__ = [
 ]
 
 PRIORS = ("linear_chain", "sets_of_chains", "forest")
-_LINEAR_CHAIN, _SETS_OF_CHAINS, _FOREST = 0, 1, 2  # codes: positions in PRIORS
 
 
 def prior_code(prior):
@@ -46,6 +62,68 @@ def prior_code(prior):
     if prior not in PRIORS:
         raise ValueError(f"unknown prior {prior!r}; expected one of {PRIORS}")
     return PRIORS.index(prior)
+
+
+# ----------------------------------------------------------------------------- for the engines
+# What the exact and MCMC engines need to know of a prior's order structures, asked of the
+# model bundle: they never read its prior code.
+@register_jitable
+def is_forest(model):
+    """Whether the model's order structures are any forests, rather than sets of chains.
+
+    Prior 3's trees are moved by pruning and regrafting a subtree; Priors 1 and 2's chains by
+    re-inserting one subtask.
+    """
+    return model.forest
+
+
+@register_jitable
+def structures_are_sets(model):
+    """Whether an order structure may be a set of blocks (chains or trees), not just one.
+
+    Under Prior 1 a structure is always one block: one chain through every subtask.
+    """
+    return model.prior != LINEAR_CHAIN
+
+
+def first_structure(model):
+    """The first order structure of the model's prior, in :func:`next_structure`'s order.
+
+    No orders where the prior allows it; under Prior 1, the chain through the subtasks in
+    index order.
+    """
+    parent = np.full(model.n, -2, dtype=np.int64)
+    state = np.zeros(4, dtype=np.int64)
+    next_structure(parent, np.zeros(model.n, dtype=np.int64), state, model.prior)
+    return parent
+
+
+def count_model_hypotheses(model):
+    """:func:`count_hypotheses` of the model's prior and sizes."""
+    return count_hypotheses(PRIORS[model.prior], model.n_g, model.n)
+
+
+def whole_structure_log_factor(model, n_blocks):
+    """The log prior factor of whole structures that a product over their blocks leaves out.
+
+    The exact engine sums a structure's weight over its blocks (:func:`prior_tables`: nothing
+    per chain; Prior 3's ``forest_g`` per subtree); what is left depends only on the number of
+    blocks: ``lp_chains[n_blocks]`` for chains, ``forest_const`` for forests.
+
+    Parameters
+    ----------
+    model : Model
+    n_blocks : ndarray of int64
+        Number of chains (or trees) of every structure.
+
+    Returns
+    -------
+    ndarray of float64, shaped as ``n_blocks``
+    """
+    n_blocks = np.asarray(n_blocks, dtype=np.int64)
+    if model.forest:
+        return np.full(n_blocks.shape, float(model.forest_const))
+    return np.asarray(model.lp_chains, dtype=np.float64)[n_blocks]
 
 
 # ----------------------------------------------------------------------------- samplers
@@ -164,7 +242,7 @@ def log_inclusion(p):
 @njit(cache=True, nogil=True)
 def _log_prior_chains(n, m, code, p_part):
     # Priors 1 and 2 depend on a chain structure only through its number of chains m.
-    if code == _LINEAR_CHAIN:
+    if code == LINEAR_CHAIN:
         if m != 1:
             return -np.inf
         return -math.lgamma(n + 1.0)
@@ -228,7 +306,7 @@ def log_prior_structure(parent, model):
         return 0.0
     n_children = np.zeros(n, dtype=np.int64)
     n_roots = _count_children(parent, n_children)
-    if model.prior == _FOREST:
+    if model.prior == FOREST:
         return _log_prior_forest(parent, n_children, n_roots, model.n_new)
     for v in range(n):
         if n_children[v] > 1:
@@ -282,7 +360,7 @@ def prior_tables(prior, n, p_part, n_new):
     lp_chains = np.array([_log_prior_chains(n, m, code, p_part) if 1 <= m <= n else -np.inf
                           for m in range(n + 2)], dtype=np.float64)
     g, g_const = _forest_size_terms(n, n_new)
-    return code == _FOREST, lp_chains, g, float(g_const)
+    return code == FOREST, lp_chains, g, float(g_const)
 
 
 @njit(cache=True, nogil=True)
@@ -347,81 +425,6 @@ def format_count(count):
 
 
 @njit(cache=True, nogil=True)
-def next_assignment(parent, n_children, state, code, descend):
-    """One depth-first step over the order structures of the prior's support.
-
-    Nodes get their parents in index order; the call makes the next assignment and returns
-    the node it assigned (a whole structure is in ``parent`` when that is the last node), or
-    -1 when every structure has been visited. With ``descend`` False the nodes after the last
-    assignment are not tried (its subtree is skipped). Start with ``parent`` filled with
-    ``-2``, ``n_children`` with 0 and ``state = [0, 0, 0, 0]`` (level, roots, done, started);
-    ``n`` must be at least 1. Only valid partial structures are visited: a node's parent is
-    never its descendant, nor (Priors 1, 2) a node that already has a child, nor (Prior 1) a
-    second root. Structures come in lexicographic order of their parent arrays.
-    """
-    n = parent.shape[0]
-    if state[2]:
-        return -1
-    v = state[0]
-    roots = state[1]
-    if state[3] and descend and v < n - 1:
-        v += 1
-    state[3] = 1
-    while v >= 0:
-        u = parent[v]
-        if u >= 0:
-            n_children[u] -= 1
-        elif u == -1:
-            roots -= 1
-        u += 1
-        while u < n:
-            if u == -1:
-                if code != _LINEAR_CHAIN or roots == 0:
-                    break
-            elif u != v and (code == _FOREST or n_children[u] == 0):
-                a = u  # u must not descend from v among the nodes placed so far
-                while 0 <= a < v:
-                    a = parent[a]
-                if a != v:
-                    break
-            u += 1
-        if u == n:
-            parent[v] = -2
-            v -= 1
-            continue
-        parent[v] = u
-        if u >= 0:
-            n_children[u] += 1
-        else:
-            roots += 1
-        state[0] = v
-        state[1] = roots
-        return v
-    state[2] = 1
-    return -1
-
-
-@njit(cache=True, nogil=True)
-def next_structure(parent, n_children, state, code):
-    """Advance ``parent`` to the next order structure of the prior's support (depth-first).
-
-    Same start as :func:`next_assignment`; each call that returns True leaves the next
-    structure in ``parent`` (for ``n = 0``, the empty structure once).
-    """
-    n = parent.shape[0]
-    if n == 0:
-        done = state[2] == 1
-        state[2] = 1
-        return not done
-    while True:
-        v = next_assignment(parent, n_children, state, code, True)
-        if v < 0:
-            return False
-        if v == n - 1:
-            return True
-
-
-@njit(cache=True, nogil=True)
 def structure_log_prior(parent, model, scratch):
     """``log_prior_structure`` for a structure known to be in the support, without allocating.
 
@@ -448,19 +451,6 @@ def structure_log_prior(parent, model, scratch):
     return out
 
 
-@njit(cache=True)
-def _enumerate_structures(n, code, count):
-    out = np.empty((count, n), dtype=np.int64)
-    parent = np.full(n, -2, dtype=np.int64)
-    n_children = np.zeros(n, dtype=np.int64)
-    state = np.zeros(4, dtype=np.int64)
-    k = 0
-    while next_structure(parent, n_children, state, code):
-        out[k] = parent
-        k += 1
-    return out
-
-
 def enumerate_structures(prior, n):
     """All order structures (parent arrays) of a prior's support, shape ``(count, n)``.
 
@@ -471,7 +461,7 @@ def enumerate_structures(prior, n):
            [-1,  0],
            [ 1, -1]])
     """
-    return _enumerate_structures(n, prior_code(prior), count_structures(prior, n))
+    return enumerate_codes(n, prior_code(prior), count_structures(prior, n))
 
 
 def support_structures(model):

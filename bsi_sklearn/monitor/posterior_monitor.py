@@ -32,6 +32,7 @@ from numba import njit
 
 from bsi_sklearn.data.traces import Traces
 from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order, n_clauses
+from bsi_sklearn.model.state_layout import join_state, split_state
 from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.posterior import Posterior
 
@@ -154,9 +155,10 @@ class PosteriorMonitor:
         self._position = {name: i for i, name in enumerate(self.names)}
         self._g_idx, self._s_idx = roles.global_idx, roles.subtask_idx
         self._c_idx = roles.condition_idx
-        # [n_g, n, g_idx..., s_idx..., c_idx...]: one argument for the step kernel
-        self._layout = np.concatenate([[roles.n_globals, roles.n_subtasks], self._g_idx,
-                                       self._s_idx, self._c_idx]).astype(np.int64)
+        # [n_g, n, g_idx | s_idx | c_idx]: one argument for the step kernel, the columns laid
+        # out as a hypothesis' entries are (one per global candidate, two per subtask)
+        self._layout = np.concatenate([[roles.n_globals, roles.n_subtasks],
+                                       join_state(self._g_idx, self._s_idx, self._c_idx)])
         self._masks = posterior._masks  # (n_specs, n_words) clause masks, same package
         self._probs = np.ascontiguousarray(posterior.probabilities, dtype=np.float64)
         n_g, n = roles.n_globals, roles.n_subtasks
@@ -378,9 +380,8 @@ def _step(row, t, state, layout, changed):
     for p in range(row.shape[0]):
         if row[p] != 0 and row[p] != 1:
             return -1 - p
-    n_g, n = layout[0], layout[1]
-    return _advance(row, t, state, layout[2:2 + n_g], layout[2 + n_g:2 + n_g + n],
-                    layout[2 + n_g + n:2 + n_g + 2 * n], changed)
+    g_idx, s_idx, c_idx = split_state(layout[2:], layout[0], layout[1])
+    return _advance(row, t, state, g_idx, s_idx, c_idx, changed)
 
 
 @njit(cache=True, nogil=True)
