@@ -18,15 +18,12 @@ from typing import NamedTuple
 
 import numpy as np
 from numba import njit
-from sklearn.utils.validation import check_is_fitted
 
-from bsi_sklearn.data.traces import check_consistent_traces, check_traces
 from bsi_sklearn.model.clauses import pack_rows
-from bsi_sklearn.param_validation import validate_params
 from bsi_sklearn.satisfaction import satisfied_masses, satisfies
 
 __all__ = ["LabelNoise", "LEARNED_PRIOR", "fixed_noise", "learned_noise", "misclassified",
-           "label_noise", "predictive_log_proba", "PosteriorPredictiveMixin"]
+           "label_noise", "predictive_log_proba"]
 
 
 class LabelNoise(NamedTuple):
@@ -188,104 +185,3 @@ def predictive_log_proba(masks, probs, truth_words, noise):
                                 axis=1)
     total = np.logaddexp(log_0, log_1)
     return np.column_stack([log_0 - total, log_1 - total])
-
-
-class PosteriorPredictiveMixin:
-    """The predictions of :class:`~bsi_sklearn.BSIClassifier`.
-
-    ``predict_proba``, ``predict_log_proba`` and ``predict``, from ``posterior_``, what
-    ``fit`` stored of the label noise (``_noise_data``: each specification's misclassified
-    training demonstrations, their number, ``log epsilon`` and the flip prior) and the ``vote``
-    and ``label_noise`` parameters, both read here, so that changing them needs no refit.
-    """
-
-    def _validated(self, X):
-        check_is_fitted(self)
-        traces = check_traces(X, binarize=self.binarize, estimator_name=type(self).__name__)
-        check_consistent_traces(traces, self.n_features_in_,
-                                getattr(self, "feature_names_in_", None), type(self).__name__)
-        return traces
-
-    def _by_satisfaction(self):
-        # vote is read at prediction time (set_params needs no refit): checked here too.
-        names = ("vote", "label_noise")
-        validate_params({k: getattr(self, k) for k in names},
-                        {k: self._parameter_constraints[k] for k in names}, type(self).__name__)
-        return self.vote == "satisfaction"
-
-    def _noise(self):
-        """The :class:`LabelNoise` of the fitted posterior under ``label_noise``."""
-        violations, n_demos, log_eps, flip_prior = self._noise_data
-        return label_noise(violations, n_demos, log_eps, flip_prior, self.label_noise)
-
-    def predict_proba(self, X):
-        """Probability that each demonstration is acceptable.
-
-        ``vote="predictive"``: P(label = acceptable | X, data), the posterior over formulas and
-        label noise (``docs/likelihoods.md``, "The posterior predictive"); exact when the
-        posterior is. ``vote="satisfaction"``: the posterior mass of the formulas X satisfies.
-
-        Parameters
-        ----------
-        X : demonstrations, in any format accepted by :meth:`fit`.
-
-        Returns
-        -------
-        proba : ndarray of shape (n_demos, 2)
-            Columns follow ``classes_``; each row sums to 1.
-
-        Examples
-        --------
-        >>> import numpy as np
-        >>> from bsi_sklearn import BSIClassifier
-        >>> X = [np.array([[1, 0, 0], [1, 1, 0], [1, 1, 1]]),   # safe; a, then b: acceptable
-        ...      np.array([[1, 0, 0], [1, 0, 1], [1, 1, 1]])]   # b before a: unacceptable
-        >>> clf = BSIClassifier(global_candidates=[0], subtasks=[1, 2], likelihood="ci",
-        ...                     flip_prior=(1, 9), random_state=0).fit(X, [1, 0])
-        >>> clf.predict_proba(X).round(3)                 # the labels may be flipped
-        array([[0.103, 0.897],
-               [0.845, 0.155]])
-        >>> clf.set_params(vote="satisfaction").predict_proba(X).round(3)  # the vote
-        array([[0.02 , 0.98 ],
-               [0.903, 0.097]])
-        """
-        if self._by_satisfaction():
-            return self.posterior_.predict_proba(self._validated(X))
-        return np.exp(self.predict_log_proba(X))
-
-    def predict_log_proba(self, X):
-        """Logarithm of :meth:`predict_proba`.
-
-        Under ``vote="predictive"`` it is computed in log space: finite wherever the label
-        noise leaves a label possible, e.g. ``log epsilon`` for a demonstration every formula
-        rejects, even where :meth:`predict_proba` rounds that probability to 0.
-
-        Parameters
-        ----------
-        X : demonstrations, in any format accepted by :meth:`fit`.
-
-        Returns
-        -------
-        log_proba : ndarray of shape (n_demos, 2)
-        """
-        traces = self._validated(X)
-        if self._by_satisfaction():
-            with np.errstate(divide="ignore"):
-                return np.log(self.posterior_.predict_proba(traces))
-        post = self.posterior_
-        return predictive_log_proba(post._masks, post.probabilities, post._truth_words(traces),
-                                    self._noise())
-
-    def predict(self, X):
-        """The Bayes decision: the class :meth:`predict_proba` favours, acceptable on a tie.
-
-        Parameters
-        ----------
-        X : demonstrations, in any format accepted by :meth:`fit`.
-
-        Returns
-        -------
-        y_pred : ndarray of shape (n_demos,)
-        """
-        proba = self.predict_proba(X)
-        return self.classes_[(proba[:, 1] >= proba[:, 0]).astype(int)]
