@@ -18,6 +18,8 @@ from bsi_sklearn.model.patterns import (
     FAMILIES,
     TEMPLATES,
     get_template,
+    instance_ltlf,
+    instance_text,
     instantiate,
     pattern_truth,
 )
@@ -361,3 +363,49 @@ def test_the_docs_list_every_template_as_defined_and_their_example_runs():
                f"{t.family} |" in text, t.name
     result = doctest.testfile(str(doc), module_relative=False, verbose=False)
     assert result.attempted >= 4 and result.failed == 0
+
+
+# ----------------------------------------------------------- instances in the propositions' names
+_NAMES = ("order", "pay", "ship")
+
+
+@pytest.mark.parametrize("name", list(TEMPLATES))
+def test_an_instance_formula_is_the_instance_flloat_reads(name):
+    # The formula written over the propositions' names (not the slots) has the truth
+    # pattern_truth computes for those columns, read by flloat on every trace up to length 3.
+    from flloat.parser.ltlf import LTLfParser
+
+    t = TEMPLATES[name]
+    names = _NAMES[::-1][: len(t.slots)]  # slots filled out of column order
+    cols = [[_NAMES.index(n) for n in names]]
+    text = instance_ltlf(name, names)
+    assert not set(re.findall(r"\b[a-z]\b", text)), text  # no placeholder left
+    formula = LTLfParser()(text)
+    traces = list(_all_traces(3, max_len=3))
+    data, offsets = _stack(traces)
+    for tr, g in zip(traces, pattern_truth(name, data, offsets, cols)[:, 0]):
+        sets = _as_sets(tr, _NAMES)
+        assert formula.truth([{n: (n in st_) for n in _NAMES} for st_ in sets], 0) == bool(g)
+
+
+@pytest.mark.parametrize("name", list(TEMPLATES))
+def test_an_instance_reads_in_its_declare_name_and_its_propositions(name):
+    t = TEMPLATES[name]
+    names = _NAMES[: len(t.slots)]
+    text = instance_text(name, names)
+    assert text.startswith(f"{name}({', '.join(names)}): ")
+    reading = text.split(": ", 1)[1]
+    assert not set(re.findall(r"\b[a-z]\b", reading)) & set(t.slots), text
+    for n in names:
+        assert re.search(rf"\b{n}\b", reading), (text, n)
+
+
+def test_instance_errors_name_the_slots_and_the_proposition():
+    with pytest.raises(ValueError, match=r"'Response' has 2 slots \(a, b\), got 1"):
+        instance_ltlf("Response", ["pay"])
+    with pytest.raises(ValueError, match=r"proposition 'Pay' cannot be an LTLf2DFA / flloat "
+                                         r"atom: atoms are lowercase.*dialect='spot'"):
+        instance_ltlf("Response", ["Pay", "ship"])
+    with pytest.raises(ValueError, match="dialect must be"):
+        instance_ltlf("Response", ["pay", "ship"], dialect="flloat")
+    assert instance_text("G(x -> F(y))", ["pay", "ship"]) == "G(pay -> F(ship)) holds"

@@ -25,6 +25,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from bsi_sklearn.ltl.ltlf_export import ltlf_atom_problem, spot_atom
 from bsi_sklearn.model._ltlf_program import (
     compile_program,
     parse_ltlf,
@@ -33,7 +34,8 @@ from bsi_sklearn.model._ltlf_program import (
 )
 from bsi_sklearn.model._pattern_kernels import catalogue_truth
 
-__all__ = ["Template", "TEMPLATES", "FAMILIES", "get_template", "instantiate", "pattern_truth"]
+__all__ = ["Template", "TEMPLATES", "FAMILIES", "get_template", "instantiate", "pattern_truth",
+           "instance_ltlf", "instance_text"]
 
 #: Most placeholders a user template may have: its instances grow as n_props ** slots.
 MAX_SLOTS = 3
@@ -227,3 +229,69 @@ def pattern_truth(template, data, offsets, columns):
             cols = np.concatenate([cols, cols], axis=1)
         catalogue_truth(t.code, data, offsets, np.ascontiguousarray(cols), out)
     return out
+
+
+def _check_instance(t, names):
+    names = [str(n) for n in names]
+    if len(names) != len(t.slots):
+        raise ValueError(f"the template {t.name!r} has {len(t.slots)} slots "
+                         f"({', '.join(t.slots)}), got {len(names)} propositions {names}")
+    return names
+
+
+def instance_ltlf(template, names, dialect="ltlf2dfa"):
+    """The formula of one instance, its placeholders replaced by the propositions' atoms.
+
+    Parameters
+    ----------
+    template : str or Template
+    names : sequence of str
+        The propositions filling the slots, in the template's slot order.
+    dialect : {"ltlf2dfa", "spot"}, default="ltlf2dfa"
+        ``"ltlf2dfa"``: flloat / LTLf2DFA text (a name those parsers cannot read as an atom is
+        a ``ValueError`` saying why); ``"spot"``: atoms quoted where Spot needs it (Spot reads
+        ``X`` as the strong next only in its LTLf mode: the text is LTLf).
+
+    Examples
+    --------
+    >>> instance_ltlf("Response", ["order", "pay"])
+    'G(order -> F(pay))'
+    >>> instance_ltlf("G(x -> F(y))", ["Fee", "ship"], dialect="spot")  # F...: an operator
+    'G("Fee" -> F(ship))'
+    """
+    t = get_template(template)
+    names = _check_instance(t, names)
+    if dialect not in ("ltlf2dfa", "spot"):
+        raise ValueError(f"dialect must be 'ltlf2dfa' or 'spot', got {dialect!r}")
+    atoms = {}
+    for slot, name in zip(t.slots, names):
+        if dialect == "spot":
+            atoms[slot] = spot_atom(name)
+        else:
+            problem = ltlf_atom_problem(name)
+            if problem is not None:
+                raise ValueError(f"proposition {name!r} cannot be an LTLf2DFA / flloat atom: "
+                                 f"{problem}; use dialect='spot' or rename it")
+            atoms[slot] = name
+    # Rewrite the formula's own tokens: a placeholder never matches inside another name.
+    return re.sub(r"[A-Za-z_][A-Za-z0-9_]*", lambda m: atoms.get(m.group(0), m.group(0)),
+                  t.formula)
+
+
+def instance_text(template, names):
+    """``Name(p, q): reading`` of one instance, in the propositions' names.
+
+    Examples
+    --------
+    >>> instance_text("Response", ["order", "pay"])
+    'Response(order, pay): every order is eventually followed by pay'
+    >>> instance_text("AbsenceAfter", ["refund", "ship"])
+    'AbsenceAfter(refund, ship): refund never happens from the first ship on'
+    """
+    t = get_template(template)
+    names = _check_instance(t, names)
+    if t.code < 0:
+        return f"{instance_ltlf(t, names, dialect='spot')} holds"
+    table = dict(zip(t.slots, names))
+    reading = re.sub(r"\b[a-z]\b", lambda m: table.get(m.group(0), m.group(0)), t.sentence)
+    return f"{t.name}({', '.join(names)}): {reading}"
