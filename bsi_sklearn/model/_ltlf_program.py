@@ -28,13 +28,11 @@ _TOKEN = re.compile(r"\s*(<->|->|[()!&|]|[A-Za-z_][A-Za-z0-9_]*)")
 
 
 def _tokens(text):
-    out, pos = [], 0
-    while pos < len(text):
-        if text[pos:].strip() == "":
-            break
+    out, pos, end = [], 0, len(text.rstrip())
+    while pos < end:
         m = _TOKEN.match(text, pos)
         if m is None:
-            at = pos + len(text[pos:]) - len(text[pos:].lstrip())
+            at = pos + len(text[pos:]) - len(text[pos:].lstrip())  # past the blanks
             raise ValueError(f"unexpected character {text[at]!r} at position {at} in the "
                              f"template {text!r}")
         out.append((m.group(1), m.start(1)))
