@@ -25,7 +25,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from bsi_sklearn.ltl.ltlf_export import ltlf_atom_problem, spot_atom
 from bsi_sklearn.model._ltlf_program import (
     compile_program,
     parse_ltlf,
@@ -259,6 +258,9 @@ def instance_ltlf(template, names, dialect="ltlf2dfa"):
     >>> instance_ltlf("G(x -> F(y))", ["Fee", "ship"], dialect="spot")  # F...: an operator
     'G("Fee" -> F(ship))'
     """
+    # Imported here: the export's atom rules serve this text only, not the truth computed above.
+    from bsi_sklearn.ltl.ltlf_export import ltlf_atom_problem, spot_atom
+
     t = get_template(template)
     names = _check_instance(t, names)
     if dialect not in ("ltlf2dfa", "spot"):
