@@ -180,9 +180,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
 
         - ``rhat``: split-R-hat of the chains' log posteriors (``inf`` when chains sit on
           different values, ``nan`` with fewer than 4 samples);
-        - ``missed_mass_per_chain``, ``max_missed_mass``: the mass each chain never visited,
-          among the states the chains visited (the total variation between that chain's own
-          reweighted posterior and theirs);
+        - ``missed_mass_per_chain``, ``max_missed_mass``: the mass each chain never reached
+          (visited, or weighed one Gibbs block from a state it visited), among the states the
+          chains visited (the total variation between that chain's own reweighted posterior
+          and theirs);
         - ``optimum_log_posterior``: the log posterior (unnormalised) of a deterministic
           optimum (a beam search over one-block changes), where every chain starts;
           ``best_visited_log_posterior``: the best state the chains recorded;
@@ -217,7 +218,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
 
     A ``ConvergenceWarning`` is raised when the optimum is more than 20 times as probable as
     every state the chains recorded (they left it and agree on a worse mode), when some chain
-    never visited more than 5% of the mass the chains found (``max_missed_mass``: they
+    never reached more than 5% of the mass the chains found (``max_missed_mass``: they
     disagree), and when the split-R-hat exceeds 1.05 (with one chain, the halves of its
     trace are compared, and no chain can disagree). With ``roles="all"`` (every proposition
     a global candidate and a subtask) and a support that ``"auto"`` could not enumerate, a

@@ -9,8 +9,8 @@ __all__ = ["split_rhat", "missed_mass", "total_variation", "disagreement_problem
 
 #: Split-R-hat of the chains' log posteriors above which the chains have not mixed.
 RHAT_WARN = 1.05
-#: A chain that never visited more than this much of the posterior mass the chains found
-#: (the total variation between its own reweighted posterior and theirs): chains disagree.
+#: A chain that never reached more than this much of the posterior mass the chains found
+#: (neither visited it nor weighed it one Gibbs block from a visited state): chains disagree.
 MISSED_WARN = 0.05
 #: A deterministic optimum more probable than every visited state by more than this factor
 #: (log 20): the chains sit on a wrong mode, however well they agree.
@@ -67,14 +67,17 @@ def split_rhat(traces):
 
 
 def missed_mass(chain_visits, probabilities):
-    """Posterior mass each chain never visited.
+    """Posterior mass outside each chain's states.
 
     The reported MCMC posterior is the exact posterior restricted to the states all chains
-    visited; a chain's own posterior is the same restricted to the states it visited. The total
-    variation between the two is the reported mass outside the chain's visited set, which this
+    visited; a chain's own posterior is the same restricted to the states it found. The total
+    variation between the two is the reported mass outside the chain's set, which this
     returns per chain. Chains that each found the states carrying the mass give ~0, however
     their raw log-posterior traces wander; a chain stuck away from mass the others found gives
-    that mass.
+    that mass. The sampler passes each chain's *reached* states
+    (:func:`bsi_sklearn.inference._reach.reach`: visited, or one Gibbs block from a visited
+    one, so weighed exactly by the chain's updates): on a plateau of equally probable states
+    a chain weighs nearly all of them long before it has visited each.
 
     Parameters
     ----------
@@ -148,9 +151,10 @@ def disagreement_problems(diag):
     if worst > MISSED_WARN:
         chain = int(np.argmax(diag["missed_mass_per_chain"]))
         problems.append(
-            f"MCMC chains disagree: chain {chain} never visited specifications holding "
+            f"MCMC chains disagree: chain {chain} never reached specifications holding "
             f"{worst:.1%} of the mass the chains found (> {MISSED_WARN:.0%}; "
-            "mcmc_diagnostics_['missed_mass_per_chain']), so the reported posterior is "
+            "mcmc_diagnostics_['missed_mass_per_chain']: neither visited them nor weighed "
+            "them one block from a state it visited), so the reported posterior is "
             "unreliable.")
     if diag["rhat"] > RHAT_WARN:  # nan (too few samples) does not warn
         problems.append(

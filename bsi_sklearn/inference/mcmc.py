@@ -29,6 +29,7 @@ from bsi_sklearn.inference._chain_kernel import (
     violation_rows,
 )
 from bsi_sklearn.inference._local_search import beam_search, n_neighbours_max, neighbourhood
+from bsi_sklearn.inference._reach import reach
 from bsi_sklearn.inference.diagnostics import MODE_WARN, missed_mass, split_rhat
 from bsi_sklearn.inference.stopping import MAX_SAMPLES, rounds, should_stop
 from bsi_sklearn.model.clauses import n_clauses, pack_rows
@@ -343,7 +344,9 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             first = np.full(len(visited), np.iinfo(np.int64).max)
             for r, rows in zip(results, per_chain):
                 np.minimum.at(first, rows, np.cumsum(r.counts) - r.counts)
-            stop, detail = should_stop(per_chain, probs, first,
+            # What the chains weighed, not only what they visited (:mod:`._reach`).
+            reached, first = reach(visited, model.n_g, model.n, model, per_chain, first)
+            stop, detail = should_stop(reached, probs, first,
                                        np.stack([r.trace_lp for r in results]))
             record.append(dict(detail, n_samples=done))
             if stop:
@@ -418,10 +421,13 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     uniq, counts, scores = uniq[order], counts[order], scores[order]
     probs = np.exp(scores - scores.max())
     probs /= probs.sum()
-    # The mass each chain missed, among the states the chains visited (own normalisation).
+    # The mass each chain missed (neither visited nor weighed one block from a visited
+    # state), among the states the chains visited (own normalisation).
     own = np.exp(visited_lp - visited_lp.max())
     ends = np.cumsum([len(r.states) for r in results])
-    missed = missed_mass(np.split(row_state, ends[:-1]), own / own.sum())
+    reached, _ = reach(visited, n_g, n, model, np.split(row_state, ends[:-1]),
+                       np.zeros(len(visited), dtype=np.int64))
+    missed = missed_mass(reached, own / own.sum())
     traces = np.stack([r.trace_lp for r in results])
     moves = np.array([r.move_rate for r in results])
     best_visited = float(visited_lp.max())

@@ -249,7 +249,7 @@ class SpecificationReport:
         if info.get("rhat") is not None:
             text += f" MCMC split-R-hat of the log posterior: {info['rhat']:.3f}."
         if info.get("max_missed_mass") is not None:
-            text += (" Posterior mass the least thorough MCMC chain never visited: "
+            text += (" Posterior mass the least thorough MCMC chain never reached: "
                      f"{info['max_missed_mass']:.3f} (above 0.05 the chains disagree).")
         doc.add("p", text)
         doc.add("table", ["rank", "probability", "difference from the MAP", "specification"],

@@ -102,17 +102,18 @@ def _fit_recording(X, y, **params):
 
 def test_convergence_warning_when_a_chain_misses_mass(problem):
     X, y, roles = problem
-    clf, caught = _fit_recording(X, y, inference="mcmc", likelihood="ci", n_samples=30,
+    clf, caught = _fit_recording(X, y, inference="mcmc", likelihood="ci", n_samples=10,
                                  n_chains=4, random_state=0, **roles)
     diag = clf.mcmc_diagnostics_
-    # Thirty sweeps a chain over a flat posterior: the raw traces look mixed (R-hat < 1.05)
-    # and no better optimum exists, but each chain saw only part of the states the chains
-    # found between them.
+    # Ten sweeps a chain over a flat posterior: the raw traces look mixed (R-hat < 1.05) and
+    # no better optimum exists, but each chain reached (visited, or weighed one block away)
+    # only part of the states the chains found between them. (At 30 sweeps each chain
+    # reaches all but 2 % of them, and the reported posterior is within TV 0.011 of exact.)
     assert diag["rhat"] < 1.05 and diag["optimum_gap"] <= 0
     assert diag["max_missed_mass"] == diag["missed_mass_per_chain"].max() > 0.05
     assert len(caught) == 1
     message = str(caught[0].message)
-    assert "never visited" in message and "Increase n_samples (now 30)" in message
+    assert "never reached" in message and "Increase n_samples (now 10)" in message
     assert "restrict the roles" in message
 
 

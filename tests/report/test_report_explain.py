@@ -321,7 +321,7 @@ def test_mcmc_report_states_the_chains_agreement():
     rep = explain(clf, X, Y)
     missed = clf.mcmc_diagnostics_["max_missed_mass"]
     assert rep.inference["max_missed_mass"] == pytest.approx(missed) and missed < 0.05
-    assert (f"Posterior mass the least thorough MCMC chain never visited: {missed:.3f}"
+    assert (f"Posterior mass the least thorough MCMC chain never reached: {missed:.3f}"
             in rep.markdown())
 
 

@@ -1,0 +1,232 @@
+"""What a chain has weighed: the states it visited and their one-block neighbours.
+
+A Gibbs update of a block (one global bit; one subtask's place in the order structure with its
+eventual bit, :mod:`bsi_sklearn.inference._gibbs_moves`) weighs, exactly, every state that
+differs from the current one in that block, and draws among them. A chain sitting at a state
+has therefore weighed all of its one-block neighbours: had one of them carried much more mass,
+the chain would have moved there. Where the posterior is a plateau of many equally probable
+states (interchangeable subtasks in the order structure, common on event logs), each chain
+visits only part of it in a few hundred sweeps, but weighs nearly all of it; the diagnostics
+and the stopping rule ask whether the chains *reached* the same states (visited, or one block
+from a visited one), not whether each visited every one.
+
+:func:`reach` computes, among given states (the chains' union), the states each chain reached
+and the first sweep at which each state was reached by any chain. Two states are one block
+apart exactly when they are equal once that block is taken out: a global bit set to 0; a
+subtask's eventual bit set to 0 and the subtask spliced out of its chain (Priors 1 and 2) or
+cut from its parent with its subtree (Prior 3). Equal keys are found by sorting a 64-bit hash
+of the states with the block taken out, and every match is confirmed entry by entry, so a
+hash collision can never join two states.
+"""
+
+import numpy as np
+from numba import njit
+
+from bsi_sklearn._jit import helper
+from bsi_sklearn.model.priors import is_forest
+from bsi_sklearn.model.state_layout import parent_offset, w1_offset
+
+__all__ = ["reach"]
+
+# Fixed odd multipliers of the hash (one per entry), so that the result never depends on a
+# random draw; the confirmation makes them a matter of speed only.
+_HASH_SEED = 0x5EED_B51
+
+
+def reach(states, n_g, n, model, visits, first_seen):
+    """The states each chain reached, and the first sweep each state was reached.
+
+    Parameters
+    ----------
+    states : ndarray of shape (n_states, n_g + 2 n)
+        Distinct state rows ``[tau | W1 | parent]`` (the chains' union).
+    n_g, n : int
+        Global candidates and subtasks.
+    model : Model
+        Whose prior says whether structures are forests (:func:`~bsi_sklearn.model.priors.
+        is_forest`).
+    visits : sequence of ndarray of int
+        For each chain, the indices into ``states`` of the states it visited.
+    first_seen : ndarray of shape (n_states,)
+        The first recorded sweep (of any chain) at which each state was visited.
+
+    Returns
+    -------
+    reached : list of ndarray of int
+        For each chain, the indices of the states it visited or that are one block from one it
+        visited.
+    first_reached : ndarray of shape (n_states,)
+        For each state, the first sweep at which it or one of its one-block neighbours among
+        ``states`` was visited.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from bsi_sklearn.model import make_model
+    >>> m = make_model(prior="sets_of_chains", likelihood="cb", n_globals=2, n_subtasks=1)
+    >>> rows = np.array([[0, 0, 0, -1], [1, 0, 0, -1], [1, 0, 1, -1]])
+    >>> got, first = reach(rows, 2, 1, m, [np.array([0])], np.array([0, 5, 9]))
+    >>> got[0].tolist(), first.tolist()       # row 2: a global bit and F(0) from row 0
+    ([0, 1], [0, 0, 5])
+    """
+    states = np.ascontiguousarray(states, dtype=np.int64)
+    n_states = len(states)
+    visited = np.zeros((len(visits), n_states), dtype=np.bool_)
+    for k, rows in enumerate(visits):
+        visited[k, np.asarray(rows, dtype=np.int64)] = True
+    first = np.asarray(first_seen, dtype=np.int64).copy()
+    if n_states > 1 and states.shape[1] > 0:
+        mult = (np.random.default_rng(_HASH_SEED).integers(
+            0, 2**62, size=states.shape[1], dtype=np.int64).astype(np.uint64) * np.uint64(2)
+            + np.uint64(1))
+        reached = visited.copy()
+        _reach(states, int(n_g), int(n), bool(is_forest(model)), mult, visited,
+               np.asarray(first_seen, dtype=np.int64), reached, first,
+               np.empty(n_states, dtype=np.uint64), np.empty((2, states.shape[1]), np.int64),
+               np.empty((n_states, max(n, 1)), dtype=np.int64))
+    else:
+        reached = visited
+    return [np.flatnonzero(r) for r in reached], first
+
+
+@helper
+def _masked(row, b, n_g, n, forest, child, out):
+    # ``row`` with block b taken out, into ``out``: b < n_g a global bit set to 0; else subtask
+    # v = b - n_g with its eventual bit set to 0, cut from its parent (a forest: its subtree
+    # goes with it) or spliced out of its chain (its child takes its parent).
+    for j in range(row.shape[0]):
+        out[j] = row[j]
+    if b < n_g:
+        out[b] = 0
+        return
+    v = b - n_g
+    base = parent_offset(n_g, n)
+    out[w1_offset(n_g) + v] = 0
+    if not forest:
+        c = child[v]
+        if c >= 0:
+            out[base + c] = row[base + v]
+    out[base + v] = -1
+
+
+@helper
+def _key(row, h, b, n_g, n, forest, child, mult):
+    # The hash of ``_masked(row, b)`` from the row's own hash ``h``: only the (at most three)
+    # entries the block's removal changes are taken out and put back.
+    if b < n_g:
+        return h - np.uint64(row[b] + 2) * mult[b] + np.uint64(2) * mult[b]
+    v = b - n_g
+    base = parent_offset(n_g, n)
+    e = w1_offset(n_g) + v
+    h = h - np.uint64(row[e] + 2) * mult[e] + np.uint64(2) * mult[e]
+    if not forest:
+        c = child[v]
+        if c >= 0:
+            h = h - np.uint64(row[base + c] + 2) * mult[base + c] \
+                + np.uint64(row[base + v] + 2) * mult[base + c]
+    return h - np.uint64(row[base + v] + 2) * mult[base + v] + np.uint64(1) * mult[base + v]
+
+
+@helper
+def _varies(states, child, b, n_g, n):
+    # Whether two states can differ in block b alone. A global bit: when it is not the same
+    # in every state. A subtask: two states one block apart differ in its eventual bit, its
+    # parent or its child (else, it being spliced out alike, they would be equal).
+    base = parent_offset(n_g, n)
+    if b < n_g:
+        cols = (b, b, b)
+    else:
+        v = b - n_g
+        cols = (w1_offset(n_g) + v, base + v, -1 - v)
+    for s in range(1, states.shape[0]):
+        for e in cols:
+            if e >= 0:
+                if states[s, e] != states[0, e]:
+                    return True
+            elif child[s, -1 - e] != child[0, -1 - e]:
+                return True
+    return False
+
+
+@njit(cache=True, nogil=True)
+def _reach(states, n_g, n, forest, mult, visited, first_seen, reached, first, keys, scratch,
+           child):
+    n_states, n_chains = states.shape[0], visited.shape[0]
+    base = parent_offset(n_g, n)
+    # The child of every subtask in every state (chains have at most one), and every state's
+    # hash.
+    hashes = np.empty(n_states, dtype=np.uint64)
+    for s in range(n_states):
+        for v in range(n):
+            child[s, v] = -1
+        for u in range(n):
+            p = states[s, base + u]
+            if p >= 0:
+                child[s, p] = u
+        h = np.uint64(0)
+        for j in range(states.shape[1]):
+            h += np.uint64(states[s, j] + 2) * mult[j]
+        hashes[s] = h
+    for b in range(n_g + n):
+        if not _varies(states, child, b, n_g, n):
+            continue
+        for s in range(n_states):
+            keys[s] = _key(states[s], hashes[s], b, n_g, n, forest, child[s], mult)
+        order = np.argsort(keys)
+        i = 0
+        while i < n_states:
+            j = i + 1
+            while j < n_states and keys[order[j]] == keys[order[i]]:
+                j += 1
+            if j - i > 1:
+                _join(states, order, i, j, b, n_g, n, forest, child, visited, first_seen,
+                      reached, first, scratch, n_chains)
+            i = j
+
+
+@helper
+def _join(states, order, i, j, b, n_g, n, forest, child, visited, first_seen, reached, first,
+          scratch, n_chains):
+    # The run order[i:j] shares a hash key; every member equal (block b out) to the run's
+    # first unassigned member forms a group of one-block neighbours. Groups are taken in turn
+    # until the run is used up (more than one group only on a hash collision).
+    done = np.zeros(j - i, dtype=np.bool_)
+    for a in range(i, j):
+        if done[a - i]:
+            continue
+        sa = order[a]
+        _masked(states[sa], b, n_g, n, forest, child[sa], scratch[0])
+        # Pass 1: the group's members, what any chain visited among them, the earliest visit.
+        earliest = first_seen[sa]
+        for c in range(a, j):
+            if done[c - i]:
+                continue
+            sc = order[c]
+            _masked(states[sc], b, n_g, n, forest, child[sc], scratch[1])
+            equal = True
+            for e in range(scratch.shape[1]):
+                if scratch[0, e] != scratch[1, e]:
+                    equal = False
+                    break
+            if equal:
+                done[c - i] = True
+                order[c] = -1 - sc  # mark as this group's member for pass 2
+                if first_seen[sc] < earliest:
+                    earliest = first_seen[sc]
+        # Pass 2: every member is reached by every chain that visited a member.
+        for k in range(n_chains):
+            hit = False
+            for c in range(a, j):
+                if order[c] < 0 and visited[k, -1 - order[c]]:
+                    hit = True
+                    break
+            if hit:
+                for c in range(a, j):
+                    if order[c] < 0:
+                        reached[k, -1 - order[c]] = True
+        for c in range(a, j):
+            if order[c] < 0:
+                sc = -1 - order[c]
+                if earliest < first[sc]:
+                    first[sc] = earliest
+                order[c] = sc  # restored: done[] now says it is used
