@@ -1,11 +1,12 @@
-"""A small general LTL on finite traces: formulas, their parser, the BSI template, the export.
+"""A small general LTL on finite traces: formulas, their parser, reading one as the template.
 
 ``formula`` holds the tree (:class:`Formula` and its nodes), ``evaluation`` its truth over
 ragged traces, ``parser`` :func:`parse_ltl`, ``template`` the reading of a formula as a
-:class:`~bsi_sklearn.specification.Specification`; ``ltlf_export`` writes a specification as
-LTLf text for Spot, flloat and LTLf2DFA (:func:`to_ltlf`, :class:`SpecificationAutomaton`),
-and ``automaton`` builds its minimal DFA itself (:func:`specification_dfa`). The export's
-names are imported on first use.
+:class:`~bsi_sklearn.specification.Specification`. The other way, a specification written as
+LTLf text (:func:`to_ltlf`, :class:`SpecificationAutomaton`) and its minimal DFA
+(:func:`specification_dfa`, :class:`DFA`), lives with the value it writes, in
+``bsi_sklearn.specification`` (the layer below this one); the names are re-exported here and
+imported on first use.
 """
 
 from bsi_sklearn._lazy import lazy_names
@@ -47,8 +48,9 @@ __all__ = [
     "specification_dfa",
 ]
 
-_MODULES = {"to_ltlf": "bsi_sklearn.ltl.ltlf_export",
-            "SpecificationAutomaton": "bsi_sklearn.ltl.ltlf_export",
-            "DFA": "bsi_sklearn.ltl.automaton", "specification_dfa": "bsi_sklearn.ltl.automaton"}
+_MODULES = {"to_ltlf": "bsi_sklearn.specification.ltlf_export",
+            "SpecificationAutomaton": "bsi_sklearn.specification.ltlf_export",
+            "DFA": "bsi_sklearn.specification.automaton",
+            "specification_dfa": "bsi_sklearn.specification.automaton"}
 
 __getattr__, __dir__ = lazy_names("bsi_sklearn.ltl", _MODULES, globals())

@@ -259,7 +259,7 @@ def instance_ltlf(template, names, dialect="ltlf2dfa"):
     'G("Fee" -> F(ship))'
     """
     # Imported here: the export's atom rules serve this text only, not the truth computed above.
-    from bsi_sklearn.ltl.ltlf_export import ltlf_atom_problem, spot_atom
+    from bsi_sklearn.specification.ltlf_export import ltlf_atom_problem, spot_atom
 
     t = get_template(template)
     names = _check_instance(t, names)

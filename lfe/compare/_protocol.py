@@ -32,6 +32,7 @@ from bsi_sklearn.param_validation import (
 )
 from lfe._probability_scores import positive_probabilities, probability_scores
 from lfe._settings import COMPARE_QUICK
+from lfe._workers import load_libraries
 from lfe.annotate import MISSION_OBJECTIVES
 from lfe.compare._result import ComparisonResult
 from lfe.compare._rows import BSI_ROWS, MAJORITY, PAPER_MAP_F1, ROWS, WITHOUT_ROLES
@@ -128,6 +129,7 @@ def _run_task(kind, name, fold, data, train, test, params, seed):
     the timed prediction, so the times are the predictions' alone), ``None`` for a model
     without probabilities, ``nan`` in the column of an objective BSI could not fit.
     """
+    load_libraries()
     y = data["labels"]
 
     def sub(seqs, idx):
@@ -336,8 +338,6 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
         from tqdm.auto import tqdm
 
         outputs = tqdm(outputs, total=len(tasks), desc="bsi-lfe compare", unit="fit")
-    # loky may restart a worker whose memory grew and resubmit its jobs, with a UserWarning;
-    # nothing is lost (the tables do not depend on n_jobs), and the user sees it.
     outputs = list(outputs)
 
     names = list(ROWS)

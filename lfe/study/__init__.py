@@ -33,6 +33,7 @@ from bsi_sklearn.param_validation import (
 )
 from lfe._settings import STUDY_DEFAULTS as DEFAULTS
 from lfe._settings import STUDY_QUICK as QUICK
+from lfe._workers import load_libraries
 from lfe.annotate import MISSION_OBJECTIVES
 from lfe.extractor import PROPOSITION_SETS
 from lfe.study._cells import (
@@ -109,6 +110,7 @@ def _cell_name(noise, propositions, n_train, repeat):
 
 def _simulate(repeat, config, seeds):
     """One repeat's missions (:func:`lfe.study._cells.simulate_repeat`)."""
+    load_libraries()  # this worker's later cells train networks
     return repeat, simulate_repeat(
         n_pool=max(config["sizes"]), test_size=config["test_size"], noises=config["noise"],
         propositions=config["propositions"], dataset_seed=seeds["dataset_seed"],
@@ -125,6 +127,7 @@ def _slice(data, noise, propositions):
 
 def _run_cell(data, repeat, noise, propositions, n_train, config, seeds):
     """One cell: draw its training set, fit and score every row; ``(cell, rows)``."""
+    load_libraries()
     split_seed = derive_seed(config["seed"], repeat, 2, n_train)
     model_seed = derive_seed(config["seed"], repeat, 3, n_train)
     train = draw_training_set(data["clean"], data["n_pool"], n_train, split_seed)

@@ -1,16 +1,11 @@
 """benchmarks/bench_event_logs.py (issue 27): the rows on a tiny log, isolation, outputs."""
 
-import sys
-from pathlib import Path
 
 import pandas as pd
 import pytest
+from _scripts import needs
 
-BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
-pytestmark = pytest.mark.skipif(not (BENCH / "bench_event_logs.py").is_file(),
-                                reason="benchmarks/ is not in this checkout")
-if str(BENCH) not in sys.path:
-    sys.path.insert(0, str(BENCH))
+pytestmark = needs("bench_event_logs.py")
 
 
 @pytest.fixture(scope="module")

@@ -1,24 +1,16 @@
 """benchmarks/bench_label_noise.py: one fit read both ways, and the report's paired columns."""
 
-import importlib.util
-import sys
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from _scripts import load, needs
 
-ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "benchmarks" / "bench_label_noise.py"
-pytestmark = pytest.mark.skipif(not SCRIPT.is_file(), reason="benchmarks/ is not in this checkout")
+pytestmark = needs("bench_label_noise.py")
 
 
 def _load():
-    sys.path.insert(0, str(SCRIPT.parent))
-    spec = importlib.util.spec_from_file_location("_bench_label_noise", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load("bench_label_noise")
 
 
 def test_both_readings_come_from_one_fit(tmp_path):

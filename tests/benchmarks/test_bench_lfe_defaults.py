@@ -1,22 +1,16 @@
 """benchmarks/bench_lfe_defaults.py: the paired table against a hand count."""
 
-import importlib.util
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from _scripts import load, needs
 
-ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "benchmarks" / "bench_lfe_defaults.py"
-pytestmark = pytest.mark.skipif(not SCRIPT.is_file(), reason="benchmarks/ is not in this checkout")
+pytestmark = needs("bench_lfe_defaults.py")
 
 
 def _load():
-    spec = importlib.util.spec_from_file_location("_bench_lfe_defaults", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load("bench_lfe_defaults")
 
 
 def test_paired_subtracts_the_best_row_with_roles_repeat_by_repeat():
@@ -44,5 +38,5 @@ def test_variants_list_only_options_this_classifier_has():
     names = bench.variants()
     assert set(bench.WITH_ROLES) <= set(names)
     assert "no roles, defaults" in names
-    for name, (_, needs) in bench.WITHOUT_ROLES.items():
-        assert (name in names) == bench.available(needs)
+    for name, (_, needed) in bench.WITHOUT_ROLES.items():
+        assert (name in names) == bench.available(needed)

@@ -1,24 +1,15 @@
 """benchmarks/bench_patterns.py: every template timed on all its instances, the table written."""
 
-import importlib.util
-import sys
-from pathlib import Path
 
-import pytest
+from _scripts import load, needs
 
 from bsi_sklearn.model.patterns import TEMPLATES, instantiate
 
-ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "benchmarks" / "bench_patterns.py"
-pytestmark = pytest.mark.skipif(not SCRIPT.is_file(), reason="benchmarks/ is not in this checkout")
+pytestmark = needs("bench_patterns.py")
 
 
 def _load():
-    sys.path.insert(0, str(SCRIPT.parent))
-    spec = importlib.util.spec_from_file_location("_bench_patterns", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load("bench_patterns")
 
 
 def test_quick_run_times_every_template_on_all_its_instances(tmp_path):

@@ -1,23 +1,17 @@
 """benchmarks/bench_predictive.py: its scores, bins and paired differences against hand counts."""
 
-import importlib.util
 import math
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from _scripts import load, needs
 
-ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "benchmarks" / "bench_predictive.py"
-pytestmark = pytest.mark.skipif(not SCRIPT.is_file(), reason="benchmarks/ is not in this checkout")
+pytestmark = needs("bench_predictive.py")
 
 
 def _load():
-    spec = importlib.util.spec_from_file_location("_bench_predictive", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load("bench_predictive")
 
 
 def test_scores_clip_as_scikit_learn_and_keep_the_unclipped_log_loss():

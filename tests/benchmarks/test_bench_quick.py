@@ -1,6 +1,5 @@
 """The benchmark suite's command line (``python benchmarks/run.py``) on --quick runs."""
 
-import importlib.util
 import json
 import re
 import subprocess
@@ -9,19 +8,14 @@ from argparse import Namespace
 from pathlib import Path
 
 import pytest
+from _scripts import BENCH, load, needs
 
-ROOT = Path(__file__).resolve().parents[2]
-BENCH = ROOT / "benchmarks"
-pytestmark = pytest.mark.skipif(not (BENCH / "run.py").is_file(),
-                                reason="benchmarks/ is not in this checkout")
+pytestmark = needs("run.py")
 
 
 def _load_runner():
-    """benchmarks/run.py as a module (it puts benchmarks/ on sys.path itself)."""
-    spec = importlib.util.spec_from_file_location("_bsi_benchmarks_run", BENCH / "run.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    """benchmarks/run.py as a module."""
+    return load("run")
 
 
 def _args(**kw):

@@ -1,17 +1,12 @@
 """benchmarks/bench_roles.py (issue 20): the cell function, its statistics and its outputs."""
 
-import sys
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from _scripts import needs
 
-BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
-pytestmark = pytest.mark.skipif(not (BENCH / "bench_roles.py").is_file(),
-                                reason="benchmarks/ is not in this checkout")
-if str(BENCH) not in sys.path:
-    sys.path.insert(0, str(BENCH))
+pytestmark = needs("bench_roles.py")
 
 
 @pytest.fixture(scope="module")

@@ -2,14 +2,9 @@
 
 import doctest
 import importlib
-import sys
-from pathlib import Path
 
 import pytest
-
-BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
-if str(BENCH) not in sys.path:
-    sys.path.insert(0, str(BENCH))
+from _scripts import BENCH
 
 # Modules with examples; the bench_* modules have none and import heavier dependencies.
 MODULES = ["external", "external_bsi", "external_scarlet", "run", "reference.webppl",

@@ -3,9 +3,9 @@
 (external_report.py)."""
 
 import itertools
-import sys
 from pathlib import Path
 
+import _scripts  # noqa: F401  (puts benchmarks/ on sys.path)
 import numpy as np
 import pandas as pd
 import pytest
@@ -17,9 +17,6 @@ ROOT = Path(__file__).parents[2]
 DATA = BENCHMARKS_DATA
 SAMPLES = DATA / "samples2LTL" / "traces" / "finite"
 SCARLET = DATA / "scarlet" / "All_benchmarks" / "RQ2-benchmarks" / "Varying_form" / "TracesFiles"
-BENCH = ROOT / "benchmarks"
-if str(BENCH) not in sys.path:
-    sys.path.insert(0, str(BENCH))
 
 import external as E  # noqa: E402
 import external_bsi as B  # noqa: E402

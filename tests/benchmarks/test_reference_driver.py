@@ -8,16 +8,10 @@ installing: tests stay offline).
 
 import math
 import shutil
-import sys
-from pathlib import Path
 
+import _scripts  # noqa: F401  (puts benchmarks/ on sys.path)
 import numpy as np
 import pytest
-
-BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
-if str(BENCH) not in sys.path:
-    sys.path.insert(0, str(BENCH))
-
 from reference.webppl import (  # noqa: E402
     WEBPPL_BIN,
     WebpplUnavailable,

@@ -199,8 +199,8 @@ def _key(x):
 class SpecificationAutomaton:
     """A deterministic finite automaton accepting the traces that satisfy a specification.
 
-    Built by the project (:mod:`bsi_sklearn.ltl.automaton`): each clause is a small automaton
-    and the specification's is their product, minimised; usually obtained from
+    Built by the project (:mod:`bsi_sklearn.specification.automaton`): each clause is a small
+    automaton and the specification's is their product, minimised; usually obtained from
     :meth:`Specification.to_automaton`. No optional package is needed; flloat, given
     :attr:`formula`, builds the same language (the tests check it).
 
@@ -216,7 +216,7 @@ class SpecificationAutomaton:
         order of :attr:`propositions`), so any identifiers work.
     propositions : list
         The identifiers the formula mentions.
-    dfa : bsi_sklearn.ltl.automaton.DFA
+    dfa : bsi_sklearn.specification.automaton.DFA
         The minimal automaton: ``dfa.n_states``, ``dfa.delta``, ``dfa.accepting``,
         ``dfa.to_dot()``, ``dfa.to_hoa()``.
 
@@ -233,7 +233,7 @@ class SpecificationAutomaton:
     """
 
     def __init__(self, specification):
-        from bsi_sklearn.ltl.automaton import specification_dfa
+        from bsi_sklearn.specification.automaton import specification_dfa
 
         self.specification = specification
         spec = specification
@@ -253,7 +253,7 @@ class SpecificationAutomaton:
         return self.dfa.to_dot(name=self.specification.to_ltl())
 
     def to_hoa(self):
-        """The automaton in the HOA v1 format (:meth:`bsi_sklearn.ltl.automaton.DFA.to_hoa`).
+        """The automaton in the HOA v1 format (:meth:`.automaton.DFA.to_hoa`).
 
         The propositions are the ``AP:``, edges have explicit labels, accepting states are in
         acceptance set 0; the automaton is read over finite words.

@@ -1,4 +1,12 @@
-"""The `Specification` value type: one formula of the BSI template."""
+"""The `Specification` value type: one formula of the BSI template, and how it is written out.
+
+``ltlf_export`` writes a specification as LTLf text for Spot, flloat and LTLf2DFA
+(:func:`~bsi_sklearn.specification.ltlf_export.to_ltlf`,
+:class:`~bsi_sklearn.specification.ltlf_export.SpecificationAutomaton`); ``automaton`` builds
+its minimal DFA (:func:`~bsi_sklearn.specification.automaton.specification_dfa`). Both read
+only the value, so they sit beside it, below :mod:`bsi_sklearn.ltl`, which reads a formula as
+a specification (``docs/architecture.md``, "Layers").
+"""
 
 from __future__ import annotations
 
@@ -332,11 +340,11 @@ class Specification:
     def to_ltlf(self, dialect="spot", atoms=None, *, negations=None):
         """The formula as text for Spot (``"spot"``) or LTLf2DFA / flloat (``"ltlf2dfa"``).
 
-        See :func:`bsi_sklearn.ltl.ltlf_export.to_ltlf` (a negated column ``"!q"`` is written
-        ``!q``, the negation of the atom ``q``); on this template the text means the same
-        under LTLf (the finite trace) and LTL (the last state repeating forever).
+        See :func:`bsi_sklearn.specification.ltlf_export.to_ltlf` (a negated column ``"!q"`` is
+        written ``!q``, the negation of the atom ``q``); on this template the text means the
+        same under LTLf (the finite trace) and LTL (the last state repeating forever).
         """
-        from bsi_sklearn.ltl.ltlf_export import to_ltlf
+        from bsi_sklearn.specification.ltlf_export import to_ltlf
 
         return to_ltlf(self, dialect=dialect, atoms=atoms, negations=negations)
 
@@ -345,7 +353,7 @@ class Specification:
 
         Returns
         -------
-        automaton : bsi_sklearn.ltl.ltlf_export.SpecificationAutomaton
+        automaton : bsi_sklearn.specification.ltlf_export.SpecificationAutomaton
             ``automaton.accepts(trace)`` equals :meth:`satisfied_by`; ``automaton.to_dot()``
             exports it.
 
@@ -355,7 +363,7 @@ class Specification:
         package): milliseconds when the subtasks are ordered; the size grows as 2^k with k
         mutually unordered eventual subtasks, as any DFA of the formula must.
         """
-        from bsi_sklearn.ltl.ltlf_export import SpecificationAutomaton
+        from bsi_sklearn.specification.ltlf_export import SpecificationAutomaton
 
         return SpecificationAutomaton(self)
 

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from bsi_sklearn import Specification
-from bsi_sklearn.ltl.ltlf_export import to_ltlf
+from bsi_sklearn.specification.ltlf_export import to_ltlf
 
 NAMES = ["safe", "a", "b", "c_ok"]
 SPECS = {

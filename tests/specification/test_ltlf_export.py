@@ -13,7 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from bsi_sklearn import Specification
-from bsi_sklearn.ltl.ltlf_export import spot_atom, to_ltlf
+from bsi_sklearn.specification.ltlf_export import spot_atom, to_ltlf
 
 flloat = pytest.importorskip("flloat")
 
