@@ -151,7 +151,7 @@ def _varies(states, child, b, n_g, n):
 @njit(cache=True, nogil=True)
 def _reach(states, n_g, n, forest, mult, visited, first_seen, reached, first, keys, scratch,
            child):
-    n_states, n_chains = states.shape[0], visited.shape[0]
+    n_states = states.shape[0]
     base = parent_offset(n_g, n)
     # The child of every subtask in every state (chains have at most one), and every state's
     # hash.
@@ -179,17 +179,20 @@ def _reach(states, n_g, n, forest, mult, visited, first_seen, reached, first, ke
             while j < n_states and keys[order[j]] == keys[order[i]]:
                 j += 1
             if j - i > 1:
-                _join(states, order, i, j, b, n_g, n, forest, child, visited, first_seen,
-                      reached, first, scratch, n_chains)
+                _join(states, order, i, j, b, (n_g, n, forest), child,
+                      (visited, first_seen, reached, first), scratch)
             i = j
 
 
 @helper
-def _join(states, order, i, j, b, n_g, n, forest, child, visited, first_seen, reached, first,
-          scratch, n_chains):
+def _join(states, order, i, j, b, layout, child, marks, scratch):
     # The run order[i:j] shares a hash key; every member equal (block b out) to the run's
     # first unassigned member forms a group of one-block neighbours. Groups are taken in turn
-    # until the run is used up (more than one group only on a hash collision).
+    # until the run is used up (more than one group only on a hash collision). layout:
+    # (n_g, n, forest); marks: (visited, first_seen, reached, first) of _reach.
+    n_g, n, forest = layout
+    visited, first_seen, reached, first = marks
+    n_chains = visited.shape[0]
     done = np.zeros(j - i, dtype=np.bool_)
     for a in range(i, j):
         if done[a - i]:
