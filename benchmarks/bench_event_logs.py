@@ -43,7 +43,8 @@ from _common import machine_info, md_table  # noqa: E402
 from _event_log_rows import LABELS, METHODS, SCARLET_DIR_ENV, run_row  # noqa: E402
 from external_scarlet import DEFAULT_SCARLET_DIR, ensure_scarlet  # noqa: E402
 
-__all__ = ["SIZES", "QUICK_SIZES", "SCALING_ACTIVITIES", "SCALING_CASES", "parse_sizes",
+__all__ = ["SIZES", "QUICK_SIZES", "SCALING_ACTIVITIES", "SCALING_CASES", "TARGET_SIZE",
+           "target_specs", "parse_seeds", "write_target", "parse_sizes",
            "run_isolated", "grid_specs", "run_grid", "scaling_specs", "write_outputs",
            "write_scaling", "main"]
 
@@ -54,6 +55,9 @@ RECOVERY_TRAIN = 200
 SCALING_ACTIVITIES = ((10, 1000), (20, 1000), (40, 1000), (70, 1000), (100, 1000))
 SCALING_CASES = ((40, 100), (40, 1000), (40, 10_000), (40, 50_000))
 QUICK_SCALING = ((10, 100), (20, 100), (10, 300))
+#: The size of issue 27's 30-second target, swept over log seeds by ``--target-seeds``.
+TARGET_SIZE = (40, 1000)
+TARGET_S = 30.0
 CHILD = HERE / "_event_log_child.py"
 OUT = HERE / "event_logs"
 
@@ -134,6 +138,49 @@ def scaling_specs(quick=False, noise=0.05, seed=0):
     pairs = QUICK_SCALING if quick else SCALING_ACTIVITIES + SCALING_CASES
     return [dict(task="scaling", n_activities=a, n_cases=c, rule="template", noise=noise,
                  seed=seed, method="bsi") for a, c in dict.fromkeys(pairs)]
+
+
+def target_specs(seeds, noise=0.05):
+    """BSI's default fit on the target size's logs, both rule families, one per seed."""
+    a, c = TARGET_SIZE
+    return [dict(task="target", n_activities=a, n_cases=c, rule=rule, noise=noise, seed=s,
+                 method="bsi") for s in seeds for rule in RULES]
+
+
+def parse_seeds(text):
+    """``"0-9"`` or ``"0,3,5"`` as a list of ints."""
+    if "-" in text:
+        lo, hi = (int(x) for x in text.split("-", 1))
+        return list(range(lo, hi + 1))
+    return [int(x) for x in text.split(",") if x]
+
+
+def write_target(df, out, command, seconds):
+    """``target.csv`` and ``target.md`` under ``out``: every seed's row and a summary."""
+    out.mkdir(parents=True, exist_ok=True)
+    df = df.reindex(columns=COLUMNS + [c for c in df.columns if c not in COLUMNS])
+    df.to_csv(out / "target.csv", index=False)
+    rows, summary = [], []
+    for _, r in df.iterrows():
+        rows.append([r["rule"], r["seed"], r["status"], _fmt(r.get("accuracy")),
+                     _fmt(r.get("fit_s"), 2), _fmt(r.get("peak_rss_mib"), 0), r.get("inference")])
+    for rule, part in df.groupby("rule", sort=False):
+        t = pd.to_numeric(part["fit_s"], errors="coerce").where(part["status"] == "ok")
+        summary.append([rule, len(part), int((t <= TARGET_S).sum()), _fmt(t.median(), 1),
+                        _fmt(t.max(), 1),
+                        _fmt(pd.to_numeric(part["peak_rss_mib"], errors="coerce").max(), 0)])
+    a, c = TARGET_SIZE
+    text = [f"# Issue 27's time target over log seeds: {a} activities x {c:,} cases", "",
+            *_header(command, seconds),
+            f"Each row: `BSIClassifier(random_state=0)` defaults on `make_process_log({a}, {c}, "
+            "rule, noise=0.05, random_state=seed)`, 70 % of the cases, in its own process; "
+            f"target: fit <= {TARGET_S:.0f} s and <= 2 GB.", "",
+            md_table(["rule", "logs", f"fits <= {TARGET_S:.0f} s", "median fit s", "max fit s",
+                      "max peak MiB"], summary), "",
+            md_table(["rule", "seed", "status", "accuracy", "fit s", "peak MiB", "engine"],
+                     rows), ""]
+    (out / "target.md").write_text("\n".join(text))
+    return [out / "target.csv", out / "target.md"]
 
 
 def _lscpu_model():
@@ -266,6 +313,9 @@ def main(argv=None):
                         help="MiniRocket is skipped above this many training cases")
     parser.add_argument("--scaling", action="store_true",
                         help="BSI fit time and peak memory against activities and cases")
+    parser.add_argument("--target-seeds", type=parse_seeds, default=None,
+                        help=f"BSI on {TARGET_SIZE[0]}x{TARGET_SIZE[1]} logs of these seeds "
+                             "(0-9 or 0,3,5), both rules: the 30 s target's spread")
     parser.add_argument("--scarlet-dir", default=str(DEFAULT_SCARLET_DIR))
     parser.add_argument("--install-scarlet", action="store_true",
                         help="pip-install scarlet-ltl into --scarlet-dir first (network)")
@@ -283,7 +333,10 @@ def main(argv=None):
         ensure_scarlet(args.scarlet_dir)
     command = "python benchmarks/bench_event_logs.py " + " ".join(argv)
     t0 = time.perf_counter()
-    if args.scaling:
+    if args.target_seeds is not None:
+        df = run_grid(target_specs(args.target_seeds, args.noise), timeout, args.memory_limit)
+        paths = write_target(df, out, command.strip(), time.perf_counter() - t0)
+    elif args.scaling:
         df = run_grid(scaling_specs(args.quick, args.noise, args.seed), timeout,
                       args.memory_limit)
         paths = write_scaling(df, out, command.strip(), time.perf_counter() - t0)
