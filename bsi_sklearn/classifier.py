@@ -50,12 +50,15 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         Complexity-based (size principle), complexity-independent likelihood, or the size
         principle calibrated by the data (``docs/likelihoods.md``).
     global_candidates : list of str or int, default=None
-        Propositions that may be required to hold always (the set T). ``None``: all.
+        Propositions that may be required to hold always (the set T). ``None``: set by
+        ``roles``, read from the training demonstrations by default (``roles="infer"``).
     subtasks : list of str or int, default=None
-        Subtask-completion propositions (the set Omega). ``None``: all.
+        Subtask-completion propositions (the set Omega). ``None``: set by ``roles``, read
+        from the training demonstrations by default (``roles="infer"``).
     conditions : dict, default=None
         Subtask -> condition proposition ``pi_w`` (read at t = 0). Subtasks without an entry
-        have ``pi_w = true``; ``{}``: no conditions.
+        have ``pi_w = true``; ``{}``: no conditions. ``None``: set by ``roles``, read from the
+        training demonstrations by default (``roles="infer"``).
     roles : {"infer", "all"}, default="infer"
         What the roles left at ``None`` become. ``"infer"``: read from the training
         demonstrations (propositions whose clauses they can test, each subtask's condition

@@ -183,3 +183,13 @@ def test_warnings_point_at_the_callers_line():
     # what the others found, so they do not disagree (that warning is raised by the same call).
     assert [str(w.message)[:29] for w in caught] == ["MCMC chains have not mixed: t"]
     assert all(w.filename == __file__ for w in caught), [w.filename for w in caught]
+
+
+def test_docstring_states_what_the_roles_left_at_none_become():
+    # roles="infer" is the default: help(BSIClassifier) must not say None means every
+    # proposition for global_candidates and subtasks (that is roles="all")
+    doc = " ".join(BSIClassifier.__doc__.split())
+    for param in ("global_candidates", "subtasks", "conditions"):
+        entry = doc.split(f"{param} : ")[1].split(" : ")[0]
+        assert "``None``: all" not in entry, entry
+        assert "read from the training demonstrations by default (``roles=\"infer\"``)" in entry

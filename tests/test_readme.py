@@ -92,3 +92,22 @@ def test_readme_says_which_torch_build_pip_brings():
     assert f'TORCH_CPU_INDEX="${{TORCH_CPU_INDEX:-{index}}}"' in (
         ROOT / "scripts" / "ensure-venv").read_text()
     assert "*What `scripts/ensure-venv` does*" in setup
+
+
+def test_readme_labels_the_network_rows_cpu_dependent_with_the_measurements():
+    # compare's table: the four network rows change with the CPU type; the README says so
+    # beside the table, names the table's CPU and quotes the differing cells as recorded
+    text = README.read_text()
+    section = " ".join(text.split("### One draw of the paper's protocol")[1]
+                       .split("*Same missions on every machine.*")[0].split())
+    results = " ".join((ROOT / "benchmarks" / "RESULTS_lfe.md").read_text().split())
+    table_end = section.index("| majority class |")
+    note = section[table_end:table_end + 1200]
+    assert "*The network rows are CPU-dependent.*" in note
+    assert "2-core Intel Xeon" in results.split("## Weighted F1")[0]
+    assert "2-core Intel Xeon" in note
+    recorded = "LSTM Coupled MO2 0.562, MO3 0.917; Bi-LSTM Coupled MO2 0.531"
+    assert "AMD EPYC (load 1.4-1.6): 22.1 s wall" in results and recorded in results
+    assert recorded in note and "AMD EPYC" in note
+    # every number the section quotes for another CPU is a recorded one
+    assert "0.706" not in section

@@ -20,6 +20,17 @@ def _show(value):
     return repr(value.item() if isinstance(value, np.generic) else value)
 
 
+def _bad_value(value, csv):
+    """How a value that is not 0/1 is named: a missing one as missing, not as ``nan``."""
+    if value is None or value is pd.NA or (isinstance(value, (float, np.floating))
+                                           and np.isnan(value)):
+        # read_csv_rows reports a short row by line; with pandas options under which it
+        # cannot count the fields, a short row's last values arrive here as NaN
+        return ("is missing (the field is empty or NA, or the row has fewer fields than the "
+                "header)" if csv else f"is missing ({_show(value)})")
+    return f"has value {_show(value)}"
+
+
 def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label",
                       source=None, return_ids=False):
     """Split a long-format frame ``demo_id, t, prop...[, label]`` into traces.
@@ -103,14 +114,14 @@ def traces_from_frame(df, *, demo_col="demo_id", time_col="t", label_col="label"
                     except (TypeError, ValueError):
                         good = False
                     if not good:
-                        raise ValueError(f"{value_at(pos, c)} has value {_show(v)}; "
+                        raise ValueError(f"{value_at(pos, c)} {_bad_value(v, csv)}; "
                                          "values must be 0 or 1")
     bad = ~np.isin(arr, (0, 1))
     if bad.any():
         pos, k = map(int, np.argwhere(bad)[0])
         same_demo = (df[demo_col] == df[demo_col].iat[pos]).to_numpy()
         hint = time_column_hint(arr[same_demo, k], props[k])
-        raise ValueError(f"{value_at(pos, props[k])} has value {_show(arr[pos, k])}; values "
+        raise ValueError(f"{value_at(pos, props[k])} {_bad_value(arr[pos, k], csv)}; values "
                          "must be 0 or 1" + (f" {hint}" if hint else ""))
     arr = arr.astype(bool)
     t_raw = df[time_col].to_numpy()

@@ -66,7 +66,7 @@ def read_csv_rows(source, name, **read_csv_kwargs):
         if found is None:
             raise
         k, line, m = found.groups()
-        raise ValueError(f"{name}, line {line}: the row has {m} fields, the header has {k}; "
+        raise ValueError(f"{name}, line {line}: the row has {_fields(m)}, the header has {k}; "
                          "every row needs one value per column") from None
     # NaN (a short row fills the rest) or an inferred index (every row one field too many)
     # may come from ragged rows: only then are the fields counted.
@@ -76,10 +76,15 @@ def read_csv_rows(source, name, **read_csv_kwargs):
         ragged = _first_ragged_row(source, start, read_csv_kwargs)
         if ragged is not None:
             line, m, header = ragged
-            raise ValueError(f"{name}, line {line}: the row has {m} fields, the header has "
+            raise ValueError(f"{name}, line {line}: the row has {_fields(m)}, the header has "
                              f"{len(header)} ({', '.join(header)}); every row needs one "
                              "value per column")
     return frame
+
+
+def _fields(n):
+    """``"1 field"``, ``"3 fields"``."""
+    return f"{n} field{'' if int(n) == 1 else 's'}"
 
 
 def _tell(source):

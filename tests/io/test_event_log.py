@@ -238,7 +238,7 @@ def test_ragged_csv_rows_are_reported_by_line(tmp_path):
     labels.write_text("case:concept:name,ok\nc1,1\nc2\n")
     good = tmp_path / "good.csv"
     FRAME.drop(columns="case:ok").to_csv(good, index=False)
-    with pytest.raises(ValueError, match=f"labels {labels}, line 3: the row has 1 fields"):
+    with pytest.raises(ValueError, match=f"labels {labels}, line 3: the row has 1 field, "):
         read_event_log(good, labels=labels)
 
 

@@ -80,7 +80,7 @@ def test_reader_sorts_time_and_keeps_demo_order():
     ("demo_id,t,a\n0,0,1\n0,1,x\n", r"line 3: demonstration 0, step 1, "
      r"proposition 'a' has value 'x'"),
     ("demo_id,t,a\n0,0,1\n0,1,\n", r"line 3: demonstration 0, step 1, "
-     r"proposition 'a' has value nan"),
+     r"proposition 'a' is missing \(the field is empty or NA"),
     ("demo_id,t,a\n0,0,1\n0,0,1\n", r"line 3: demonstration 0 has time step 0 twice"),
     ("demo_id,t,a\n0,0,1\n0,2,1\n", r"line 3: demonstration 0 jumps from time 0 to 2"),
     ("demo_id,t,a\n0,0,1\n0,0.5,1\n", r"line 3: time 0.5 is not an integer"),
@@ -136,8 +136,36 @@ def test_empty_fields_stay_missing_values():
     buf = io.StringIO("demo_id,t,a,b\n0,0,1,0\n0,1,1,\n")
     buf.name = "gap.csv"
     with pytest.raises(ValueError, match=r"gap\.csv, line 3: demonstration 0, step 1, "
-                                         r"proposition 'b' has value nan"):
+                                         r"proposition 'b' is missing \(the field is empty "
+                                         r"or NA, or the row has fewer fields than the "
+                                         r"header\); values must be 0 or 1") as exc:
         read_traces_csv(buf)
+    assert "nan" not in str(exc.value)
+
+
+@pytest.mark.parametrize("csv, kwargs", [
+    ("demo_id,t,a,b\n0,0,1,0\n0,1,1\n", {"comment": "#"}),
+    ("demo_id,t,a,b\n0,0,1,0\n0,1,1, NA\n", {"skipinitialspace": True}),
+])
+def test_missing_values_are_named_as_such_whatever_pandas_options(csv, kwargs):
+    # with pandas options under which the fields are not counted (comment, ...), a short
+    # row still reaches the values as NaN: it is reported as a missing field, not "value nan"
+    buf = io.StringIO(csv)
+    buf.name = "gap.csv"
+    with pytest.raises(ValueError, match=r"gap\.csv, line 3: demonstration 0, step 1, "
+                                         r"proposition 'b' is missing \(the field is empty "
+                                         r"or NA, or the row has fewer fields") as exc:
+        read_traces_csv(buf, **kwargs)
+    assert "nan" not in str(exc.value)
+
+
+def test_missing_values_of_a_frame_are_named_as_such():
+    for missing in (np.nan, None, pd.NA):
+        df = pd.DataFrame({"demo_id": [0, 0], "t": [0, 1], "a": [1, missing]}, index=[10, 11])
+        with pytest.raises(ValueError, match=r"frame, row 11: demonstration 0, step 1, "
+                                             r"proposition 'a' is missing "
+                                             r"\((nan|None|<NA>)\); values"):
+            traces_from_frame(df)
 
 
 def test_frame_errors_name_the_row():
