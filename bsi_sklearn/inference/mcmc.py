@@ -344,10 +344,13 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             first = np.full(len(visited), np.iinfo(np.int64).max)
             for r, rows in zip(results, per_chain):
                 np.minimum.at(first, rows, np.cumsum(r.counts) - r.counts)
-            # What the chains weighed, not only what they visited (:mod:`._reach`).
-            reached, first = reach(visited, model.n_g, model.n, model, per_chain, first)
-            stop, detail = should_stop(reached, probs, first,
-                                       np.stack([r.trace_lp for r in results]))
+            # The chains agree when each reached (visited, or weighed one block away: see
+            # :mod:`._reach`) what they found together; they stopped finding mass when the
+            # states first *visited* late hold little (a walk's new state is always one block
+            # from its last, so every late state would count as reached early).
+            reached, _ = reach(visited, model.n_g, model.n, model, per_chain, first)
+            stop, detail = should_stop(per_chain, probs, first,
+                                       np.stack([r.trace_lp for r in results]), reached=reached)
             record.append(dict(detail, n_samples=done))
             if stop:
                 break
