@@ -6,17 +6,17 @@ differs from the current one in that block, and draws among them. A chain sittin
 has therefore weighed all of its one-block neighbours: had one of them carried much more mass,
 the chain would have moved there. Where the posterior is a plateau of many equally probable
 states (interchangeable subtasks in the order structure, common on event logs), each chain
-visits only part of it in a few hundred sweeps, but weighs nearly all of it; the diagnostics
-and the stopping rule ask whether the chains *reached* the same states (visited, or one block
-from a visited one), not whether each visited every one.
+visits only part of it in a few hundred sweeps, but weighs nearly all of it; the missed mass
+per chain (its warning, and the agreement ``n_samples="auto"`` waits for) asks whether the
+chains *reached* the same states (visited, or one block from a visited one), not whether each
+visited every one.
 
-:func:`reach` computes, among given states (the chains' union), the states each chain reached
-and the first sweep at which each state was reached by any chain. Two states are one block
-apart exactly when they are equal once that block is taken out: a global bit set to 0; a
-subtask's eventual bit set to 0 and the subtask spliced out of its chain (Priors 1 and 2) or
-cut from its parent with its subtree (Prior 3). Equal keys are found by sorting a 64-bit hash
-of the states with the block taken out, and every match is confirmed entry by entry, so a
-hash collision can never join two states.
+:func:`reach` computes, among given states (the chains' union), the states each chain reached.
+Two states are one block apart exactly when they are equal once that block is taken out: a
+global bit set to 0; a subtask's eventual bit set to 0 and the subtask spliced out of its chain
+(Priors 1 and 2) or cut from its parent with its subtree (Prior 3). Equal keys are found by
+sorting a 64-bit hash of the states with the block taken out, and every match is confirmed
+entry by entry, so a hash collision can never join two states.
 """
 
 import numpy as np
@@ -33,31 +33,24 @@ __all__ = ["reach"]
 _HASH_SEED = 0x5EED_B51
 
 
-def reach(states, n_g, n, model, visits, first_seen):
-    """The states each chain reached, and the first sweep each state was reached.
+def reach(states, model, visits):
+    """The states each chain reached: visited, or one block from a state it visited.
 
     Parameters
     ----------
     states : ndarray of shape (n_states, n_g + 2 n)
         Distinct state rows ``[tau | W1 | parent]`` (the chains' union).
-    n_g, n : int
-        Global candidates and subtasks.
     model : Model
-        Whose prior says whether structures are forests (:func:`~bsi_sklearn.model.priors.
-        is_forest`).
+        Its ``n_g`` and ``n``, and its prior: whether structures are forests
+        (:func:`~bsi_sklearn.model.priors.is_forest`).
     visits : sequence of ndarray of int
         For each chain, the indices into ``states`` of the states it visited.
-    first_seen : ndarray of shape (n_states,)
-        The first recorded sweep (of any chain) at which each state was visited.
 
     Returns
     -------
     reached : list of ndarray of int
         For each chain, the indices of the states it visited or that are one block from one it
         visited.
-    first_reached : ndarray of shape (n_states,)
-        For each state, the first sweep at which it or one of its one-block neighbours among
-        ``states`` was visited.
 
     Examples
     --------
@@ -65,28 +58,24 @@ def reach(states, n_g, n, model, visits, first_seen):
     >>> from bsi_sklearn.model import make_model
     >>> m = make_model(prior="sets_of_chains", likelihood="cb", n_globals=2, n_subtasks=1)
     >>> rows = np.array([[0, 0, 0, -1], [1, 0, 0, -1], [1, 0, 1, -1]])
-    >>> got, first = reach(rows, 2, 1, m, [np.array([0])], np.array([0, 5, 9]))
-    >>> got[0].tolist(), first.tolist()       # row 2: a global bit and F(0) from row 0
-    ([0, 1], [0, 0, 5])
+    >>> [r.tolist() for r in reach(rows, m, [np.array([0])])]  # row 2: a bit and F(0) away
+    [[0, 1]]
     """
     states = np.ascontiguousarray(states, dtype=np.int64)
     n_states = len(states)
     visited = np.zeros((len(visits), n_states), dtype=np.bool_)
     for k, rows in enumerate(visits):
         visited[k, np.asarray(rows, dtype=np.int64)] = True
-    first = np.asarray(first_seen, dtype=np.int64).copy()
+    reached = visited.copy()
     if n_states > 1 and states.shape[1] > 0:
         mult = (np.random.default_rng(_HASH_SEED).integers(
             0, 2**62, size=states.shape[1], dtype=np.int64).astype(np.uint64) * np.uint64(2)
             + np.uint64(1))
-        reached = visited.copy()
-        _reach(states, int(n_g), int(n), bool(is_forest(model)), mult, visited,
-               np.asarray(first_seen, dtype=np.int64), reached, first,
-               np.empty(n_states, dtype=np.uint64), np.empty((2, states.shape[1]), np.int64),
-               np.empty((n_states, max(n, 1)), dtype=np.int64))
-    else:
-        reached = visited
-    return [np.flatnonzero(r) for r in reached], first
+        _reach(states, int(model.n_g), int(model.n), bool(is_forest(model)), mult, visited,
+               reached, np.empty(n_states, dtype=np.uint64),
+               np.empty((2, states.shape[1]), np.int64),
+               np.empty((n_states, max(model.n, 1)), dtype=np.int64))
+    return [np.flatnonzero(r) for r in reached]
 
 
 @helper
@@ -132,25 +121,22 @@ def _varies(states, child, b, n_g, n):
     # Whether two states can differ in block b alone. A global bit: when it is not the same
     # in every state. A subtask: two states one block apart differ in its eventual bit, its
     # parent or its child (else, it being spliced out alike, they would be equal).
-    base = parent_offset(n_g, n)
     if b < n_g:
-        cols = (b, b, b)
-    else:
-        v = b - n_g
-        cols = (w1_offset(n_g) + v, base + v, -1 - v)
-    for s in range(1, states.shape[0]):
-        for e in cols:
-            if e >= 0:
-                if states[s, e] != states[0, e]:
-                    return True
-            elif child[s, -1 - e] != child[0, -1 - e]:
+        for s in range(1, states.shape[0]):
+            if states[s, b] != states[0, b]:
                 return True
+        return False
+    v = b - n_g
+    e, p = w1_offset(n_g) + v, parent_offset(n_g, n) + v
+    for s in range(1, states.shape[0]):
+        if states[s, e] != states[0, e] or states[s, p] != states[0, p] \
+                or child[s, v] != child[0, v]:
+            return True
     return False
 
 
 @njit(cache=True, nogil=True)
-def _reach(states, n_g, n, forest, mult, visited, first_seen, reached, first, keys, scratch,
-           child):
+def _reach(states, n_g, n, forest, mult, visited, reached, keys, scratch, child):
     n_states = states.shape[0]
     base = parent_offset(n_g, n)
     # The child of every subtask in every state (chains have at most one), and every state's
@@ -167,6 +153,7 @@ def _reach(states, n_g, n, forest, mult, visited, first_seen, reached, first, ke
         for j in range(states.shape[1]):
             h += np.uint64(states[s, j] + 2) * mult[j]
         hashes[s] = h
+    members = np.empty(n_states, dtype=np.int64)
     for b in range(n_g + n):
         if not _varies(states, child, b, n_g, n):
             continue
@@ -179,57 +166,43 @@ def _reach(states, n_g, n, forest, mult, visited, first_seen, reached, first, ke
             while j < n_states and keys[order[j]] == keys[order[i]]:
                 j += 1
             if j - i > 1:
-                _join(states, order, i, j, b, (n_g, n, forest), child,
-                      (visited, first_seen, reached, first), scratch)
+                _join(states, order[i:j], b, (n_g, n, forest), child, visited, reached,
+                      scratch, members)
             i = j
 
 
 @helper
-def _join(states, order, i, j, b, layout, child, marks, scratch):
-    # The run order[i:j] shares a hash key; every member equal (block b out) to the run's
-    # first unassigned member forms a group of one-block neighbours. Groups are taken in turn
-    # until the run is used up (more than one group only on a hash collision). layout:
-    # (n_g, n, forest); marks: (visited, first_seen, reached, first) of _reach.
+def _join(states, run, b, layout, child, visited, reached, scratch, members):
+    # The states of ``run`` share a hash key with block b out; every one equal (block b out)
+    # to the first not yet grouped forms a group of one-block neighbours with it, and a chain
+    # that visited a member of a group reached all of it. Groups are taken in turn until the
+    # run is used up (more than one group only on a hash collision). layout: (n_g, n, forest).
     n_g, n, forest = layout
-    visited, first_seen, reached, first = marks
-    n_chains = visited.shape[0]
-    done = np.zeros(j - i, dtype=np.bool_)
-    for a in range(i, j):
-        if done[a - i]:
+    done = np.zeros(run.shape[0], dtype=np.bool_)
+    for a in range(run.shape[0]):
+        if done[a]:
             continue
-        sa = order[a]
-        _masked(states[sa], b, n_g, n, forest, child[sa], scratch[0])
-        # Pass 1: the group's members, what any chain visited among them, the earliest visit.
-        earliest = first_seen[sa]
-        for c in range(a, j):
-            if done[c - i]:
+        _masked(states[run[a]], b, n_g, n, forest, child[run[a]], scratch[0])
+        m = 0
+        for c in range(a, run.shape[0]):
+            if done[c]:
                 continue
-            sc = order[c]
-            _masked(states[sc], b, n_g, n, forest, child[sc], scratch[1])
+            _masked(states[run[c]], b, n_g, n, forest, child[run[c]], scratch[1])
             equal = True
             for e in range(scratch.shape[1]):
                 if scratch[0, e] != scratch[1, e]:
                     equal = False
                     break
             if equal:
-                done[c - i] = True
-                order[c] = -1 - sc  # mark as this group's member for pass 2
-                if first_seen[sc] < earliest:
-                    earliest = first_seen[sc]
-        # Pass 2: every member is reached by every chain that visited a member.
-        for k in range(n_chains):
+                done[c] = True
+                members[m] = run[c]
+                m += 1
+        for k in range(visited.shape[0]):
             hit = False
-            for c in range(a, j):
-                if order[c] < 0 and visited[k, -1 - order[c]]:
+            for i in range(m):
+                if visited[k, members[i]]:
                     hit = True
                     break
             if hit:
-                for c in range(a, j):
-                    if order[c] < 0:
-                        reached[k, -1 - order[c]] = True
-        for c in range(a, j):
-            if order[c] < 0:
-                sc = -1 - order[c]
-                if earliest < first[sc]:
-                    first[sc] = earliest
-                order[c] = sc  # restored: done[] now says it is used
+                for i in range(m):
+                    reached[k, members[i]] = True

@@ -308,7 +308,8 @@ def sampling_count(truth, y01, model, *, n_chains, n_samples, burn_in, n_tempera
 def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
     # Run the chains round by round (one round for a fixed n_samples) until the stopping rule
     # holds; returns their results, the unique states visited with their sample counts, the
-    # state of every recorded row, the states' exact log posteriors, and the rounds' record.
+    # states each chain reached (indices into them), the states' exact log posteriors, and the
+    # rounds' record.
     from sklearn.utils.parallel import Parallel, delayed
 
     bar = None
@@ -335,20 +336,21 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
                 lp_new = score_states(visited[new], demos, model)
                 scored.update(zip((visited[i].tobytes() for i in new), lp_new.tolist()))
             visited_lp = np.array([scored[row.tobytes()] for row in visited])
+            ends = np.cumsum([len(r.states) for r in results])
+            per_chain = np.split(row_state, ends[:-1])
+            # What each chain reached (visited, or weighed one block away: :mod:`._reach`):
+            # the chains agree when each reached what they found together.
+            reached = reach(visited, model, per_chain)
             if len(plan) == 1:
                 break
             probs = np.exp(visited_lp - visited_lp.max())
             probs /= probs.sum()
-            ends = np.cumsum([len(r.states) for r in results])
-            per_chain = np.split(row_state, ends[:-1])
+            # They stopped finding mass when the states first *visited* late hold little (a
+            # walk's new state is always one block from its last, so every late state would
+            # count as reached early).
             first = np.full(len(visited), np.iinfo(np.int64).max)
             for r, rows in zip(results, per_chain):
                 np.minimum.at(first, rows, np.cumsum(r.counts) - r.counts)
-            # The chains agree when each reached (visited, or weighed one block away: see
-            # :mod:`._reach`) what they found together; they stopped finding mass when the
-            # states first *visited* late hold little (a walk's new state is always one block
-            # from its last, so every late state would count as reached early).
-            reached, _ = reach(visited, model.n_g, model.n, model, per_chain, first)
             stop, detail = should_stop(per_chain, probs, first,
                                        np.stack([r.trace_lp for r in results]), reached=reached)
             record.append(dict(detail, n_samples=done))
@@ -357,7 +359,7 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
     if bar is not None:
         bar.close()
     stopping = {"rounds": record, "stopped_early": done < plan[-1]}
-    return results, visited, counts, row_state, visited_lp, stopping
+    return results, visited, counts, reached, visited_lp, stopping
 
 
 def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
@@ -408,7 +410,7 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     plan = rounds() if n_samples == "auto" else [int(n_samples)]
     runs = [ChainRun(int(seed), demos, model, betas, optimum, burn_in=int(burn_in),
                      target=optimum_lp - MODE_WARN, max_extra=plan[-1]) for seed in seeds]
-    results, visited, counts, row_state, visited_lp, stopping = _run_rounds(
+    results, visited, counts, reached, visited_lp, stopping = _run_rounds(
         runs, plan, demos, model, n_jobs, verbose)
     # The support: the visited states, the optimum, and their neighbourhood.
     support = np.concatenate([visited, optimum[None, :]])
@@ -427,9 +429,6 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     # The mass each chain missed (neither visited nor weighed one block from a visited
     # state), among the states the chains visited (own normalisation).
     own = np.exp(visited_lp - visited_lp.max())
-    ends = np.cumsum([len(r.states) for r in results])
-    reached, _ = reach(visited, n_g, n, model, np.split(row_state, ends[:-1]),
-                       np.zeros(len(visited), dtype=np.int64))
     missed = missed_mass(reached, own / own.sum())
     traces = np.stack([r.trace_lp for r in results])
     moves = np.array([r.move_rate for r in results])

@@ -48,21 +48,16 @@ def test_reach_is_the_move_sets_neighbourhood(prior, seed):
     adjacent = [_neighbours(r, demos, model) for r in union]
     # Two chains: one visited the first draw, the other every third state.
     chains = [np.array([key.index(draws[0].tobytes())]), np.arange(0, len(union), 3)]
-    first_seen = rng.integers(0, 1000, size=len(union))
-    got, first = reach(union, n_g, n, model, chains, first_seen)
+    got = reach(union, model, chains)
     for k, visits in enumerate(chains):
         want = set(visits.tolist())
         for i in visits:
             want |= {j for j in range(len(union)) if key[j] in adjacent[i]}
         assert got[k].tolist() == sorted(want)
-    for i in range(len(union)):
-        near = [j for j in range(len(union)) if key[j] in adjacent[i]]
-        assert first[i] == min([first_seen[i]] + [first_seen[j] for j in near])
 
 
 def test_reach_of_one_state_and_of_none():
     model = make_model(prior="sets_of_chains", likelihood="cb", n_globals=1, n_subtasks=2)
     row = np.array([[1, 0, 1, -1, 0]])
-    got, first = reach(row, 1, 2, model, [np.array([0]), np.array([], dtype=np.int64)],
-                       np.array([7]))
-    assert [g.tolist() for g in got] == [[0], []] and first.tolist() == [7]
+    got = reach(row, model, [np.array([0]), np.array([], dtype=np.int64)])
+    assert [g.tolist() for g in got] == [[0], []]
