@@ -90,6 +90,22 @@ def test_recovery_compares_normalised_clauses(rows):
         Specification(eventuals=["a"]))
 
 
+def test_the_rule_never_disagrees_with_itself_on_fresh_cases(rows):
+    from bsi_sklearn import Specification
+    from bsi_sklearn.datasets import make_process_log
+
+    spec = dict(n_activities=10, n_cases=60, rule="template", noise=0.3, seed=0)
+    log = make_process_log(10, 60, rule="template", noise=0.3, random_state=0)
+    train = log.cases()[:42]
+    assert rows.rule_disagreement(log.specification(), log, spec, train, n_fresh=400) == 0.0
+    # Accepting every case disagrees on exactly the fresh cases the rule rejects.
+    big = make_process_log(10, 460, rule="template", noise=0.3, random_state=0)
+    rejected = 1 - big.clean_labels.to_numpy()[60:].mean()
+    assert big.cases()[:60] == log.cases() and 0.2 < rejected < 0.8
+    assert rows.rule_disagreement(Specification(), log, spec, train, n_fresh=400) == \
+        pytest.approx(rejected)
+
+
 def test_the_outputs_are_written(bench, practitioner_frame, tmp_path):
     paths = bench.write_outputs(practitioner_frame, tmp_path, tmp_path / "RESULTS.md",
                                 "python benchmarks/bench_event_logs.py --test", 1.0,
