@@ -214,6 +214,10 @@ def add_arguments(parser):
     parser.add_argument("--negations", action=argparse.BooleanOptionalAction, default=True,
                         help="event logs: also the negation !a of every activity, so that "
                              "G(!a) states absence(a), a never occurs (default: on)")
+    parser.add_argument("--repeats", action="store_true",
+                        help="event logs: also a#2, 'a occurred twice so far', for every "
+                             "activity repeated in a case, so that G(!a#2) states "
+                             "absence2(a), a occurs at most once (default: off)")
     add_format_argument(parser, event_logs=True)
     parser.add_argument("--save", default=None, metavar="JSON",
                         help="write the posterior as JSON (Posterior.to_json, written in one "
@@ -329,7 +333,8 @@ def _event_log_options(args):
     """``read_event_log``'s keyword arguments from the event-log options."""
     return dict(label=args.label, labels=args.labels, pos_label=args.pos_label,
                 case_id=args.case_id, activity=args.activity, timestamp=args.timestamp,
-                encoder=dict(encoding=args.encoding, negations=args.negations))
+                encoder=dict(encoding=args.encoding, negations=args.negations,
+                             repeats=args.repeats))
 
 
 def _option_names(message):

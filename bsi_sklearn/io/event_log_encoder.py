@@ -50,6 +50,13 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         An activity seen in ``transform`` but not in ``fit``: a ``ValueError`` naming the case
         and the activity, or (``"ignore"``) the event still makes a step, on which no
         activity column changes.
+    repeats : bool, default=False
+        Also encode, for every activity that occurs at least twice in some case seen in fit,
+        the proposition ``a#2``: ``a`` occurred at least twice so far (``"occurred"`` only).
+        ``F(a#2)`` reads Declare's ``Existence2(a)``, and with ``negations=True``
+        ``G(!a#2)`` its ``Absence2(a)``, *a occurs at most once*: counts the occurred
+        encoding alone cannot tell. The ``a#2`` columns rise like activities, so inferred
+        roles may make them subtasks, and each adds candidate clauses (fits take longer).
     negations : bool, default=True
         Also encode, after the other propositions, the negation ``!p`` of each of them (the
         activities, then the attributes): true at the steps where ``p`` is false. Under
@@ -72,7 +79,11 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         The activities seen in fit, sorted: the first propositions.
     feature_names_out_ : ndarray of str
         The propositions: the activities, then the names of ``attributes``, then (with
+        ``repeats=True``) the ``a#2`` of the repeated activities, then (with
         ``negations=True``) the same names prefixed with ``!``.
+    repeated_ : ndarray of str
+        The activities seen twice in some case in fit, whose ``a#2`` is encoded (empty with
+        ``repeats=False``).
     negations_ : dict
         Each negated proposition -> the proposition it negates (``{"!pay": "pay", ...}``,
         empty with ``negations=False``): the ``negations`` argument of
@@ -111,6 +122,7 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         "encoding": [StrOptions(("occurred", "current"))],
         "attributes": [None, Mapping],
         "handle_unknown": [StrOptions(("error", "ignore"))],
+        "repeats": ["boolean"],
         "negations": ["boolean"],
         "case_id": [str],
         "activity": [str],
@@ -118,10 +130,12 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
     }
 
     def __init__(self, *, encoding="occurred", attributes=None, handle_unknown="error",
-                 negations=True, case_id=CASE_ID, activity=ACTIVITY, timestamp=TIMESTAMP):
+                 repeats=False, negations=True, case_id=CASE_ID, activity=ACTIVITY,
+                 timestamp=TIMESTAMP):
         self.encoding = encoding
         self.attributes = attributes
         self.handle_unknown = handle_unknown
+        self.repeats = repeats
         self.negations = negations
         self.case_id = case_id
         self.activity = activity
@@ -221,8 +235,24 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         if clash:
             raise ValueError(f"EventLogEncoder: the attribute proposition {clash[0]!r} has "
                              "the name of an activity")
+        if self.repeats and self.encoding != "occurred":
+            raise ValueError("EventLogEncoder: repeats=True needs encoding='occurred' (a#2 "
+                             f"is 'a occurred twice so far'), got encoding={self.encoding!r}")
         self.activities_ = np.array(sorted(set(names)), dtype=object)
-        positive = [*map(str, self.activities_), *attrs]
+        if self.repeats:
+            index = np.array([int(np.searchsorted(self.activities_, n)) for n in names],
+                             dtype=np.int64)
+            twice = np.unique(index[events.codes][_second_occurrences(events, len(names))])
+            self.repeated_ = self.activities_[twice]
+        else:
+            self.repeated_ = np.array([], dtype=object)
+        repeat_names = [f"{a}#2" for a in map(str, self.repeated_)]
+        clash = sorted(set(repeat_names) & ({*map(str, self.activities_)} | set(attrs)))
+        if clash:
+            raise ValueError(f"EventLogEncoder: repeats=True names {clash[0]!r} the "
+                             f"repetition of {clash[0][:-2]!r}, which is already a "
+                             "proposition (an activity or attribute of that name)")
+        positive = [*map(str, self.activities_), *attrs, *repeat_names]
         negated = ["!" + p for p in positive] if self.negations else []
         clash = sorted(set(negated) & set(positive))
         if clash:
@@ -258,11 +288,20 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         hits = np.concatenate(columns)
         props = np.concatenate(values)[hits]
         event = np.tile(np.arange(len(codes)), len(columns))[hits]
+        if len(self.repeated_):
+            # a#2 rises at a's second event in the case (then stays, like an activity).
+            slot = np.full(n_act + 1, -1, dtype=np.int64)
+            slot[np.searchsorted(self.activities_, self.repeated_)] = np.arange(
+                len(self.repeated_))
+            second = np.flatnonzero(_second_occurrences(events, len(events.names), codes))
+            second = second[slot[codes[second]] >= 0]
+            props = np.concatenate([props, n_act + len(columns) - 1 + slot[codes[second]]])
+            event = np.concatenate([event, second])
         n_cases = len(events.offsets) - 1
         case = np.repeat(np.arange(n_cases), np.diff(events.offsets))
         rows = event + case[event] + 1
         n_rows = len(codes) + n_cases
-        n_pos = n_act + len(columns) - 1
+        n_pos = n_act + len(columns) - 1 + len(self.repeated_)
         data = np.zeros((n_rows, len(self.feature_names_out_)), dtype=bool)
         data[rows, props] = True
         row_starts = events.offsets + np.arange(n_cases + 1)
@@ -273,6 +312,23 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         names = pd.Index(self.feature_names_out_.astype(str), dtype=object)
         return [pd.DataFrame(data[a:b], columns=names, copy=False)
                 for a, b in zip(row_starts[:-1], row_starts[1:])]
+
+
+def _second_occurrences(events, n_codes, codes=None):
+    """Whether each event is the second or a later one of its code (activity) in its case.
+
+    ``codes`` (default ``events.codes``) are the events' codes, ``n_codes`` bounds them; a
+    negative code (an activity unseen in fit) is never a repetition.
+    """
+    codes = events.codes if codes is None else codes
+    n_cases = len(events.offsets) - 1
+    case = np.repeat(np.arange(n_cases, dtype=np.int64), np.diff(events.offsets))
+    key = case * (n_codes + 1) + np.where(codes >= 0, codes, n_codes)
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    later = np.zeros(len(codes), dtype=bool)
+    later[order[1:]] = sorted_key[1:] == sorted_key[:-1]
+    return later & (codes >= 0)
 
 
 def _accumulate(data, row_starts):

@@ -195,6 +195,20 @@ def test_event_log_negations_read_as_absence_and_the_encoding_options(tmp_path, 
     assert "--encoding: invalid choice: 'sometimes'" in capsys.readouterr().err
 
 
+def test_event_log_repeats_state_at_most_once(tmp_path, capsys):
+    path = _xes(tmp_path / "log.xes", [
+        ("c1", ["order", "pay", "ship"], "accepted"), ("c2", ["order", "ship", "pay"], "accepted"),
+        ("c3", ["order", "pay", "pay", "ship"], "rejected"),
+        ("c4", ["order", "pay", "ship", "pay"], "rejected")])
+    args = ["fit", str(path), "--label", "outcome", "--pos-label", "accepted", "--subtasks"]
+    assert main(args + ["--repeats"]) == 0
+    out = capsys.readouterr().out
+    assert "4 demonstrations (2 acceptable), 8 propositions" in out   # pay#2 and negations
+    assert "MAP        : G(!pay#2)" in out
+    assert main(args) == 0
+    assert "G(!pay#2)" not in capsys.readouterr().out
+
+
 def test_an_activity_named_with_a_bang_is_no_negation_in_the_readable_map(tmp_path, capsys):
     # The encoder's negations are its "!a" columns only: an activity "!late" is an atom
     # (quoted), never the negation of a "late", with or without --negations.

@@ -119,7 +119,7 @@ def test_parameters_are_validated_in_fit():
 def test_sklearn_conventions_and_pickle():
     enc = EventLogEncoder(encoding="current")
     assert enc.get_params() == {"encoding": "current", "attributes": None,
-                                "handle_unknown": "error", "negations": True,
+                                "handle_unknown": "error", "repeats": False, "negations": True,
                                 "case_id": "case:concept:name",
                                 "activity": "concept:name", "timestamp": "time:timestamp"}
     assert clone(enc).get_params() == enc.get_params()
@@ -202,3 +202,36 @@ def test_negations_name_the_negated_activities():
     # an activity whose name starts with "!" is no negation without them
     plain = EventLogEncoder(negations=False).fit([["!x", "y"]])
     assert Specification(globals=["!x"]).readable(negations=plain.negations_) == 'G("!x")'
+
+
+def test_repeats_encode_twice_so_far_against_counting():
+    rng = np.random.default_rng(0)
+    acts = ["a", "b", "c", "d"]
+    seqs = [list(rng.choice(acts[:3], size=rng.integers(1, 7))) for _ in range(60)]
+    enc = EventLogEncoder(repeats=True)
+    traces = enc.fit_transform(seqs)
+    assert enc.repeated_.tolist() == ["a", "b", "c"]
+    assert enc.get_feature_names_out().tolist() == [
+        "a", "b", "c", "a#2", "b#2", "c#2", "!a", "!b", "!c", "!a#2", "!b#2", "!c#2"]
+    for seq, trace in zip(seqs, traces):
+        for a in acts[:3]:
+            counts = np.cumsum([0] + [e == a for e in seq])
+            np.testing.assert_array_equal(trace[f"{a}#2"].to_numpy(), counts >= 2)
+            np.testing.assert_array_equal(trace[f"!{a}#2"].to_numpy(), counts < 2)
+        # G(!a#2) is Declare's Absence2: a occurs at most once; F(a#2) its Existence2
+        at_most_once = Specification(globals=["!a#2"]).satisfied_by(trace)
+        assert at_most_once == (seq.count("a") <= 1)
+        assert Specification(eventuals=["b#2"]).satisfied_by(trace) == (seq.count("b") >= 2)
+    # only activities seen twice in a fitted case get a#2; unknown activities never count
+    enc = EventLogEncoder(repeats=True, negations=False, handle_unknown="ignore")
+    (trace,) = enc.fit([["a", "b", "a"], ["b", "c"]]).transform([["x", "b", "x", "b", "c"]])
+    assert enc.repeated_.tolist() == ["a"]
+    assert list(trace.columns) == ["a", "b", "c", "a#2"] and not trace["a#2"].any()
+    assert EventLogEncoder().fit([["a", "a"]]).repeated_.tolist() == []
+
+
+def test_repeats_need_the_occurred_encoding_and_their_own_names():
+    with pytest.raises(ValueError, match="repeats=True needs encoding='occurred'"):
+        EventLogEncoder(repeats=True, encoding="current").fit([["a"]])
+    with pytest.raises(ValueError, match=r"names 'a#2' the repetition of 'a'"):
+        EventLogEncoder(repeats=True).fit([["a", "a", "a#2"]])
