@@ -215,8 +215,8 @@ def add_arguments(parser):
                         help="event logs: also the negation !a of every activity, so that "
                              "G(!a) states absence(a), a never occurs (default: on)")
     parser.add_argument("--repeats", action="store_true",
-                        help="event logs: also a#2, 'a occurred twice so far', for every "
-                             "activity repeated in a case, so that G(!a#2) states "
+                        help="event logs: also a<=1, 'a occurred at most once so far', for "
+                             "every activity repeated in a case, so that G(a<=1) states "
                              "absence2(a), a occurs at most once (default: off)")
     add_format_argument(parser, event_logs=True)
     parser.add_argument("--save", default=None, metavar="JSON",
@@ -408,8 +408,10 @@ def run(args):
         if is_log:  # the MAP's clauses as Declare constraints on the cases
             from bsi_sklearn.report.wording import describe_event_log_specification
 
+            repeats = ({f"{n}<=1": n for n in names if f"{n}<=1" in names}
+                       if args.repeats else {})
             for i, line in enumerate(describe_event_log_specification(
-                    spec, clf.vacuous_clauses_, negations=negations)):
+                    spec, clf.vacuous_clauses_, negations=negations, repeats=repeats)):
                 print(f"{'reading    :' if i == 0 else '':<12} {line}")
         print(f"accuracy   : {clf.score(X, y):.3f} (training set)")
         if flip is not None:

@@ -51,12 +51,14 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         and the activity, or (``"ignore"``) the event still makes a step, on which no
         activity column changes.
     repeats : bool, default=False
-        Also encode, for every activity that occurs at least twice in some case seen in fit,
-        the proposition ``a#2``: ``a`` occurred at least twice so far (``"occurred"`` only).
-        ``F(a#2)`` reads Declare's ``Existence2(a)``, and with ``negations=True``
-        ``G(!a#2)`` its ``Absence2(a)``, *a occurs at most once*: counts the occurred
-        encoding alone cannot tell. The ``a#2`` columns rise like activities, so inferred
-        roles may make them subtasks, and each adds candidate clauses (fits take longer).
+        Also encode, last, for every activity that occurs at least twice in some case seen in
+        fit, the proposition ``a<=1``: ``a`` has occurred at most once so far (``"occurred"``
+        only). ``G(a<=1)`` is Declare's ``Absence2(a)``, *a occurs at most once*, a count the
+        occurred encoding cannot tell. Like a negated column, ``a<=1`` is true at step 0 and
+        never rises, so inferred roles make it a global candidate at most: each repeated
+        activity adds one candidate ``G`` clause. ``negations`` leaves it alone: its negation
+        ("a occurred twice") rises, a subtask candidate for every repeated activity, and in
+        a generated log of 40 activities 35 repeat.
     negations : bool, default=True
         Also encode, after the other propositions, the negation ``!p`` of each of them (the
         activities, then the attributes): true at the steps where ``p`` is false. Under
@@ -79,11 +81,14 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         The activities seen in fit, sorted: the first propositions.
     feature_names_out_ : ndarray of str
         The propositions: the activities, then the names of ``attributes``, then (with
-        ``repeats=True``) the ``a#2`` of the repeated activities, then (with
-        ``negations=True``) the same names prefixed with ``!``.
+        ``negations=True``) the same names prefixed with ``!``, then (with ``repeats=True``)
+        the ``a<=1`` of the repeated activities.
     repeated_ : ndarray of str
-        The activities seen twice in some case in fit, whose ``a#2`` is encoded (empty with
+        The activities seen twice in some case in fit, whose ``a<=1`` is encoded (empty with
         ``repeats=False``).
+    repeats_ : dict
+        Each ``a<=1`` column -> its activity: the ``repeats`` argument of
+        :func:`bsi_sklearn.report.wording.describe_event_log_specification`.
     negations_ : dict
         Each negated proposition -> the proposition it negates (``{"!pay": "pay", ...}``,
         empty with ``negations=False``): the ``negations`` argument of
@@ -236,8 +241,9 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
             raise ValueError(f"EventLogEncoder: the attribute proposition {clash[0]!r} has "
                              "the name of an activity")
         if self.repeats and self.encoding != "occurred":
-            raise ValueError("EventLogEncoder: repeats=True needs encoding='occurred' (a#2 "
-                             f"is 'a occurred twice so far'), got encoding={self.encoding!r}")
+            raise ValueError("EventLogEncoder: repeats=True needs encoding='occurred' (a<=1 "
+                             "is 'a occurred at most once so far'), got "
+                             f"encoding={self.encoding!r}")
         self.activities_ = np.array(sorted(set(names)), dtype=object)
         if self.repeats:
             index = np.array([int(np.searchsorted(self.activities_, n)) for n in names],
@@ -246,20 +252,22 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
             self.repeated_ = self.activities_[twice]
         else:
             self.repeated_ = np.array([], dtype=object)
-        repeat_names = [f"{a}#2" for a in map(str, self.repeated_)]
-        clash = sorted(set(repeat_names) & ({*map(str, self.activities_)} | set(attrs)))
-        if clash:
-            raise ValueError(f"EventLogEncoder: repeats=True names {clash[0]!r} the "
-                             f"repetition of {clash[0][:-2]!r}, which is already a "
-                             "proposition (an activity or attribute of that name)")
-        positive = [*map(str, self.activities_), *attrs, *repeat_names]
+        positive = [*map(str, self.activities_), *attrs]
         negated = ["!" + p for p in positive] if self.negations else []
         clash = sorted(set(negated) & set(positive))
         if clash:
             raise ValueError(f"EventLogEncoder: negations=True names the negation of "
                              f"{clash[0][1:]!r} {clash[0]!r}, which is already a proposition "
                              "(an activity or attribute of that name)")
-        self.feature_names_out_ = np.array([*positive, *negated], dtype=object)
+        repeat_names = [f"{a}<=1" for a in map(str, self.repeated_)]
+        clash = sorted(set(repeat_names) & {*positive, *negated})
+        if clash:
+            raise ValueError(f"EventLogEncoder: repeats=True names {clash[0]!r} the "
+                             f"repetition of {clash[0][:-3]!r}, which is already a "
+                             "proposition (an activity or attribute of that name)")
+        self.feature_names_out_ = np.array([*positive, *negated, *repeat_names],
+                                           dtype=object)
+        self.repeats_ = dict(zip(repeat_names, map(str, self.repeated_)))
         self.negations_ = dict(zip(negated, positive))
 
     def _events(self, X):
@@ -288,11 +296,12 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         hits = np.concatenate(columns)
         props = np.concatenate(values)[hits]
         event = np.tile(np.arange(len(codes)), len(columns))[hits]
-        if len(self.repeated_):
-            # a#2 rises at a's second event in the case (then stays, like an activity).
+        n_rep = len(self.repeated_)
+        if n_rep:
+            # a<=1 falls at a's second event in the case: "twice" rises there and stays
+            # (accumulated like an activity), and a<=1 is its complement.
             slot = np.full(n_act + 1, -1, dtype=np.int64)
-            slot[np.searchsorted(self.activities_, self.repeated_)] = np.arange(
-                len(self.repeated_))
+            slot[np.searchsorted(self.activities_, self.repeated_)] = np.arange(n_rep)
             second = np.flatnonzero(_second_occurrences(events, len(events.names), codes))
             second = second[slot[codes[second]] >= 0]
             props = np.concatenate([props, n_act + len(columns) - 1 + slot[codes[second]]])
@@ -301,14 +310,20 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         case = np.repeat(np.arange(n_cases), np.diff(events.offsets))
         rows = event + case[event] + 1
         n_rows = len(codes) + n_cases
-        n_pos = n_act + len(columns) - 1 + len(self.repeated_)
+        n_pos = n_act + len(columns) - 1
+        # Columns [0, n_pos + n_rep): the propositions, then "twice"; negations after them.
         data = np.zeros((n_rows, len(self.feature_names_out_)), dtype=bool)
         data[rows, props] = True
         row_starts = events.offsets + np.arange(n_cases + 1)
         if self.encoding == "occurred":
-            _accumulate(data[:, :n_pos], row_starts)
+            _accumulate(data[:, :n_pos + n_rep], row_starts)
+        if n_rep:
+            twice = data[:, n_pos:n_pos + n_rep].copy()
+            data[:, n_pos:n_pos + n_rep] = False
         if self.negations:
-            np.logical_not(data[:, :n_pos], out=data[:, n_pos:])
+            np.logical_not(data[:, :n_pos], out=data[:, n_pos:2 * n_pos])
+        if n_rep:
+            np.logical_not(twice, out=data[:, -n_rep:])
         names = pd.Index(self.feature_names_out_.astype(str), dtype=object)
         return [pd.DataFrame(data[a:b], columns=names, copy=False)
                 for a, b in zip(row_starts[:-1], row_starts[1:])]

@@ -294,7 +294,7 @@ def clause_sentence(clause, conditions=None, descriptions=None, *, negations=Non
     return _upper((text, first[1]))
 
 
-def event_log_sentence(clause, conditions=None, *, negations=None):
+def event_log_sentence(clause, conditions=None, *, negations=None, repeats=None):
     """One sentence for a clause over event-log propositions, with its Declare name.
 
     Under :class:`bsi_sklearn.io.EventLogEncoder`'s default encoding a proposition ``a`` reads
@@ -322,6 +322,10 @@ def event_log_sentence(clause, conditions=None, *, negations=None):
     A condition ``pi`` (read at the first step, where nothing has occurred yet) is said as
     "if pi has occurred at the start".
 
+    ``repeats`` maps the at-most-once columns of ``EventLogEncoder(repeats=True)``
+    (``EventLogEncoder.repeats_``, ``{"pay<=1": "pay"}``) to their activities: ``G(pay<=1)``
+    is ``absence2(pay): pay occurs at most once.``; by default no column is one.
+
     Examples
     --------
     >>> event_log_sentence(("F", "pay"))
@@ -332,15 +336,24 @@ def event_log_sentence(clause, conditions=None, *, negations=None):
     'absence(refund): refund never occurs.'
     >>> event_log_sentence(("F", "!refund"))
     'refund has not occurred at some step: true of every case (at its start).'
+    >>> event_log_sentence(("G", "pay<=1"), repeats={"pay<=1": "pay"})
+    'absence2(pay): pay occurs at most once.'
     """
     _check_clause(clause)
     cond = {k: v for k, v in (conditions or {}).items() if v is not None}
     negates = negation_reader(negations, "event_log_sentence")
+    once = dict(repeats or {})
     c, body = _form(clause, cond, negates)
     kind, lit = body[0], body[-1]
     a = lit.atom
     none = "true of no case (nothing has occurred at its start)"
-    if kind == "G":
+    if lit.positive and a in once and kind in ("G", "F", "now"):
+        # "a occurred at most once so far": true at the start, false from a's second event.
+        b = once[a]
+        text = (f"absence2({b}): {b} occurs at most once." if kind == "G" else
+                f"{b} has occurred at most once at {'some step' if kind == 'F' else 'the start'}"
+                ": true of every case (at its start).")
+    elif kind == "G":
         text = (f"{a} has occurred from the start." if lit.positive
                 else f"absence({a}): {a} never occurs.")
     elif kind == "F":
@@ -364,13 +377,13 @@ def event_log_sentence(clause, conditions=None, *, negations=None):
 
 
 def describe_event_log_specification(specification, vacuous=(), *, chains=True,
-                                     negations=None):
+                                     negations=None, repeats=None):
     """:func:`event_log_sentence` for every clause, in :func:`ordered_clauses` order.
 
     Clauses in ``vacuous`` (``BSIClassifier.vacuous_clauses_``: untested by the data) are
     left out; ``chains=True`` (the default) leaves out the orders the others imply;
-    ``negations`` (``EventLogEncoder.negations_``, by default every ``"!a"``) as for
-    :func:`event_log_sentence`.
+    ``negations`` (``EventLogEncoder.negations_``, by default every ``"!a"``) and
+    ``repeats`` (``EventLogEncoder.repeats_``) as for :func:`event_log_sentence`.
 
     Examples
     --------
@@ -384,8 +397,8 @@ def describe_event_log_specification(specification, vacuous=(), *, chains=True,
     existence(pay) and precedence(pay, ship): pay occurs, and no ship before the first pay.
     """
     return _sentences(specification,
-                      lambda clause, conditions: event_log_sentence(clause, conditions,
-                                                                    negations=negations),
+                      lambda clause, conditions: event_log_sentence(
+                          clause, conditions, negations=negations, repeats=repeats),
                       chains, vacuous)
 
 

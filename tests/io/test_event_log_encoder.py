@@ -204,34 +204,46 @@ def test_negations_name_the_negated_activities():
     assert Specification(globals=["!x"]).readable(negations=plain.negations_) == 'G("!x")'
 
 
-def test_repeats_encode_twice_so_far_against_counting():
+def test_repeats_encode_at_most_once_so_far_against_counting():
     rng = np.random.default_rng(0)
     acts = ["a", "b", "c", "d"]
     seqs = [list(rng.choice(acts[:3], size=rng.integers(1, 7))) for _ in range(60)]
     enc = EventLogEncoder(repeats=True)
     traces = enc.fit_transform(seqs)
     assert enc.repeated_.tolist() == ["a", "b", "c"]
+    assert enc.repeats_ == {"a<=1": "a", "b<=1": "b", "c<=1": "c"}
     assert enc.get_feature_names_out().tolist() == [
-        "a", "b", "c", "a#2", "b#2", "c#2", "!a", "!b", "!c", "!a#2", "!b#2", "!c#2"]
+        "a", "b", "c", "!a", "!b", "!c", "a<=1", "b<=1", "c<=1"]
     for seq, trace in zip(seqs, traces):
         for a in acts[:3]:
             counts = np.cumsum([0] + [e == a for e in seq])
-            np.testing.assert_array_equal(trace[f"{a}#2"].to_numpy(), counts >= 2)
-            np.testing.assert_array_equal(trace[f"!{a}#2"].to_numpy(), counts < 2)
-        # G(!a#2) is Declare's Absence2: a occurs at most once; F(a#2) its Existence2
-        at_most_once = Specification(globals=["!a#2"]).satisfied_by(trace)
+            np.testing.assert_array_equal(trace[a].to_numpy(), counts >= 1)
+            np.testing.assert_array_equal(trace[f"!{a}"].to_numpy(), counts < 1)
+            np.testing.assert_array_equal(trace[f"{a}<=1"].to_numpy(), counts <= 1)
+        # G(a<=1) is Declare's Absence2: a occurs at most once
+        at_most_once = Specification(globals=["a<=1"]).satisfied_by(trace)
         assert at_most_once == (seq.count("a") <= 1)
-        assert Specification(eventuals=["b#2"]).satisfied_by(trace) == (seq.count("b") >= 2)
-    # only activities seen twice in a fitted case get a#2; unknown activities never count
+    # only activities seen twice in a fitted case get a<=1; unknown activities never count
     enc = EventLogEncoder(repeats=True, negations=False, handle_unknown="ignore")
     (trace,) = enc.fit([["a", "b", "a"], ["b", "c"]]).transform([["x", "b", "x", "b", "c"]])
     assert enc.repeated_.tolist() == ["a"]
-    assert list(trace.columns) == ["a", "b", "c", "a#2"] and not trace["a#2"].any()
+    assert list(trace.columns) == ["a", "b", "c", "a<=1"] and trace["a<=1"].all()
     assert EventLogEncoder().fit([["a", "a"]]).repeated_.tolist() == []
+
+
+def test_repeats_stay_global_candidates():
+    # a<=1 never rises: inferred roles keep it out of the subtasks and the conditions
+    seqs = [["order", "pay", "ship"], ["order", "ship", "pay"], ["order", "pay", "pay", "ship"],
+            ["order", "pay", "ship", "pay"]]
+    traces = EventLogEncoder(repeats=True).fit_transform(seqs)
+    clf = BSIClassifier(random_state=0).fit(traces, [1, 1, 0, 0])
+    assert "pay<=1" in clf.roles_["global_candidates"]
+    assert "pay<=1" not in clf.roles_["subtasks"]
+    assert "pay<=1" in clf.map_specification_.globals
 
 
 def test_repeats_need_the_occurred_encoding_and_their_own_names():
     with pytest.raises(ValueError, match="repeats=True needs encoding='occurred'"):
         EventLogEncoder(repeats=True, encoding="current").fit([["a"]])
-    with pytest.raises(ValueError, match=r"names 'a#2' the repetition of 'a'"):
-        EventLogEncoder(repeats=True).fit([["a", "a", "a#2"]])
+    with pytest.raises(ValueError, match=r"names 'a<=1' the repetition of 'a'"):
+        EventLogEncoder(repeats=True).fit([["a", "a", "a<=1"]])
