@@ -1,7 +1,8 @@
-"""Issue 27: BSI on event logs with and without the encoder's negations, paired over seeds.
+"""Issue 27: BSI on event logs with and without an encoder option, paired over seeds.
 
     python benchmarks/bench_event_log_negations.py              # the recorded run (~15 min)
     python benchmarks/bench_event_log_negations.py --quick      # 10x100, 3 seeds (temp folder)
+    python benchmarks/bench_event_log_negations.py --option repeats   # a<=1 columns off / on
 
 ``EventLogEncoder(negations=True)`` adds ``!a`` for every activity, so that ``G(!a)`` states
 Declare's absence. Whether that is the right default is measured here: for each size, rule
@@ -13,6 +14,10 @@ was first tried on), so the comparison is over logs it was not chosen on. Report
 rule: mean accuracy of each, the paired difference with a 95 % t-interval over seeds, the
 worst single difference, median fit time, and how often the MAP is the hidden rule (where the
 rule has a :class:`~bsi_sklearn.Specification`).
+
+``--option repeats`` measures ``EventLogEncoder(repeats=True)`` (the ``a<=1`` columns, so that
+``G(a<=1)`` states Declare's at-most-once) the same way, against the default encoder (its
+negations on in both fits).
 """
 
 from __future__ import annotations
@@ -32,20 +37,31 @@ import numpy as np  # noqa: E402
 from _common import md_table  # noqa: E402
 from bench_event_logs import _header, run_grid  # noqa: E402
 
-__all__ = ["SETTINGS", "specs", "summary", "main"]
+__all__ = ["SETTINGS", "OPTIONS", "specs", "summary", "main"]
 
 #: (activities, cases, seeds) of the recorded run.
 SETTINGS = ((10, 100, range(1, 11)), (20, 500, range(1, 6)), (40, 1000, range(1, 4)))
 QUICK = ((10, 100, range(1, 4)),)
 RULES = ("template", "declare")
+#: The encoder options compared: the encoder's parameters off / on, the table's names, the
+#: files' names and the title.
+OPTIONS = {
+    "negations": dict(encoders=({"negations": False}, {"negations": True}),
+                      names=("activities alone", "with negations"), files="negations",
+                      title="the encoder's negations on and off"),
+    "repeats": dict(encoders=({}, {"repeats": True}), names=("defaults", "with a<=1"),
+                    files="repeats",
+                    title="the encoder's at-most-once columns (`repeats=True`) on and off"),
+}
 
 
-def specs(settings, noise=0.05):
-    """One BSI row per size, rule, seed and setting of ``negations``."""
-    return [dict(task="negations", n_activities=a, n_cases=c, rule=rule, noise=noise,
-                 seed=seed, method="bsi", encoder={"negations": neg}, negations=neg)
+def specs(settings, noise=0.05, option="negations"):
+    """One BSI row per size, rule, seed and setting of ``option`` (a column of bools)."""
+    encoders = OPTIONS[option]["encoders"]
+    return [dict(task=option, n_activities=a, n_cases=c, rule=rule, noise=noise,
+                 seed=seed, method="bsi", encoder=encoders[on], **{option: on})
             for a, c, seeds in settings for rule in RULES for seed in seeds
-            for neg in (False, True)]
+            for on in (False, True)]
 
 
 def _interval(d):
@@ -57,12 +73,13 @@ def _interval(d):
     return d.mean() - half, d.mean() + half
 
 
-def summary(df):
+def summary(df, option="negations"):
     """The paired comparison per size and rule, as table rows (seeds where both fits ran)."""
     rows = []
+    off_name, on_name = OPTIONS[option]["names"]
     ok = df[df["status"] == "ok"]
     for (a, c, rule), part in ok.groupby(["n_activities", "n_cases", "rule"], sort=False):
-        wide = part.pivot_table(index="seed", columns="negations",
+        wide = part.pivot_table(index="seed", columns=option,
                                 values=["accuracy", "fit_s"]).dropna()
         if wide.empty:
             continue
@@ -72,18 +89,18 @@ def summary(df):
         paired = part[part["seed"].isin(wide.index)]
         rec = (paired.dropna(subset=["rule_recovered"]) if "rule_recovered" in paired
                else paired[:0])
-        recovered = {neg: int(rec[rec["negations"] == neg]["rule_recovered"].astype(bool).sum())
-                     for neg in (False, True)}
-        n_rec = int((rec["negations"] == True).sum())  # noqa: E712 (a column of bools)
+        recovered = {on: int(rec[rec[option] == on]["rule_recovered"].astype(bool).sum())
+                     for on in (False, True)}
+        n_rec = int((rec[option] == True).sum())  # noqa: E712 (a column of bools)
         rows.append([f"{a}x{c}", rule, len(d), f"{off.mean():.3f}", f"{on.mean():.3f}",
                      f"{d.mean():+.3f} [{low:+.3f}, {high:+.3f}]", f"{d.min():+.3f}",
                      f"{np.median(wide['fit_s'][False]):.2f} / "
                      f"{np.median(wide['fit_s'][True]):.2f}",
                      f"{recovered[False]} / {recovered[True]} of {n_rec}" if n_rec else "-"])
-    return md_table(["activities x cases", "rule", "seeds", "accuracy, activities alone",
-                     "accuracy, with negations", "difference (95 % t-interval)",
-                     "worst difference", "median fit s (alone / with)",
-                     "rule recovered (alone / with)"], rows)
+    return md_table(["activities x cases", "rule", "seeds", f"accuracy, {off_name}",
+                     f"accuracy, {on_name}", "difference (95 % t-interval)",
+                     "worst difference", f"median fit s ({off_name} / {on_name})",
+                     f"rule recovered ({off_name} / {on_name})"], rows)
 
 
 def main(argv=None):
@@ -92,30 +109,36 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true", help="10x100, 3 seeds, temp folder")
     parser.add_argument("--timeout", type=float, default=300.0, help="seconds per fit")
     parser.add_argument("--memory-limit", type=float, default=8.0, help="GiB per fit")
+    parser.add_argument("--option", choices=sorted(OPTIONS), default="negations",
+                        help="the encoder option compared (default: %(default)s)")
     parser.add_argument("--out", default=None, help="folder of the CSV and the table")
     args = parser.parse_args(argv)
+    option = OPTIONS[args.option]
     out = Path(args.out) if args.out else (
-        Path(tempfile.mkdtemp(prefix="bench_negations_")) if args.quick else HERE)
+        Path(tempfile.mkdtemp(prefix=f"bench_{option['files']}_")) if args.quick else HERE)
     t0 = time.perf_counter()
-    df = run_grid(specs(QUICK if args.quick else SETTINGS), args.timeout, args.memory_limit)
+    df = run_grid(specs(QUICK if args.quick else SETTINGS, option=args.option), args.timeout,
+                  args.memory_limit)
     df = df.drop(columns=["encoder"], errors="ignore")
     out.mkdir(parents=True, exist_ok=True)
-    csv = out / "event_logs" / "negations.csv" if out == HERE else out / "negations.csv"
+    name = f"{option['files']}.csv"
+    csv = out / "event_logs" / name if out == HERE else out / name
     csv.parent.mkdir(parents=True, exist_ok=True)
     df.to_csv(csv, index=False)
     command = "python benchmarks/bench_event_log_negations.py " + " ".join(argv)
     failed = df[df["status"] != "ok"]
-    text = ["# Event logs: the encoder's negations on and off (issue 27)", "",
+    off_name, on_name = option["names"]
+    text = [f"# Event logs: {option['title']} (issue 27)", "",
             *_header(command.strip(), time.perf_counter() - t0),
             "Protocol: this script's docstring. Accuracy on the 30 % test cases against their "
-            "clean labels; difference = with negations - activities alone, paired by seed.",
-            "", summary(df), "",
+            f"clean labels; difference = {on_name} - {off_name}, paired by seed.",
+            "", summary(df, args.option), "",
             f"Fits that did not finish: {len(failed)}"
             + (" (" + ", ".join(f"{r.n_activities}x{r.n_cases} {r.rule} seed {r.seed} "
-                                f"negations={r.negations}: {r.status}"
+                                f"{args.option}={getattr(r, args.option)}: {r.status}"
                                 for r in failed.itertuples()) + ")" if len(failed) else "")
             + f". Rows: `{csv.relative_to(out) if out == HERE else csv}`.", ""]
-    results = out / "RESULTS_event_log_negations.md"
+    results = out / f"RESULTS_event_log_{option['files']}.md"
     results.write_text("\n".join(text))
     print(f"wrote {csv}\nwrote {results}")
     return 0

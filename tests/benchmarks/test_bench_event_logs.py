@@ -149,6 +149,14 @@ def test_the_negations_comparison_pairs_by_seed(rows):
     table = neg.summary(df)
     assert "| 10x60 | declare | 2 | 0.600 | 0.850 | +0.250 [" in table
     assert "| +0.100 |" in table and "| 0 / 1 of 2 |" in table
+    # --option repeats: the default encoder against repeats=True, a column "repeats"
+    specs = neg.specs(((10, 60, range(1, 2)),), option="repeats")
+    assert [(s["encoder"], s["repeats"]) for s in specs[:2]] == [({}, False),
+                                                               ({"repeats": True}, True)]
+    on = rows.run_row(specs[1])
+    assert on["encoding"] == "EventLogEncoder(repeats=True)" and on["status"] == "ok"
+    table = neg.summary(df.rename(columns={"negations": "repeats"}), "repeats")
+    assert "accuracy, with a<=1" in table and "| 10x60 | declare | 2 | 0.600 | 0.850 |" in table
 
 
 def test_the_target_sweep_counts_the_fits_within_the_target(bench, tmp_path):
