@@ -37,7 +37,7 @@ from bsi_sklearn.model.priors import (
 )
 from bsi_sklearn.model.state_layout import parent_offset, state_width, w1_offset
 
-__all__ = ["weigh_neighbours", "MARGIN"]
+__all__ = ["weigh_neighbours", "neighbours_within", "neighbour_work", "MARGIN"]
 
 #: Neighbours weighed within this many nats below the floor are scored again from scratch:
 #: the incremental and the from-scratch sums of the same terms differ by rounding only.
@@ -76,21 +76,58 @@ def weigh_neighbours(rows, demos, model, floor):
     neighbours : ndarray of shape (m, n_cols), int16
     log_posteriors : ndarray of shape (m,)
     """
+    found, scores, _, _, _ = neighbours_within(rows, demos, model, floor)
+    return found, scores
+
+
+def neighbour_work(demos, model):
+    """``(per row, per neighbour kept)``: the work :func:`neighbours_within` counts.
+
+    A row costs its violation counts (every clause over every unique demonstration) and the
+    weighing of its blocks (a bit over the demonstrations, a place over their bitset's words);
+    a neighbour kept, its exact score (every clause over every demonstration).
+    """
+    n_g, n = model.n_g, model.n
+    n_clauses, n_rows = demos.truth_t.shape
+    n_words = max(1, demos.bits.shape[1])
+    per_kept = float(max(1, n_clauses) * n_rows)
+    return per_kept + n_g * n_rows + n_neighbours_max(n_g, n) * n_words, per_kept
+
+
+def neighbours_within(rows, demos, model, floor, max_work=np.inf):
+    """:func:`weigh_neighbours` row by row, within ``max_work`` (:func:`neighbour_work`).
+
+    Returns ``(neighbours, log_posteriors, sources, done, spent)``: ``sources[i]`` is the
+    index in ``rows`` of the row whose neighbour ``neighbours[i]`` is; ``done`` the number of
+    rows whose neighbours are all there (the first ``done``: the work is counted after every
+    row, and the rows after the one that passed ``max_work`` are left out); ``spent`` the
+    work counted.
+    """
     rows = np.ascontiguousarray(rows, dtype=np.int64)
     n_cols = state_width(model.n_g, model.n)
     per_row = n_neighbours_max(model.n_g, model.n)
+    per_source, per_kept = neighbour_work(demos, model)
     bufs = make_buffers(model.n_g, model.n, demos.truth_t.shape[1], 1)
     work, scratch = _work(demos, model), _scratch(demos, model)
-    found, scores = [], []
-    for i in range(rows.shape[0]):  # one buffer of one row's neighbours at a time
-        out = np.empty((per_row, n_cols), dtype=np.int64)
-        out_lp = np.empty(per_row)
-        m = _weigh(rows[i], demos, model, float(floor), bufs, work, scratch, out, out_lp)
+    found, scores, sources = [], [], []
+    out = np.empty((per_row, n_cols), dtype=np.int64)  # one row's neighbours at a time
+    out_lp = np.empty(per_row)
+    spent, done = 0.0, 0
+    for i in range(rows.shape[0]):
+        if spent > max_work:
+            break
+        m, weighed = _weigh(rows[i], demos, model, float(floor), bufs, work, scratch, out,
+                            out_lp)
         found.append(out[:m].astype(np.int16))
-        scores.append(out_lp[:m])
+        scores.append(out_lp[:m].copy())
+        sources.append(np.full(m, i, dtype=np.int64))
+        spent += per_source + weighed * per_kept
+        done += 1
     if not found:
-        return np.empty((0, n_cols), dtype=np.int16), np.empty(0)
-    return np.concatenate(found), np.concatenate(scores)
+        return (np.empty((0, n_cols), dtype=np.int16), np.empty(0),
+                np.empty(0, dtype=np.int64), done, spent)
+    return (np.concatenate(found), np.concatenate(scores), np.concatenate(sources), done,
+            spent)
 
 
 @helper
@@ -125,8 +162,9 @@ def _weigh(source, demos, model, floor, bufs, work, scratch, out, out_lp):
     lp_sub = (log_prior_subset(n_tau, n_g, model.p_global)
               + log_prior_subset(n_w1, n, model.p_eventual))
     m = np.int64(0)
+    scored = np.int64(0)  # neighbours scored from scratch
     if lp_struct + lp_sub == -np.inf:
-        return m
+        return m, scored
     n_conj = fill_viol(viol, tau, w1, parent, demos.truth_t, model)
     cut = floor - MARGIN
     lg = log_inclusion(model.p_global)
@@ -152,8 +190,9 @@ def _weigh(source, demos, model, floor, bufs, work, scratch, out, out_lp):
                 row[col] = source[col]
             row[b] = 1 - inc
             m = _keep(out, out_lp, m, row, floor, demos, model, scratch)
+            scored += 1
     if n <= 1:
-        return m
+        return m, scored
     keep_w1, keep_parent, keep_viol = work.keep_w1, work.keep_parent, work.keep_viol
     for w in range(n):
         keep_w1[w] = w1[w]
@@ -199,9 +238,10 @@ def _weigh(source, demos, model, floor, bufs, work, scratch, out, out_lp):
                     break
             if not same:
                 m = _keep(out, out_lp, m, row, floor, demos, model, scratch)
+                scored += 1
         for w in range(n):
             w1[w] = keep_w1[w]
             parent[w] = keep_parent[w]
         for d in range(viol.shape[0]):
             viol[d] = keep_viol[d]
-    return m
+    return m, scored

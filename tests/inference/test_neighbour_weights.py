@@ -9,7 +9,11 @@ import numpy as np
 import pytest
 
 from bsi_sklearn.inference._local_search import neighbourhood
-from bsi_sklearn.inference._neighbour_weights import weigh_neighbours
+from bsi_sklearn.inference._neighbour_weights import (
+    neighbour_work,
+    neighbours_within,
+    weigh_neighbours,
+)
 from bsi_sklearn.inference.mcmc import deduplicate_demos, score_states
 from bsi_sklearn.model import make_model
 from bsi_sklearn.model.likelihood import LIKELIHOODS
@@ -77,3 +81,19 @@ def test_no_rows_no_neighbours():
     model, demos, rows = _problem("sets_of_chains", "cb", 2, 2, 0)
     got_rows, got_lp = weigh_neighbours(rows[:0], demos, model, -np.inf)
     assert got_rows.shape == (0, rows.shape[1]) and got_lp.shape == (0,)
+
+
+def test_neighbours_within_a_budget_say_whose_they_are_and_stop_after_a_row():
+    model, demos, rows = _problem("sets_of_chains", "cb", 3, 4, 1)
+    whole = weigh_neighbours(rows, demos, model, -np.inf)
+    found, scores, sources, done, spent = neighbours_within(rows, demos, model, -np.inf)
+    assert done == len(rows) and np.array_equal(found, whole[0])
+    per_row, per_kept = neighbour_work(demos, model)
+    assert spent >= len(rows) * per_row + len(found) * per_kept
+    for i, row in enumerate(rows):
+        own = weigh_neighbours(row[None, :], demos, model, -np.inf)[0]
+        assert np.array_equal(found[sources == i], own)
+    # the work is counted after every row: a budget below one row's still does one
+    part = neighbours_within(rows, demos, model, -np.inf, max_work=per_row / 2)
+    assert part[3] == 1 and np.array_equal(part[0], found[sources == 0])
+    assert neighbours_within(rows, demos, model, -np.inf, max_work=0.0)[3] == 1
