@@ -32,7 +32,8 @@ from bsi_sklearn.model.likelihood import log_likelihood, log_likelihood_cb
 from bsi_sklearn.model.priors import log_inclusion
 
 __all__ = ["add_pair", "draw", "sat_counts", "zero_mask", "bit_sums", "flip_move",
-           "chain_move", "forest_move"]
+           "flip_sums", "chain_move", "chain_candidates", "chain_apply", "forest_move",
+           "forest_candidates", "forest_apply"]
 
 
 # The weights are whole numbers (demonstration counts), so their sums are exact in any order:
@@ -219,6 +220,22 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     Returns ``(N, log prior of the structure, log-likelihood, candidates, the one drawn)``;
     ``w1[v]`` is updated in place; ``bufs.lw[:candidates]`` holds the candidates' weights.
     """
+    n_conj, k = chain_candidates(v, parent, w1, viol, n_conj, demos, model, bufs, beta)
+    j = draw(bufs.lw, k, unif, bufs.cand_ew)
+    n_conj = chain_apply(j, v, parent, w1, viol, n_conj, demos, model, bufs)
+    return n_conj, bufs.cand_lp[j], bufs.cand_ll[j], k, j
+
+
+@njit(cache=True, nogil=True, inline="always")
+def chain_candidates(v, parent, w1, viol, n_conj, demos, model, bufs, beta):
+    """Take subtask ``v`` and ``F(v)`` out (in place) and weigh every place to put them back.
+
+    Returns ``(N without them, candidates)``: candidate ``i`` puts ``v`` at position
+    ``bufs.cand_pos[i]`` of the chain headed by ``bufs.cand_head[i]`` (``-1``: a new chain),
+    with ``F(v)`` when ``i`` is odd; ``bufs.lw``, ``cand_lp`` and ``cand_ll`` hold its weight
+    at ``beta``, its structure's log prior and its log-likelihood; ``bufs.child`` the
+    successors without ``v``.
+    """
     # Priors 1 / 2: take v (and F(v)) out and redraw its place among every position of every
     # remaining chain and a new chain (a candidate only where the prior has such structures),
     # each with F(v) left out or put in.
@@ -227,7 +244,6 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     cv = clause_index_eventual(v, model.n_g)
     le_in, le_out = log_inclusion(model.p_eventual)
     lp_chains = model.lp_chains
-    lw, cand_lp, cand_ew = bufs.lw, bufs.cand_lp, bufs.cand_ew
     cand_head, cand_pos, child = bufs.cand_head, bufs.cand_pos, bufs.child
     if w1[v]:
         add_pair(viol, truth_t, cv, np.int64(-1))
@@ -304,16 +320,24 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
             cand_head[k + i] = -1
             cand_pos[k + i] = 0
         k += 2
-    j = draw(lw, k, unif, cand_ew)
+    return n_conj, k
+
+
+@njit(cache=True, nogil=True, inline="always")
+def chain_apply(j, v, parent, w1, viol, n_conj, demos, model, bufs):
+    """Put ``v`` back as candidate ``j`` of :func:`chain_candidates` says; returns ``N``."""
+    truth_t = demos.truth_t
+    n = model.n
+    child = bufs.child
     inc = j & 1
     w1[v] = inc
     if inc:
-        add_pair(viol, truth_t, cv, np.int64(1))
+        add_pair(viol, truth_t, clause_index_eventual(v, model.n_g), np.int64(1))
         n_conj += 1
-    h = cand_head[j]
+    h = bufs.cand_head[j]
     if h < 0:
-        return n_conj, cand_lp[j], bufs.cand_ll[j], k, j
-    p = cand_pos[j]
+        return n_conj
+    p = bufs.cand_pos[j]
     u = h
     prev = -1
     i = 0
@@ -332,7 +356,7 @@ def chain_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     parent[v] = prev
     if nxt >= 0:
         parent[nxt] = v
-    return n_conj, cand_lp[j], bufs.cand_ll[j], k, j
+    return n_conj
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -342,6 +366,22 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     Returns ``(N, log prior of the structure, log-likelihood, candidates, the one drawn)``;
     ``w1[v]`` is updated in place; ``bufs.lw[:candidates]`` holds the candidates' weights.
     """
+    n_conj, k, size_s = forest_candidates(v, parent, w1, viol, n_conj, demos, model, bufs,
+                                          beta)
+    j = draw(bufs.lw, k, unif, bufs.cand_ew)
+    n_conj = forest_apply(j, v, size_s, parent, w1, viol, n_conj, demos, model, bufs)
+    return n_conj, bufs.cand_lp[j], bufs.cand_ll[j], k, j
+
+
+@njit(cache=True, nogil=True, inline="always")
+def forest_candidates(v, parent, w1, viol, n_conj, demos, model, bufs, beta):
+    """Prune the subtree under ``v`` and ``F(v)`` (in place) and weigh every regraft.
+
+    Returns ``(N without them, candidates, the subtree's size)``: candidate ``i`` makes
+    ``bufs.cand_head[i]`` the parent of ``v`` (``-1``: a root), with ``F(v)`` when ``i`` is
+    odd; ``bufs.lw``, ``cand_lp`` and ``cand_ll`` as for :func:`chain_candidates`;
+    ``bufs.in_s`` marks the subtree.
+    """
     # Prior 3: prune the subtree rooted at v and regraft it anywhere outside it, with F(v)
     # left out or put in.
     truth_t = demos.truth_t
@@ -349,7 +389,6 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
     cv = clause_index_eventual(v, model.n_g)
     le_in, le_out = log_inclusion(model.p_eventual)
     g, g_const = model.forest_g, model.forest_const
-    lw, cand_ew = bufs.lw, bufs.cand_ew
     cand_head, in_s, size = bufs.cand_head, bufs.in_s, bufs.size
     if w1[v]:
         add_pair(viol, truth_t, cv, np.int64(-1))
@@ -419,13 +458,21 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
         cand_head[k] = u
         cand_head[k + 1] = u
         k += 2
-    j = draw(lw, k, unif, cand_ew)
+    return n_conj, k, size_s
+
+
+@njit(cache=True, nogil=True, inline="always")
+def forest_apply(j, v, size_s, parent, w1, viol, n_conj, demos, model, bufs):
+    """Regraft as candidate ``j`` of :func:`forest_candidates` says; returns ``N``."""
+    truth_t = demos.truth_t
+    n = model.n
+    in_s = bufs.in_s
     inc = j & 1
     w1[v] = inc
     if inc:
-        add_pair(viol, truth_t, cv, np.int64(1))
+        add_pair(viol, truth_t, clause_index_eventual(v, model.n_g), np.int64(1))
         n_conj += 1
-    u = cand_head[j]
+    u = bufs.cand_head[j]
     parent[v] = u
     a = u
     while a >= 0:
@@ -434,4 +481,4 @@ def forest_move(v, parent, w1, viol, n_conj, demos, model, bufs, unif, beta):
                 add_pair(viol, truth_t, clause_index_order(a, s, model.n_g, n), np.int64(1))
         n_conj += size_s
         a = parent[a]
-    return n_conj, bufs.cand_lp[j], bufs.cand_ll[j], k, j
+    return n_conj

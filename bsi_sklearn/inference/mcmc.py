@@ -28,6 +28,7 @@ from bsi_sklearn.inference._chain_kernel import (
     score_rows,
     violation_rows,
 )
+from bsi_sklearn.inference._closure import Closure, found_states
 from bsi_sklearn.inference._local_search import beam_search, n_neighbours_max, neighbourhood
 from bsi_sklearn.inference._reach import reach
 from bsi_sklearn.inference.diagnostics import MODE_WARN, missed_mass, split_rhat
@@ -318,7 +319,8 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
 
         bar = tqdm(total=len(runs) * plan[-1], desc="MCMC sweeps", unit="sweep")
     scored = {}  # the exact log posterior of every state seen, by its row's bytes
-    record, done = [], 0
+    record, done, near = [], 0, None
+    closure = Closure(demos, model)
     # Chains are threads of this process (the kernels release the GIL), also when an outer
     # joblib backend such as dask distributes whole fits.
     with Parallel(n_jobs=n_jobs, backend="threading") as parallel:
@@ -345,21 +347,25 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
                 break
             probs = np.exp(visited_lp - visited_lp.max())
             probs /= probs.sum()
-            # They stopped finding mass when the states first *visited* late hold little (a
-            # walk's new state is always one block from its last, so every late state would
-            # count as reached early).
+            # They stopped finding mass when the states first found late hold little: found
+            # is visited, or weighed one block from a visited state and so in the support
+            # (:mod:`._closure`). Reach alone would not do: a walk's new state is always one
+            # block from its last, so every late state would count as reached early.
             first = np.full(len(visited), np.iinfo(np.int64).max)
             for r, rows in zip(results, per_chain):
                 np.minimum.at(first, rows, np.cumsum(r.counts) - r.counts)
+            near = closure.update(visited, visited_lp, first)
+            found = None if near is None else found_states(visited, visited_lp, first, near)
             stop, detail = should_stop(per_chain, probs, first,
-                                       np.stack([r.trace_lp for r in results]), reached=reached)
+                                       np.stack([r.trace_lp for r in results]), reached=reached,
+                                       found=found)
             record.append(dict(detail, n_samples=done))
             if stop:
                 break
     if bar is not None:
         bar.close()
     stopping = {"rounds": record, "stopped_early": done < plan[-1]}
-    return results, visited, counts, reached, visited_lp, stopping
+    return results, visited, counts, reached, visited_lp, stopping, near
 
 
 def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
@@ -372,8 +378,10 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     hot replicas leave it at once. Burn-in lasts ``burn_in`` sweeps and then, for at most
     ``n_samples`` more, until the chain's log posterior is within ``log 20`` of the optimum's.
     The reported posterior is the exact posterior restricted to the states the chains
-    recorded, the optimum, and the one-block neighbours of the most probable of them (where
-    the posterior is flat, states each too improbable to be visited add up), renormalised.
+    recorded, the optimum, the neighbours of the recorded states that the stopping rule
+    counted as found (:mod:`bsi_sklearn.inference._closure`; ``n_samples="auto"``), and the
+    one-block neighbours of the most probable of them (where the posterior is flat, states
+    each too improbable to be visited add up), renormalised.
 
     Parameters
     ----------
@@ -410,15 +418,21 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     plan = rounds() if n_samples == "auto" else [int(n_samples)]
     runs = [ChainRun(int(seed), demos, model, betas, optimum, burn_in=int(burn_in),
                      target=optimum_lp - MODE_WARN, max_extra=plan[-1]) for seed in seeds]
-    results, visited, counts, reached, visited_lp, stopping = _run_rounds(
+    results, visited, counts, reached, visited_lp, stopping, near = _run_rounds(
         runs, plan, demos, model, n_jobs, verbose)
-    # The support: the visited states, the optimum, and their neighbourhood.
+    # The support: the visited states, the optimum, what the last round found one block from
+    # the visited states, and the neighbourhood of the most probable.
     support = np.concatenate([visited, optimum[None, :]])
     support_lp = np.concatenate([visited_lp, [optimum_lp]])
+    counts = np.concatenate([counts, [0]])
+    if near is not None:
+        support = np.concatenate([support, near[0]])
+        support_lp = np.concatenate([support_lp, near[1]])
+        counts = np.concatenate([counts, np.zeros(len(near[0]), dtype=np.int64)])
     extra, extra_lp = _complete(support, support_lp, demos, model)
     uniq, counts, inverse = unique_states(
         np.concatenate([support, extra]),
-        np.concatenate([counts, np.zeros(1 + len(extra), dtype=np.int64)]), return_inverse=True)
+        np.concatenate([counts, np.zeros(len(extra), dtype=np.int64)]), return_inverse=True)
     scores = np.empty(len(uniq))
     scores[inverse] = np.concatenate([support_lp, extra_lp])
     # Sort by decreasing posterior; ties keep np.unique's canonical order.

@@ -112,14 +112,33 @@ def test_auto_stops_after_the_first_round_on_a_peaked_posterior_and_is_exact(cas
     assert clf.map_specification_ == exact.map_specification_
 
 
-def test_auto_runs_a_flat_posterior_to_the_most_and_is_close_to_exact():
+@pytest.mark.parametrize("epsilon", [0.3, 0.4])
+def test_auto_stops_a_flat_posterior_once_nothing_more_is_found_and_is_close_to_exact(epsilon):
+    X, y, roles = _poi()
+    kw = dict(roles, likelihood="ci", epsilon=epsilon)
+    exact = BSIClassifier(inference="exact", **kw).fit(X, y)
+    assert exact.posterior_.probabilities[0] < 0.3 and len(exact.posterior_.probabilities) > 4000
+    clf = _auto_fit(X, y, **kw)
+    diag = clf.mcmc_diagnostics_
+    # The neighbours of the visited states are reported and count as found: the chains stop
+    # once the found set stops growing, long before 10,000 sweeps.
+    assert diag["stopping"]["stopped_early"] and diag["n_samples"] <= 4000
+    assert diag["stopping"]["rounds"][-1]["late_mass"] <= 0.001
+    assert total_variation(exact.posterior_, clf.posterior_) < 0.002
+
+
+def test_auto_past_the_closure_budget_counts_visits_and_runs_a_flat_posterior_to_the_most(
+        monkeypatch):
+    from bsi_sklearn.inference import _closure
+
+    monkeypatch.setattr(_closure, "CLOSURE_WORK", 0.0)
     X, y, roles = _poi()
     kw = dict(roles, likelihood="ci", epsilon=0.3)
     exact = BSIClassifier(inference="exact", **kw).fit(X, y)
-    assert exact.posterior_.probabilities[0] < 0.3
     clf = _auto_fit(X, y, **kw)
     diag = clf.mcmc_diagnostics_
-    # The chains keep finding states holding mass: every round runs, as n_samples=10_000 would.
+    # The chains keep visiting new states holding mass: every round runs, as
+    # n_samples=10_000 would.
     assert [r["n_samples"] for r in diag["stopping"]["rounds"]] == rounds()
     assert not diag["stopping"]["stopped_early"] and diag["n_samples"] == MAX_SAMPLES
     assert total_variation(exact.posterior_, clf.posterior_) < 0.01
