@@ -130,8 +130,9 @@ def fit_pair(X, y, roles, **mcmc_params):
 
 def _warm_up():
     X = [np.array([[1, 0, 0], [1, 1, 0], [1, 1, 1]])] * 3
-    # a warning of this throwaway fit is shown (once), not silenced
-    BSIClassifier(inference="mcmc", n_samples=20, random_state=0).fit(X)
+    # a warning of this throwaway fit is shown (once), not silenced; n_samples="auto" (its
+    # rounds weigh the visited states' neighbours) as the measured fits
+    BSIClassifier(inference="mcmc", random_state=0).fit(X)
 
 
 def measure(problems, **mcmc_params):

@@ -54,13 +54,15 @@ def _exact():
 
 
 def _mcmc():
-    """Sampling: tempered chains, the beam search and the support's completion."""
+    """Sampling: tempered chains, the beam search, the rounds and the support's completion."""
     from bsi_sklearn import BSIClassifier
 
     X, y, roles = _problem()
     for likelihood, flip in (("cb", None), ("ci", (1, 9))):  # the flip rate: violation rows
         BSIClassifier(inference="mcmc", likelihood=likelihood, flip_prior=flip, n_samples=200,
                       burn_in=20, random_state=0, **roles).fit(X, y)
+    # n_samples="auto": rounds, and the neighbours of the visited states weighed after each
+    BSIClassifier(inference="mcmc", random_state=0, **roles).fit(X, y)
 
 
 def _predict():

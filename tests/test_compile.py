@@ -48,6 +48,7 @@ with event.install_listener("numba:compile", Record()):
         clf.monitor_proba(good)
         BSIClassifier(inference="mcmc", n_samples=200, burn_in=20, random_state=0,
                       **roles).fit(good + bad, [1, 1, 0])
+        BSIClassifier(inference="mcmc", random_state=0, **roles).fit(good + bad, [1, 1, 0])
 signatures = {}
 for name, module in list(sys.modules.items()):
     if name.startswith("bsi_sklearn") and module is not None:
