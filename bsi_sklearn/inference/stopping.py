@@ -15,15 +15,15 @@ A chain's share is what it *reached* (:mod:`bsi_sklearn.inference._reach`): visi
 Gibbs block from a visited state, whose weight the chain's update computed exactly and drew
 against; on a plateau of equally probable states (interchangeable subtasks of an event log's
 order structure) each chain reaches nearly all of it long before it has visited every state.
-A state is *found* when it is visited, or one block from a visited state and above the floor:
-the sampler weighs the neighbours of every visited state and reports them
-(:mod:`bsi_sklearn.inference._closure`), so the late mass counts the first sweep at which a
-state or one of its neighbours was visited. Counting reach without reporting the reached
-states would hide the mass still being found (a walk's new state is always one block from its
-last; on a diffuse CI posterior of 4,672 states it stopped after one round at TV 0.013 to
-exact); with them reported, the diffuse CI posteriors of the tests stop after the first round
-at TV 0.0008, where counting visits ran all 10,000 sweeps for the same TV. Past the closure's
-work budget the late mass counts first visits.
+A state is *found* when it is visited, or one block from a found state that is visited or
+nearly as probable as the best (:mod:`bsi_sklearn.inference._closure`, which weighs them, and
+whose states the sampler reports), so the late mass counts the first sweep at which a state
+was found. Counting reach without reporting the reached states would hide the mass still being
+found (a walk's new state is always one block from its last; on a diffuse CI posterior of 4,672
+states it stopped after one round at TV 0.013 to exact); with them reported, the diffuse CI
+posteriors of the tests stop after the first round at TV 0.0007 or less, where counting visits
+ran up to 10,000 sweeps for the same TV. Past the closure's work budget the late mass counts
+first visits.
 
 Every quantity is exact-scored, and the rule depends on the chains only, never on timing or
 on ``n_jobs``. A peaked posterior stops after the first round; a flat one, where the chains

@@ -322,9 +322,8 @@ def event_log_sentence(clause, conditions=None, *, negations=None, repeats=None)
     A condition ``pi`` (read at the first step, where nothing has occurred yet) is said as
     "if pi has occurred at the start".
 
-    ``repeats`` maps the at-most-once columns of ``EventLogEncoder(repeats=True)``
-    (``EventLogEncoder.repeats_``, ``{"pay<=1": "pay"}``) to their activities: ``G(pay<=1)``
-    is ``absence2(pay): pay occurs at most once.``; by default no column is one.
+    ``repeats`` (``EventLogEncoder.repeats_``, ``{"pay<=1": "pay"}``) names the at-most-once
+    columns: ``G(pay<=1)`` is ``absence2(pay): pay occurs at most once.`` (default: none).
 
     Examples
     --------
@@ -342,17 +341,13 @@ def event_log_sentence(clause, conditions=None, *, negations=None, repeats=None)
     _check_clause(clause)
     cond = {k: v for k, v in (conditions or {}).items() if v is not None}
     negates = negation_reader(negations, "event_log_sentence")
-    once = dict(repeats or {})
     c, body = _form(clause, cond, negates)
     kind, lit = body[0], body[-1]
-    a = lit.atom
+    a, b = lit.atom, (repeats or {}).get(lit.atom)  # b: a is "b occurred at most once so far"
     none = "true of no case (nothing has occurred at its start)"
-    if lit.positive and a in once and kind in ("G", "F", "now"):
-        # "a occurred at most once so far": true at the start, false from a's second event.
-        b = once[a]
+    if lit.positive and b is not None and kind in ("G", "F", "now"):
         text = (f"absence2({b}): {b} occurs at most once." if kind == "G" else
-                f"{b} has occurred at most once at {'some step' if kind == 'F' else 'the start'}"
-                ": true of every case (at its start).")
+                f"{b} has occurred at most once so far: true of every case at its start.")
     elif kind == "G":
         text = (f"{a} has occurred from the start." if lit.positive
                 else f"absence({a}): {a} never occurs.")

@@ -1,10 +1,14 @@
-"""What the chains found (``_closure``): the visited states' neighbours, once each, in budget."""
+"""What the chains found (``_closure``): through the most probable states, once each, in budget.
+
+The reference is a fixed-point iteration over ``weigh_neighbours`` (itself tested against
+the local search's from-scratch scores).
+"""
 
 import numpy as np
 import pytest
 
 from bsi_sklearn.inference import _closure
-from bsi_sklearn.inference._closure import CLOSURE_FLOOR, Closure, found_states
+from bsi_sklearn.inference._closure import CLOSURE_EXPAND, CLOSURE_FLOOR, Closure, found_states
 from bsi_sklearn.inference._neighbour_weights import weigh_neighbours
 from bsi_sklearn.inference.mcmc import deduplicate_demos, score_states, unique_states
 from bsi_sklearn.model import make_model
@@ -24,30 +28,67 @@ def problem():
     return model, demos, rows, score_states(rows.astype(np.int64), demos, model)
 
 
-def test_the_closure_is_the_visited_states_neighbours_with_their_first_visit(problem):
+def _reference(rows, lp, first, demos, model):
+    # The closure by fixed-point iteration: weigh the visited states and every found state
+    # within CLOSURE_EXPAND of the best visited one, until no state's time (the least first
+    # visit of a weighed state it is reached from) changes.
+    neighbours = {}
+
+    def near(row):
+        key = row.tobytes()
+        if key not in neighbours:
+            got = weigh_neighbours(row[None, :], demos, model, -np.inf)
+            neighbours[key] = list(zip(got[0], got[1]))
+        return neighbours[key]
+
+    when = {r.tobytes(): int(f) for r, f in zip(rows, first)}
+    found, weighed = {}, {r.tobytes(): r for r in rows}
+    floor, expand = float(lp.max()) - CLOSURE_FLOOR, float(lp.max()) - CLOSURE_EXPAND
+    while True:
+        changed = False
+        for key, row in list(weighed.items()):
+            for nrow, s in near(row):
+                if s < floor:
+                    continue
+                k = nrow.tobytes()
+                if when[key] < when.get(k, np.iinfo(np.int64).max):
+                    when[k] = when[key]
+                    changed = True
+                found[k] = (nrow, s)
+                if s >= expand and k not in weighed:
+                    weighed[k] = nrow
+                    changed = True
+        if not changed:
+            return {k: (s, when[k]) for k, (_, s) in found.items() if s >= floor}
+
+
+def test_the_closure_is_found_through_the_most_probable_states_with_first_times(problem):
     model, demos, rows, lp = problem
     first = np.arange(len(rows))[::-1] * 10
     near, near_lp, when = Closure(demos, model).update(rows, lp, first)
-    floor = lp.max() - CLOSURE_FLOOR
-    assert (near_lp >= floor).all() and len(near)
-    for i, row in enumerate(rows):
-        own, own_lp = weigh_neighbours(row[None, :], demos, model, floor)
-        mine = {r.tobytes(): s for r, s in zip(own, own_lp)}
-        got = {r.tobytes(): s for r, s, w in zip(near, near_lp, when) if w == first[i]}
-        assert got == mine
+    got = {r.tobytes(): (s, w) for r, s, w in zip(near, near_lp, when)}
+    assert got == _reference(rows, lp, first, demos, model)
+    for row in rows:  # every visited state's neighbours above the floor are found
+        own = weigh_neighbours(row[None, :], demos, model, lp.max() - CLOSURE_FLOOR)[0]
+        assert {r.tobytes() for r in own} <= set(got) | {r.tobytes() for r in rows}
+    assert (near_lp >= lp.max() - CLOSURE_FLOOR).all()
+    # a lone visited state of a flat problem already reaches far beyond its neighbours
+    one = Closure(demos, model).update(rows[:1], lp[:1], first[:1])
+    assert len(one[0]) > len(weigh_neighbours(rows[:1], demos, model, -np.inf)[0])
 
 
-def test_each_state_is_weighed_once_and_the_floor_rises(problem, monkeypatch):
+def test_each_state_is_weighed_once(problem, monkeypatch):
     model, demos, rows, lp = problem
     calls = []
     real = _closure.neighbours_within
     monkeypatch.setattr(_closure, "neighbours_within",
-                        lambda r, *a: calls.append(len(r)) or real(r, *a))
+                        lambda r, *a: calls.append(r.tobytes()) or real(r, *a))
     closure = Closure(demos, model)
     closure.update(rows[:5], lp[:5], np.zeros(5, dtype=np.int64))
-    near, near_lp, _ = closure.update(rows, lp, np.zeros(len(rows), dtype=np.int64))
-    assert calls == [5, len(rows) - 5]
-    assert (near_lp >= lp.max() - CLOSURE_FLOOR).all()
+    n_first = len(calls)
+    assert n_first == len(set(calls)) > 5
+    closure.update(rows, lp, np.zeros(len(rows), dtype=np.int64))
+    assert len(calls) == len(set(calls))
 
 
 def test_past_its_budget_the_closure_is_given_up_for_good(problem):
@@ -63,6 +104,6 @@ def test_found_states_count_from_the_earlier_of_visit_and_weighing():
     near = (np.array([[1, 1], [0, 0]], dtype=np.int16), np.array([0.0, np.log(2.0)]),
             np.array([3, 7]))
     probs, when = found_states(visited, np.array([0.0, 0.0]), np.array([5, 9]), near)
-    # unique rows sorted: [0, 0], [0, 1], [1, 1]
-    np.testing.assert_allclose(probs, [0.5, 0.25, 0.25])
-    assert when.tolist() == [7, 5, 3]
+    # the states in the order first seen: [0, 1], [1, 1], [0, 0]
+    np.testing.assert_allclose(probs, [0.25, 0.25, 0.5])
+    assert when.tolist() == [5, 3, 7]
