@@ -21,8 +21,8 @@ whose states the sampler reports), so the late mass counts the first sweep at wh
 was found. Counting reach without reporting the reached states would hide the mass still being
 found (a walk's new state is always one block from its last; on a diffuse CI posterior of 4,672
 states it stopped after one round at TV 0.013 to exact); with them reported, the diffuse CI
-posteriors of the tests stop after the first round at TV 0.0007 or less, where counting visits
-ran up to 10,000 sweeps for the same TV. Past the closure's work budget the late mass counts
+posteriors of the tests stop after the first round at TV 0.0002 or less, where counting visits
+ran up to 10,000 sweeps for TV 0.0002-0.0009. Past the closure's work budget the late mass counts
 first visits.
 
 Every quantity is exact-scored, and the rule depends on the chains only, never on timing or
