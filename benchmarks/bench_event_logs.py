@@ -154,11 +154,17 @@ def recovery_specs(seeds, activities, noise=0.05):
             for s in seeds for a in activities]
 
 
+def _save_csv(df, path):
+    # The rows in COLUMNS' order (then the rest) written to path; returns them.
+    path.parent.mkdir(parents=True, exist_ok=True)
+    df = df.reindex(columns=COLUMNS + [c for c in df.columns if c not in COLUMNS])
+    df.to_csv(path, index=False)
+    return df
+
+
 def write_recovery(df, out, command, seconds):
     """``recovery.csv`` and ``recovery.md`` under ``out``: every row and a summary per size."""
-    out.mkdir(parents=True, exist_ok=True)
-    df = df.reindex(columns=COLUMNS + [c for c in df.columns if c not in COLUMNS])
-    df.to_csv(out / "recovery.csv", index=False)
+    df = _save_csv(df, out / "recovery.csv")
     rows, summary = [], []
     for _, r in df.iterrows():
         rows.append([r["n_activities"], r["seed"], r["status"], _fmt(r.get("accuracy")),
@@ -197,9 +203,7 @@ def parse_seeds(text):
 
 def write_target(df, out, command, seconds):
     """``target.csv`` and ``target.md`` under ``out``: every seed's row and a summary."""
-    out.mkdir(parents=True, exist_ok=True)
-    df = df.reindex(columns=COLUMNS + [c for c in df.columns if c not in COLUMNS])
-    df.to_csv(out / "target.csv", index=False)
+    df = _save_csv(df, out / "target.csv")
     rows, summary = [], []
     for _, r in df.iterrows():
         rows.append([r["rule"], r["seed"], r["status"], _fmt(r.get("accuracy")),
