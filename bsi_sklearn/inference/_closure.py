@@ -29,7 +29,8 @@ import numpy as np
 
 from bsi_sklearn.inference._neighbour_weights import neighbours_within
 
-__all__ = ["Closure", "found_states", "CLOSURE_WORK", "CLOSURE_FLOOR", "CLOSURE_EXPAND"]
+__all__ = ["Closure", "found_states", "found_by_chain", "CLOSURE_WORK", "CLOSURE_FLOOR",
+           "CLOSURE_EXPAND"]
 
 #: The most work (:func:`~._neighbour_weights.neighbour_work`, clause-row operations) spent on
 #: weighing neighbours over a whole fit: a few seconds (the 344-state plateau above: 5.5e9,
@@ -54,6 +55,7 @@ class Closure:
         self.left = float(CLOSURE_WORK if max_work is None else max_work)
         self.given_up = False
         self._near = {}  # a weighed state's bytes -> (its neighbours, their log posteriors)
+        self._levels = (np.inf, np.inf)  # the floor and the expansion level of the last update
 
     def _weigh(self, rows, floor):
         # Weigh the neighbours of rows (not weighed yet); False past the budget.
@@ -89,6 +91,7 @@ class Closure:
             if len(lps):
                 best = max(best, float(lps.max()))
         floor, expand = best - CLOSURE_FLOOR, best - CLOSURE_EXPAND
+        self._levels = floor, expand
         # Visited states first, then the states found within `expand`, earliest first: a
         # state's time is the least time of a weighed state it is one block from.
         when = {}
@@ -132,12 +135,33 @@ class Closure:
                 np.array([lp_of[k] for k in found]),
                 np.array([when[k] for k in found], dtype=np.int64))
 
+    def reach(self, keys):
+        """What the states ``keys`` (bytes of visited rows) lead to, as the last update found.
+
+        The same traversal as :meth:`update` from these states alone (one chain's): the
+        states themselves, and the states above the floor one block from them or from a state
+        so found within ``CLOSURE_EXPAND`` of the best. Call after :meth:`update` (it weighed
+        every state this traverses); returns a set of bytes.
+        """
+        floor, expand = self._levels
+        out, todo = set(keys), list(keys)
+        while todo:
+            near, lps = self._near[todo.pop()]
+            for row, lp in zip(near, lps):
+                k = row.tobytes()
+                if lp >= floor and k not in out:
+                    out.add(k)
+                    if lp >= expand:
+                        todo.append(k)
+        return out
+
 
 def found_states(visited, visited_lp, first, near):
-    """Every state found, its probability among them and the first sweep it was found at.
+    """Every state found, its probability among them, the first sweep it was found at, its key.
 
     ``near`` is :meth:`Closure.update`'s ``(rows, log_posteriors, first_found)``; a state
-    both visited and weighed counts from the earlier of the two.
+    both visited and weighed counts from the earlier of the two. The keys are the rows' bytes
+    (as int16), in the order of the other two arrays.
     """
     at, lps, when = {}, [], []
     for rows, row_lp, row_first in ((visited, visited_lp, first), near):
@@ -150,4 +174,19 @@ def found_states(visited, visited_lp, first, near):
                 when[i] = min(when[i], int(t))
     lps = np.array(lps)
     probs = np.exp(lps - lps.max())
-    return probs / probs.sum(), np.array(when, dtype=np.int64)
+    return probs / probs.sum(), np.array(when, dtype=np.int64), list(at)
+
+
+def found_by_chain(closure, visited, per_chain, keys):
+    """For each chain, what its visited states lead to (:meth:`Closure.reach`).
+
+    ``per_chain`` holds each chain's visited states (indices into ``visited``); ``keys`` is
+    :func:`found_states`' order. Returns index arrays into it, one per chain.
+    """
+    index = {k: i for i, k in enumerate(keys)}
+    mine = [row.astype(np.int16).tobytes() for row in visited]
+    out = []
+    for rows in per_chain:
+        got = closure.reach({mine[i] for i in np.unique(rows)})
+        out.append(np.array(sorted(index[k] for k in got if k in index), dtype=np.int64))
+    return out

@@ -28,7 +28,7 @@ from bsi_sklearn.inference._chain_kernel import (
     score_rows,
     violation_rows,
 )
-from bsi_sklearn.inference._closure import Closure, found_states
+from bsi_sklearn.inference._closure import Closure, found_by_chain, found_states
 from bsi_sklearn.inference._local_search import beam_search, n_neighbours_max, neighbourhood
 from bsi_sklearn.inference._reach import reach
 from bsi_sklearn.inference.diagnostics import MODE_WARN, missed_mass, split_rhat
@@ -355,7 +355,11 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             for r, rows in zip(results, per_chain):
                 np.minimum.at(first, rows, np.cumsum(r.counts) - r.counts)
             near = closure.update(visited, visited_lp, first)
-            found = None if near is None else found_states(visited, visited_lp, first, near)
+            found = None
+            if near is not None:  # ... and each chain's share is what its states lead to
+                probs_found, first_found, keys = found_states(visited, visited_lp, first, near)
+                found = (probs_found, first_found,
+                         found_by_chain(closure, visited, per_chain, keys))
             stop, detail = should_stop(per_chain, probs, first,
                                        np.stack([r.trace_lp for r in results]), reached=reached,
                                        found=found)

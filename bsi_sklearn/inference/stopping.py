@@ -15,6 +15,8 @@ A chain's share is what it *reached* (:mod:`bsi_sklearn.inference._reach`): visi
 Gibbs block from a visited state, whose weight the chain's update computed exactly and drew
 against; on a plateau of equally probable states (interchangeable subtasks of an event log's
 order structure) each chain reaches nearly all of it long before it has visited every state.
+Where the closure below is computed, a chain's share is what its own visited states lead to
+through it, among everything found.
 A state is *found* when it is visited, or one block from a found state that is visited or
 nearly as probable as the best (:mod:`bsi_sklearn.inference._closure`, which weighs them, and
 whose states the sampler reports), so the late mass counts the first sweep at which a state
@@ -77,10 +79,11 @@ def should_stop(chain_rows, probabilities, first_seen, traces, reached=None, fou
     reached : sequence of ndarray of int, default=None
         For each chain, the states it reached (:func:`bsi_sklearn.inference._reach.reach`),
         which the missed mass counts; ``None``: the states it visited.
-    found : tuple of ndarray, default=None
-        ``(probabilities, first_found)`` of every state found (visited, or weighed one block
-        from a visited state and so in the support), which the late mass counts; ``None``:
-        ``probabilities`` and ``first_seen``.
+    found : tuple, default=None
+        ``(probabilities, first_found, chain_found)`` of every state found (visited, or
+        weighed from a visited state and so in the support: :mod:`._closure`), with each
+        chain's share of them (index arrays into them), which the late mass and the missed
+        mass count instead; ``None``: ``probabilities``, ``first_seen`` and ``reached``.
 
     Returns
     -------
@@ -97,11 +100,12 @@ def should_stop(chain_rows, probabilities, first_seen, traces, reached=None, fou
     >>> stop, detail["late_mass"]
     (True, 0.0005)
     """
-    missed = float(missed_mass(chain_rows if reached is None else reached,
-                               probabilities).max())
+    if found is None:
+        found = (probabilities, first_seen, chain_rows if reached is None else reached)
+    probs_found, first_found, shares = found
+    missed = float(missed_mass(shares, probs_found).max())
     rhat = split_rhat(traces)
     half = traces.shape[1] // 2
-    probs_found, first_found = (probabilities, first_seen) if found is None else found
     late = float(np.sum(probs_found[first_found >= half]))
     stop = missed <= STOP_MISSED and rhat <= STOP_RHAT and late <= STOP_LATE
     return stop, {"max_missed_mass": missed, "rhat": rhat, "late_mass": late}

@@ -103,7 +103,28 @@ def test_found_states_count_from_the_earlier_of_visit_and_weighing():
     visited = np.array([[0, 1], [1, 1]], dtype=np.int16)
     near = (np.array([[1, 1], [0, 0]], dtype=np.int16), np.array([0.0, np.log(2.0)]),
             np.array([3, 7]))
-    probs, when = found_states(visited, np.array([0.0, 0.0]), np.array([5, 9]), near)
+    probs, when, keys = found_states(visited, np.array([0.0, 0.0]), np.array([5, 9]), near)
+    assert keys == [r.tobytes() for r in (visited[0], visited[1], near[0][1])]
     # the states in the order first seen: [0, 1], [1, 1], [0, 0]
     np.testing.assert_allclose(probs, [0.25, 0.25, 0.5])
     assert when.tolist() == [5, 3, 7]
+
+
+def test_a_chain_reaches_what_its_own_states_lead_to(problem):
+    from bsi_sklearn.inference._closure import found_by_chain
+
+    model, demos, rows, lp = problem
+    first = np.zeros(len(rows), dtype=np.int64)
+    closure = Closure(demos, model)
+    near = closure.update(rows, lp, first)
+    probs, when, keys = found_states(rows, lp, first, near)
+    whole, part, alone = found_by_chain(closure, rows, [np.arange(len(rows)), np.arange(3),
+                                                        np.array([2, 2])], keys)
+    # all the visited states lead to everything found; a chain's share is in it
+    assert whole.tolist() == list(range(len(keys)))
+    assert set(part.tolist()) <= set(whole.tolist()) and set(alone) <= set(part)
+    # ... and holds its own states and their neighbours above the floor
+    floor = lp.max() - CLOSURE_FLOOR
+    own = {rows[2].tobytes()} | {r.tobytes() for r in
+                                  weigh_neighbours(rows[2:3], demos, model, floor)[0]}
+    assert own <= {keys[i] for i in alone}
