@@ -202,8 +202,9 @@ def _row_bsi(log, train, test, ytr, row):
     row["map"] = clf.map_specification_.to_ltl()
     if not ({p for p, _ in log.rule_clauses} - {"existence", "precedence", "absence"}):
         row["rule_recovered"] = bool(rule_recovered(clf.map_specification_, log))
-        row["rule_disagreement"] = rule_disagreement(
-            clf.map_specification_, log, row, [cases[c] for c in train])
+        if not row.get("positive_only"):  # a positive-only log's cases are drawn otherwise
+            row["rule_disagreement"] = rule_disagreement(
+                clf.map_specification_, log, row, [cases[c] for c in train])
     return clf.predict(Xte)
 
 
@@ -244,14 +245,16 @@ def run_row(spec):
     """One row: generate the log, split it, fit ``spec["method"]``, score on the test cases.
 
     Scores are against the test cases' clean labels (the rule's truth); training uses the
-    observed (noisy) labels. Returns the spec's fields plus ``status`` (``ok`` or why not),
-    ``accuracy``, ``f1_weighted``, ``fit_s``, ``n_train``, ``n_test``, and per method
-    ``hyper``, ``encoding``, ``encode_s``, ``map``, ``rule_recovered``,
-    ``rule_disagreement``.
+    observed (noisy) labels. ``positive_only`` in the spec: every case of the log is labelled
+    acceptable (BSI then learns from positives only; the clean labels say which are not).
+    Returns the spec's fields plus ``status`` (``ok`` or why not), ``accuracy``,
+    ``f1_weighted``, ``fit_s``, ``n_train``, ``n_test``, and per method ``hyper``,
+    ``encoding``, ``encode_s``, ``map``, ``rule_recovered``, ``rule_disagreement``.
     """
     row = dict(spec, method_label=LABELS[spec["method"]], status="ok")
     log = make_process_log(spec["n_activities"], spec["n_cases"], rule=spec["rule"],
-                           noise=spec["noise"], random_state=spec["seed"])
+                           noise=spec["noise"], random_state=spec["seed"],
+                           positive_only=bool(spec.get("positive_only", False)))
     train, test = split_log(log, spec)
     ytr = log.labels.loc[train].to_numpy()
     truth = log.clean_labels.loc[test].to_numpy()

@@ -162,16 +162,19 @@ def test_the_negations_comparison_pairs_by_seed(rows):
 def test_the_target_sweep_counts_the_fits_within_the_target(bench, tmp_path):
     assert bench.parse_seeds("0-3") == [0, 1, 2, 3] and bench.parse_seeds("2,5") == [2, 5]
     specs = bench.target_specs([0, 1])
-    assert [(s["rule"], s["seed"]) for s in specs] == [
-        ("template", 0), ("declare", 0), ("template", 1), ("declare", 1)]
+    assert [(s["rule"], s["positive_only"], s["seed"]) for s in specs] == [
+        ("template", False, 0), ("declare", False, 0), ("template", True, 0),
+        ("template", False, 1), ("declare", False, 1), ("template", True, 1)]
     assert all((s["n_activities"], s["n_cases"]) == bench.TARGET_SIZE for s in specs)
     df = pd.DataFrame([dict(s, status=st, fit_s=t, accuracy=0.9, peak_rss_mib=300.0,
                             inference="mcmc")
-                       for s, st, t in zip(specs, ["ok", "ok", "ok", "timeout"],
-                                           [12.0, 45.0, 29.0, None])])
+                       for s, st, t in zip(specs, ["ok", "ok", "ok", "ok", "timeout", "ok"],
+                                           [12.0, 45.0, 20.0, 29.0, None, 31.0])])
     paths = bench.write_target(df, tmp_path, "cmd", 1.0)
     text = paths[1].read_text()
-    # template: 12 and 29 s, both within 30 s; declare: 45 s and a timeout, neither.
+    # template: 12 and 29 s, both within 30 s; declare: 45 s and a timeout, neither;
+    # positive-only: 20 s and 31 s, one.
     assert "| template | 2 | 2 | 20.5 | 29.0 | 300 |" in text
     assert "| declare | 2 | 0 | 45.0 | 45.0 | 300 |" in text
-    assert len(pd.read_csv(paths[0])) == 4
+    assert "| template, positive-only | 2 | 1 | 25.5 | 31.0 | 300 |" in text
+    assert len(pd.read_csv(paths[0])) == 6
