@@ -195,9 +195,11 @@ def _row_bsi(log, train, test, ytr, row):
                                          log.activities, **row.get("encoder", {}))
     row["encode_s"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    clf = BSIClassifier(random_state=0).fit(Xtr, ytr)
+    params = dict(row.get("bsi") or {})  # BSIClassifier's parameters beside the defaults
+    clf = BSIClassifier(random_state=0, **params).fit(Xtr, ytr)
     row["fit_s"] = time.perf_counter() - t0
-    row["hyper"] = "defaults, random_state=0"
+    row["hyper"] = ", ".join([f"{k}={v!r}" for k, v in params.items()]
+                             or ["defaults"]) + ", random_state=0"
     row["inference"] = str(getattr(clf, "inference_", ""))
     row["map"] = clf.map_specification_.to_ltl()
     if not ({p for p, _ in log.rule_clauses} - {"existence", "precedence", "absence"}):
@@ -249,7 +251,9 @@ def run_row(spec):
     acceptable (BSI then learns from positives only; the clean labels say which are not).
     Returns the spec's fields plus ``status`` (``ok`` or why not), ``accuracy``,
     ``f1_weighted``, ``fit_s``, ``n_train``, ``n_test``, and per method ``hyper``,
-    ``encoding``, ``encode_s``, ``map``, ``rule_recovered``, ``rule_disagreement``.
+    ``encoding``, ``encode_s``, ``map``, ``rule_recovered``, ``rule_disagreement``. ``bsi`` in
+    the spec: ``BSIClassifier`` parameters other than the defaults (for example
+    ``{"likelihood": "ci"}``).
     """
     row = dict(spec, method_label=LABELS[spec["method"]], status="ok")
     log = make_process_log(spec["n_activities"], spec["n_cases"], rule=spec["rule"],

@@ -149,11 +149,13 @@ def target_specs(seeds, noise=0.05):
             + [("template", True)]]
 
 
-def recovery_specs(seeds, activities, noise=0.05):
-    """BSI's default fit on template logs with 200 training cases, one per seed and size."""
+def recovery_specs(seeds, activities, noise=0.05, bsi=None):
+    """BSI's fit (``bsi``: parameters beside the defaults) on template logs with 200 training
+    cases, one per seed and size."""
     n_test = int(round(RECOVERY_TRAIN * 0.3 / 0.7))
     return [dict(task="recovery", n_activities=a, n_cases=RECOVERY_TRAIN + n_test,
-                 n_train=RECOVERY_TRAIN, rule="template", noise=noise, seed=s, method="bsi")
+                 n_train=RECOVERY_TRAIN, rule="template", noise=noise, seed=s, method="bsi",
+                 **({"bsi": dict(bsi)} if bsi else {}))
             for s in seeds for a in activities]
 
 
@@ -179,9 +181,10 @@ def write_recovery(df, out, command, seconds):
         summary.append([a, len(part), len(ok), int(ok["rule_recovered"].astype(bool).sum()),
                         int((dis == 0).sum()), _fmt(dis.median(), 4), _fmt(dis.max(), 4),
                         _fmt(pd.to_numeric(ok["fit_s"]).median(), 1)])
+    params = df["hyper"].dropna().iloc[0] if df["hyper"].notna().any() else "defaults"
     text = ["# Rule recovery from 200 training cases (issue 27)", "",
             *_header(command, seconds),
-            f"Each row: `BSIClassifier(random_state=0)` defaults on `make_process_log(a, "
+            f"Each row: `BSIClassifier` ({params}) on `make_process_log(a, "
             f"{RECOVERY_TRAIN + int(round(RECOVERY_TRAIN * 0.3 / 0.7))}, \"template\", "
             f"noise=0.05, random_state=seed)`, {RECOVERY_TRAIN} training cases, in its own "
             "process. `same clauses`: the MAP's normalised clauses equal the rule's; "
@@ -378,6 +381,8 @@ def main(argv=None):
     parser.add_argument("--recovery-seeds", type=parse_seeds, default=None,
                         help="only the recovery rows, for these seeds (0-4 or 0,3), at the "
                              "activities of --sizes (default 10, 20, 40, 100)")
+    parser.add_argument("--likelihood", choices=["cb", "ci", "calibrated"], default=None,
+                        help="with --recovery-seeds: BSI's likelihood (default: its default)")
     parser.add_argument("--scarlet-dir", default=str(DEFAULT_SCARLET_DIR))
     parser.add_argument("--install-scarlet", action="store_true",
                         help="pip-install scarlet-ltl into --scarlet-dir first (network)")
@@ -400,8 +405,9 @@ def main(argv=None):
         paths = write_target(df, out, command.strip(), time.perf_counter() - t0)
     elif args.recovery_seeds is not None:
         activities = sorted({a for a, _ in args.sizes}) if args.sizes else [10, 20, 40, 100]
-        df = run_grid(recovery_specs(args.recovery_seeds, activities, args.noise), timeout,
-                      args.memory_limit)
+        bsi = {"likelihood": args.likelihood} if args.likelihood else None
+        df = run_grid(recovery_specs(args.recovery_seeds, activities, args.noise, bsi),
+                      timeout, args.memory_limit)
         paths = write_recovery(df, out, command.strip(), time.perf_counter() - t0)
     elif args.scaling:
         df = run_grid(scaling_specs(args.quick, args.noise, args.seed), timeout,

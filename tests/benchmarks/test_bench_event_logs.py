@@ -178,3 +178,12 @@ def test_the_target_sweep_counts_the_fits_within_the_target(bench, tmp_path):
     assert "| declare | 2 | 0 | 45.0 | 45.0 | 300 |" in text
     assert "| template, positive-only | 2 | 1 | 25.5 | 31.0 | 300 |" in text
     assert len(pd.read_csv(paths[0])) == 6
+
+
+def test_bsi_rows_take_other_parameters(bench, rows):
+    specs = bench.recovery_specs([0], [10], bsi={"likelihood": "ci"})
+    assert specs[0]["bsi"] == {"likelihood": "ci"}
+    assert "bsi" not in bench.recovery_specs([0], [10])[0]
+    row = rows.run_row(dict(specs[0], n_cases=60, n_train=42))
+    assert row["status"] == "ok" and row["hyper"] == "likelihood='ci', random_state=0"
+    assert 0.0 <= row["rule_disagreement"] <= 1.0
