@@ -1,17 +1,18 @@
 """One-block neighbourhoods weighed the way a Gibbs update weighs them.
 
 :func:`bsi_sklearn.inference._local_search.neighbourhood` scores every neighbour of a
-hypothesis from scratch, every clause over every demonstration: at 40 activities (80
-propositions with their negations) one hypothesis has about 26,000 neighbours and 6,600
-clauses, 10^11 operations for a handful of hypotheses. A Gibbs update weighs the same
-neighbours incrementally: a bit's two values from the demonstrations' counts of violated
-clauses, a subtask's places from bitsets over the demonstrations that violate nothing else
-(:mod:`bsi_sklearn.inference._gibbs_moves`). :func:`weigh_neighbours` runs those moves'
-candidate code (:func:`~._gibbs_moves.flip_sums`, :func:`~._gibbs_moves.chain_candidates`,
-:func:`~._gibbs_moves.forest_candidates`) at ``beta = 1`` on every block of every given
-hypothesis, keeps the neighbours it weighs within a margin of the floor, and scores those
-again from scratch, so the scores it returns are the exact ones and the set is
-:func:`~._local_search.neighbourhood`'s (tested against it for every prior).
+hypothesis from scratch, every clause over every demonstration: at 40 activities (their 40
+negations global candidates only) one hypothesis has about 6,600 neighbours and 1,700
+clauses, about 10^10 operations per hypothesis over 700 demonstrations. A Gibbs update
+weighs the same neighbours incrementally: a bit's two values from the demonstrations' counts
+of violated clauses, a subtask's places from bitsets over the demonstrations that violate
+nothing else (:mod:`bsi_sklearn.inference._gibbs_moves`). :func:`weigh_neighbours` runs
+those moves' candidate code (:func:`~._gibbs_moves.flip_sums`,
+:func:`~._gibbs_moves.chain_candidates`, :func:`~._gibbs_moves.forest_candidates`) at
+``beta = 1`` on every block of every given hypothesis, keeps the neighbours it weighs within
+a margin of the floor, and scores those again from scratch, so the scores it returns are the
+exact ones and the set is :func:`~._local_search.neighbourhood`'s (tested against it for
+every prior).
 """
 
 from typing import NamedTuple
