@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from bsi_sklearn.inference._neighbour_weights import neighbours_within
+from bsi_sklearn.inference._neighbour_weights import NeighbourWeigher
 
 __all__ = ["Closure", "found_states", "found_by_chain", "CLOSURE_WORK", "CLOSURE_FLOOR",
            "CLOSURE_EXPAND"]
@@ -54,21 +54,22 @@ class Closure:
         self.demos, self.model = demos, model
         self.left = float(CLOSURE_WORK if max_work is None else max_work)
         self.given_up = False
-        self._near = {}  # a weighed state's bytes -> (its neighbours, their log posteriors)
+        # a weighed state's bytes -> its neighbours, their log posteriors and their bytes
+        self._near = {}
         self._levels = (np.inf, np.inf)  # the floor and the expansion level of the last update
+        self._weigher = None  # its scratch space, allocated at the first state weighed
 
-    def _weigh(self, rows, floor):
-        # Weigh the neighbours of rows (not weighed yet); False past the budget.
-        near, lps, src, done, spent = neighbours_within(rows, self.demos, self.model, floor,
-                                                        self.left)
+    def _weigh(self, row, floor):
+        # Weigh the neighbours of a state not weighed yet; False past the budget.
+        if self._weigher is None:
+            self._weigher = NeighbourWeigher(self.demos, self.model)
+        near, lps, _, done, spent = self._weigher.within(row[None, :], floor, self.left)
         self.left -= spent
-        if done < len(rows) or self.left < 0:
+        if not done or self.left < 0:
             self.given_up = True
             self._near.clear()
             return False
-        for k, row in enumerate(rows):
-            mine = src == k
-            self._near[row.tobytes()] = (near[mine], lps[mine])
+        self._near[row.tobytes()] = (near, lps, [r.tobytes() for r in near])
         return True
 
     def update(self, visited, visited_lp, first):
@@ -87,7 +88,7 @@ class Closure:
         if self.given_up:
             return None
         best = float(visited_lp.max())
-        for _, lps in self._near.values():
+        for _, lps, _ in self._near.values():
             if len(lps):
                 best = max(best, float(lps.max()))
         floor, expand = best - CLOSURE_FLOOR, best - CLOSURE_EXPAND
@@ -110,13 +111,12 @@ class Closure:
             if key in done or t > when[key]:
                 continue
             done.add(key)
-            if key not in self._near and not self._weigh(rows_of[key][None, :], floor):
+            if key not in self._near and not self._weigh(rows_of[key], floor):
                 return None
-            near, lps = self._near[key]
-            for row, lp in zip(near, lps):
+            near, lps, keys = self._near[key]
+            for row, lp, k in zip(near, lps, keys):
                 if lp < floor:  # the floor rises with the best state found
                     continue
-                k = row.tobytes()
                 if t < when.get(k, np.iinfo(np.int64).max):
                     when[k] = t
                     rows_of[k], lp_of[k] = row, float(lp)
@@ -146,9 +146,8 @@ class Closure:
         floor, expand = self._levels
         out, todo = set(keys), list(keys)
         while todo:
-            near, lps = self._near[todo.pop()]
-            for row, lp in zip(near, lps):
-                k = row.tobytes()
+            _, lps, near = self._near[todo.pop()]
+            for lp, k in zip(lps, near):
                 if lp >= floor and k not in out:
                     out.add(k)
                     if lp >= expand:

@@ -38,7 +38,8 @@ from bsi_sklearn.model.priors import (
 )
 from bsi_sklearn.model.state_layout import parent_offset, state_width, w1_offset
 
-__all__ = ["weigh_neighbours", "neighbours_within", "neighbour_work", "MARGIN"]
+__all__ = ["weigh_neighbours", "neighbours_within", "NeighbourWeigher", "neighbour_work",
+           "MARGIN"]
 
 #: Neighbours weighed within this many nats below the floor are scored again from scratch:
 #: the incremental and the from-scratch sums of the same terms differ by rounding only.
@@ -102,33 +103,49 @@ def neighbours_within(rows, demos, model, floor, max_work=np.inf):
     index in ``rows`` of the row whose neighbour ``neighbours[i]`` is; ``done`` the number of
     rows whose neighbours are all there (the first ``done``: the work is counted after every
     row, and the rows after the one that passed ``max_work`` are left out); ``spent`` the
-    work counted.
+    work counted. One call's scratch space; :class:`NeighbourWeigher` keeps it for many.
     """
-    rows = np.ascontiguousarray(rows, dtype=np.int64)
-    n_cols = state_width(model.n_g, model.n)
-    per_row = n_neighbours_max(model.n_g, model.n)
-    per_source, per_kept = neighbour_work(demos, model)
-    bufs = make_buffers(model.n_g, model.n, demos.truth_t.shape[1], 1)
-    work, scratch = _work(demos, model), _scratch(demos, model)
-    found, scores, sources = [], [], []
-    out = np.empty((per_row, n_cols), dtype=np.int64)  # one row's neighbours at a time
-    out_lp = np.empty(per_row)
-    spent, done = 0.0, 0
-    for i in range(rows.shape[0]):
-        if spent > max_work:
-            break
-        m, weighed = _weigh(rows[i], demos, model, float(floor), bufs, work, scratch, out,
-                            out_lp)
-        found.append(out[:m].astype(np.int16))
-        scores.append(out_lp[:m].copy())
-        sources.append(np.full(m, i, dtype=np.int64))
-        spent += per_source + weighed * per_kept
-        done += 1
-    if not found:
-        return (np.empty((0, n_cols), dtype=np.int16), np.empty(0),
-                np.empty(0, dtype=np.int64), done, spent)
-    return (np.concatenate(found), np.concatenate(scores), np.concatenate(sources), done,
-            spent)
+    return NeighbourWeigher(demos, model).within(rows, floor, max_work)
+
+
+class NeighbourWeigher:
+    """:func:`neighbours_within` for one problem, its scratch space allocated once.
+
+    The space is that of a chain's moves and of one hypothesis's neighbours (about 2 ms to
+    allocate at 40 activities), so a caller weighing hypotheses one at a time keeps one.
+    """
+
+    def __init__(self, demos, model):
+        self.demos, self.model = demos, model
+        n_cols = state_width(model.n_g, model.n)
+        self.per_source, self.per_kept = neighbour_work(demos, model)
+        self.bufs = make_buffers(model.n_g, model.n, demos.truth_t.shape[1], 1)
+        self.work, self.scratch = _work(demos, model), _scratch(demos, model)
+        # one hypothesis's neighbours at a time
+        self.out = np.empty((n_neighbours_max(model.n_g, model.n), n_cols), dtype=np.int64)
+        self.out_lp = np.empty(self.out.shape[0])
+
+    def within(self, rows, floor, max_work=np.inf):
+        """:func:`neighbours_within` of ``rows``."""
+        rows = np.ascontiguousarray(rows, dtype=np.int64)
+        demos, model, out, out_lp = self.demos, self.model, self.out, self.out_lp
+        found, scores, sources = [], [], []
+        spent, done = 0.0, 0
+        for i in range(rows.shape[0]):
+            if spent > max_work:
+                break
+            m, weighed = _weigh(rows[i], demos, model, float(floor), self.bufs, self.work,
+                                self.scratch, out, out_lp)
+            found.append(out[:m].astype(np.int16))
+            scores.append(out_lp[:m].copy())
+            sources.append(np.full(m, i, dtype=np.int64))
+            spent += self.per_source + weighed * self.per_kept
+            done += 1
+        if not found:
+            return (np.empty((0, out.shape[1]), dtype=np.int16), np.empty(0),
+                    np.empty(0, dtype=np.int64), done, spent)
+        return (np.concatenate(found), np.concatenate(scores), np.concatenate(sources), done,
+                spent)
 
 
 @helper

@@ -80,9 +80,9 @@ def test_the_closure_is_found_through_the_most_probable_states_with_first_times(
 def test_each_state_is_weighed_once(problem, monkeypatch):
     model, demos, rows, lp = problem
     calls = []
-    real = _closure.neighbours_within
-    monkeypatch.setattr(_closure, "neighbours_within",
-                        lambda r, *a: calls.append(r.tobytes()) or real(r, *a))
+    real = _closure.NeighbourWeigher.within
+    monkeypatch.setattr(_closure.NeighbourWeigher, "within",
+                        lambda self, r, *a: calls.append(r.tobytes()) or real(self, r, *a))
     closure = Closure(demos, model)
     closure.update(rows[:5], lp[:5], np.zeros(5, dtype=np.int64))
     n_first = len(calls)
