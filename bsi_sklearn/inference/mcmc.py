@@ -340,34 +340,36 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             visited_lp = np.array([scored[row.tobytes()] for row in visited])
             ends = np.cumsum([len(r.states) for r in results])
             per_chain = np.split(row_state, ends[:-1])
-            # What each chain reached (visited, or weighed one block away: :mod:`._reach`):
-            # the chains agree when each reached what they found together.
-            reached = reach(visited, model, per_chain)
+            reached = None
             if len(plan) == 1:
                 break
-            probs = np.exp(visited_lp - visited_lp.max())
-            probs /= probs.sum()
             # They stopped finding mass when the states first found late hold little: found
-            # is visited, or weighed one block from a visited state and so in the support
+            # is visited, or weighed from a visited state and so in the support
             # (:mod:`._closure`). Reach alone would not do: a walk's new state is always one
             # block from its last, so every late state would count as reached early.
             first = np.full(len(visited), np.iinfo(np.int64).max)
             for r, rows in zip(results, per_chain):
                 np.minimum.at(first, rows, np.cumsum(r.counts) - r.counts)
             near = closure.update(visited, visited_lp, first)
-            found = None
-            if near is not None:  # ... and each chain's share is what its states lead to
-                probs_found, first_found, keys = found_states(visited, visited_lp, first, near)
-                found = (probs_found, first_found,
-                         found_by_chain(closure, visited, per_chain, keys))
-            stop, detail = should_stop(per_chain, probs, first,
-                                       np.stack([r.trace_lp for r in results]), reached=reached,
-                                       found=found)
+            # They agree when each chain's share holds what they found together: what its
+            # visited states lead to, or (past the closure's budget) what it reached, visited
+            # or weighed one block away (:mod:`._reach`).
+            if near is None:
+                reached = reach(visited, model, per_chain)
+                probs = np.exp(visited_lp - visited_lp.max())
+                shares, probs = reached, probs / probs.sum()
+            else:
+                probs, first, keys = found_states(visited, visited_lp, first, near)
+                shares = found_by_chain(closure, visited, per_chain, keys)
+            stop, detail = should_stop(shares, probs, first,
+                                       np.stack([r.trace_lp for r in results]))
             record.append(dict(detail, n_samples=done))
             if stop:
                 break
     if bar is not None:
         bar.close()
+    if reached is None:  # what each chain reached, for its missed mass
+        reached = reach(visited, model, per_chain)
     stopping = {"rounds": record, "stopped_early": done < plan[-1]}
     return results, visited, counts, reached, visited_lp, stopping, near
 

@@ -63,27 +63,21 @@ def rounds(first=FIRST_ROUND, most=MAX_SAMPLES):
     return out
 
 
-def should_stop(chain_rows, probabilities, first_seen, traces, reached=None, found=None):
+def should_stop(shares, probabilities, first_found, traces):
     """Whether the chains may stop after this round, and the three quantities it weighs.
 
     Parameters
     ----------
-    chain_rows : sequence of ndarray of int
-        For each chain, the index (into ``probabilities``) of every state it visited.
+    shares : sequence of ndarray of int
+        For each chain, the index (into ``probabilities``) of every state in its share: what
+        its visited states lead to (:mod:`bsi_sklearn.inference._closure`), or what it
+        reached (:func:`bsi_sklearn.inference._reach.reach`), or what it visited.
     probabilities : ndarray of shape (n_states,)
-        The exact posterior restricted to the states visited, normalised.
-    first_seen : ndarray of shape (n_states,)
-        The first recorded sweep (of any chain) at which each state was visited.
+        The exact posterior restricted to the states found (or visited), normalised.
+    first_found : ndarray of shape (n_states,)
+        The first recorded sweep (of any chain) at which each state was found (or visited).
     traces : ndarray of shape (n_chains, n_recorded)
         The chains' log posteriors after every recorded sweep.
-    reached : sequence of ndarray of int, default=None
-        For each chain, the states it reached (:func:`bsi_sklearn.inference._reach.reach`),
-        which the missed mass counts; ``None``: the states it visited.
-    found : tuple, default=None
-        ``(probabilities, first_found, chain_found)`` of every state found (visited, or
-        weighed from a visited state and so in the support: :mod:`._closure`), with each
-        chain's share of them (index arrays into them), which the late mass and the missed
-        mass count instead; ``None``: ``probabilities``, ``first_seen`` and ``reached``.
 
     Returns
     -------
@@ -100,12 +94,9 @@ def should_stop(chain_rows, probabilities, first_seen, traces, reached=None, fou
     >>> stop, detail["late_mass"]
     (True, 0.0005)
     """
-    if found is None:
-        found = (probabilities, first_seen, chain_rows if reached is None else reached)
-    probs_found, first_found, shares = found
-    missed = float(missed_mass(shares, probs_found).max())
+    missed = float(missed_mass(shares, probabilities).max())
     rhat = split_rhat(traces)
     half = traces.shape[1] // 2
-    late = float(np.sum(probs_found[first_found >= half]))
+    late = float(np.sum(probabilities[first_found >= half]))
     stop = missed <= STOP_MISSED and rhat <= STOP_RHAT and late <= STOP_LATE
     return stop, {"max_missed_mass": missed, "rhat": rhat, "late_mass": late}

@@ -79,12 +79,11 @@ def test_the_stopping_rule_weighs_agreement_r_hat_and_late_discoveries():
     # A chain that never visited 1% of the mass: the chains disagree.
     stop, detail = should_stop([np.array([0]), np.array([0, 1])], probs, np.array([0, 2]), flat)
     assert not stop and detail["max_missed_mass"] == pytest.approx(0.01)
-    # ... unless it reached that state (weighed it one block from one it visited): they agree;
-    # the late mass still counts first visits.
-    assert should_stop([np.array([0]), np.array([0, 1])], probs, np.array([0, 2]), flat,
-                       reached=both)[0]
-    assert not should_stop([np.array([0]), np.array([0, 1])], probs, np.array([0, 5]), flat,
-                           reached=both)[0]
+    # ... unless its share holds that state (it reached it, weighing it one block from one it
+    # visited): they agree; the late mass still counts when the state was first found.
+    reached = [np.array([0, 1]), np.array([0, 1])]
+    assert should_stop(reached, probs, np.array([0, 2]), flat)[0]
+    assert not should_stop(reached, probs, np.array([0, 5]), flat)[0]
     # Chains on different levels: R-hat is infinite.
     assert not should_stop(both, probs, np.array([0, 2]), np.array([[0.0] * 10, [1.0] * 10]))[0]
 
