@@ -248,7 +248,9 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         if self.repeats:
             index = np.array([int(np.searchsorted(self.activities_, n)) for n in names],
                              dtype=np.int64)
-            twice = np.unique(index[events.codes][_second_occurrences(events, len(names))])
+            case = np.repeat(np.arange(len(events.offsets) - 1), np.diff(events.offsets))
+            again = _second_occurrences(case, events.codes, len(names))
+            twice = np.unique(index[events.codes][again])
             self.repeated_ = self.activities_[twice]
         else:
             self.repeated_ = np.array([], dtype=object)
@@ -296,49 +298,42 @@ class EventLogEncoder(TransformerMixin, BaseEstimator):
         hits = np.concatenate(columns)
         props = np.concatenate(values)[hits]
         event = np.tile(np.arange(len(codes)), len(columns))[hits]
-        n_rep = len(self.repeated_)
-        if n_rep:
-            # a<=1 falls at a's second event in the case: "twice" rises there and stays
-            # (accumulated like an activity), and a<=1 is its complement.
-            slot = np.full(n_act + 1, -1, dtype=np.int64)
-            slot[np.searchsorted(self.activities_, self.repeated_)] = np.arange(n_rep)
-            second = np.flatnonzero(_second_occurrences(events, len(events.names), codes))
-            second = second[slot[codes[second]] >= 0]
-            props = np.concatenate([props, n_act + len(columns) - 1 + slot[codes[second]]])
-            event = np.concatenate([event, second])
         n_cases = len(events.offsets) - 1
         case = np.repeat(np.arange(n_cases), np.diff(events.offsets))
+        n_pos, n_rep = n_act + len(columns) - 1, len(self.repeated_)
+        n_cols = len(self.feature_names_out_)  # the propositions, their negations, the a<=1
+        if n_rep:
+            # "a occurred twice" rises at a's second event in the case, in a<=1's column.
+            slot = np.full(n_act + 1, -1, dtype=np.int64)
+            slot[np.searchsorted(self.activities_, self.repeated_)] = np.arange(n_rep)
+            second = np.flatnonzero(_second_occurrences(case, codes, len(events.names)))
+            second = second[slot[codes[second]] >= 0]
+            props = np.concatenate([props, n_cols - n_rep + slot[codes[second]]])
+            event = np.concatenate([event, second])
         rows = event + case[event] + 1
         n_rows = len(codes) + n_cases
-        n_pos = n_act + len(columns) - 1
-        # Columns [0, n_pos + n_rep): the propositions, then "twice"; negations after them.
-        data = np.zeros((n_rows, len(self.feature_names_out_)), dtype=bool)
+        data = np.zeros((n_rows, n_cols), dtype=bool)
         data[rows, props] = True
         row_starts = events.offsets + np.arange(n_cases + 1)
         if self.encoding == "occurred":
-            _accumulate(data[:, :n_pos + n_rep], row_starts)
-        if n_rep:
-            twice = data[:, n_pos:n_pos + n_rep].copy()
-            data[:, n_pos:n_pos + n_rep] = False
+            _accumulate(data[:, :n_pos], row_starts)
         if self.negations:
             np.logical_not(data[:, :n_pos], out=data[:, n_pos:2 * n_pos])
-        if n_rep:
-            np.logical_not(twice, out=data[:, -n_rep:])
+        if n_rep:  # "occurred twice so far", then its complement, a<=1
+            _accumulate(data[:, n_cols - n_rep:], row_starts)
+            np.logical_not(data[:, n_cols - n_rep:], out=data[:, n_cols - n_rep:])
         names = pd.Index(self.feature_names_out_.astype(str), dtype=object)
         return [pd.DataFrame(data[a:b], columns=names, copy=False)
                 for a, b in zip(row_starts[:-1], row_starts[1:])]
 
 
-def _second_occurrences(events, n_codes, codes=None):
+def _second_occurrences(case, codes, n_codes):
     """Whether each event is the second or a later one of its code (activity) in its case.
 
-    ``codes`` (default ``events.codes``) are the events' codes, ``n_codes`` bounds them; a
+    ``case`` and ``codes`` give each event's case and code, ``n_codes`` bounds the codes; a
     negative code (an activity unseen in fit) is never a repetition.
     """
-    codes = events.codes if codes is None else codes
-    n_cases = len(events.offsets) - 1
-    case = np.repeat(np.arange(n_cases, dtype=np.int64), np.diff(events.offsets))
-    key = case * (n_codes + 1) + np.where(codes >= 0, codes, n_codes)
+    key = case.astype(np.int64) * (n_codes + 1) + np.where(codes >= 0, codes, n_codes)
     order = np.argsort(key, kind="stable")
     sorted_key = key[order]
     later = np.zeros(len(codes), dtype=bool)
