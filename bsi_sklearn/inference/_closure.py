@@ -18,8 +18,9 @@ random_state=2)`` is found whole after 500 sweeps (the chains had visited 343), 
 ran 2,000.
 
 Each state's neighbours are weighed once. The work is counted (``CLOSURE_WORK``, clause-row
-operations, about 1e10 a second on a 2-core Xeon): past it the closure is given up for the
-rest of the fit (the visited states only grow) and the late mass counts visits, as before.
+operations, about 1e10 a second on a 2-core Xeon), and so is the memory of what is kept
+(``CLOSURE_BYTES``): past either the closure is given up for the rest of the fit (the visited
+states only grow) and the late mass counts visits, as before.
 """
 
 import heapq
@@ -29,13 +30,18 @@ import numpy as np
 
 from bsi_sklearn.inference._neighbour_weights import NeighbourWeigher
 
-__all__ = ["Closure", "found_states", "found_by_chain", "CLOSURE_WORK", "CLOSURE_FLOOR",
-           "CLOSURE_EXPAND"]
+__all__ = ["Closure", "found_states", "found_by_chain", "CLOSURE_WORK", "CLOSURE_BYTES",
+           "CLOSURE_FLOOR", "CLOSURE_EXPAND"]
 
 #: The most work (:func:`~._neighbour_weights.neighbour_work`, clause-row operations) spent on
 #: weighing neighbours over a whole fit: a few seconds (the 344-state plateau above: 5.5e9,
 #: 0.6 s).
 CLOSURE_WORK = 3e10
+#: The most memory the weighed neighbours may hold, in bytes, each kept row counted as its
+#: int16 row, its bytes key and their references (``4 n_cols + 64``). The work above does not
+#: bound it on small problems, where a state is cheap to weigh: the 7-proposition file 0046 of
+#: the mixing benchmark (11 demonstrations) keeps 609,089 rows, about 90 MB by this count.
+CLOSURE_BYTES = 2**27
 #: Neighbours kept: those less than this many nats (log 1e12) below the best state found.
 CLOSURE_FLOOR = math.log(1e12)
 #: Found states whose own neighbours are weighed too: those less than this many nats (log
@@ -53,6 +59,7 @@ class Closure:
     def __init__(self, demos, model, max_work=None):
         self.demos, self.model = demos, model
         self.left = float(CLOSURE_WORK if max_work is None else max_work)
+        self.bytes_left = float(CLOSURE_BYTES)
         self.given_up = False
         # a weighed state's bytes -> its neighbours, their log posteriors and their bytes
         self._near = {}
@@ -65,7 +72,8 @@ class Closure:
             self._weigher = NeighbourWeigher(self.demos, self.model)
         near, lps, _, done, spent = self._weigher.within(row[None, :], floor, self.left)
         self.left -= spent
-        if not done or self.left < 0:
+        self.bytes_left -= len(near) * (4 * near.shape[1] + 64)
+        if not done or self.left < 0 or self.bytes_left < 0:
             self.given_up = True
             self._near.clear()
             return False

@@ -91,6 +91,17 @@ def test_each_state_is_weighed_once(problem, monkeypatch):
     assert len(calls) == len(set(calls))
 
 
+def test_past_its_memory_the_closure_is_given_up(problem, monkeypatch):
+    model, demos, rows, lp = problem
+    first = np.zeros(len(rows), dtype=np.int64)
+    near = Closure(demos, model).update(rows, lp, first)
+    kept = len(near[0]) * (4 * rows.shape[1] + 64)  # at least: every found row, once
+    monkeypatch.setattr(_closure, "CLOSURE_BYTES", kept // 2)
+    closure = Closure(demos, model)
+    assert closure.update(rows, lp, first) is None and closure.given_up
+    assert not closure._near  # what it held is let go
+
+
 def test_past_its_budget_the_closure_is_given_up_for_good(problem):
     model, demos, rows, lp = problem
     closure = Closure(demos, model, max_work=1.0)
