@@ -38,6 +38,11 @@ class Roles:
         return len(self.global_idx)
 
     @property
+    def n_patterns(self):
+        """Number of pattern-clause candidates (global slots after the ``G`` candidates)."""
+        return len(self.patterns)
+
+    @property
     def n_subtasks(self):
         """``|Omega|``."""
         return len(self.subtask_idx)
@@ -45,6 +50,10 @@ class Roles:
     def global_names(self):
         """Identifiers of the global candidates."""
         return [self.names[i] for i in self.global_idx]
+
+    def pattern_keys(self):
+        """``(template name, proposition identifiers)`` of every pattern candidate, in order."""
+        return [(name, tuple(self.names[c] for c in cols)) for name, cols in self.patterns]
 
     def subtask_names(self):
         """Identifiers of the subtasks."""
