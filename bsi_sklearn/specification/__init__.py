@@ -16,6 +16,7 @@ import numpy as np
 
 from bsi_sklearn._literals import clause_form, negation_reader, readable_atom, render_clause
 from bsi_sklearn.data.values import trace_columns
+from bsi_sklearn.specification.templates import get_template
 
 __all__ = ["Specification", "transitive_closure"]
 
@@ -89,6 +90,12 @@ class Specification:
     conditions : mapping, default=None
         Subtask -> condition proposition ``pi_w``; subtasks without an entry have
         ``pi_w = true``. Entries for subtasks the formula does not mention are dropped.
+    patterns : iterable of (template, propositions), default=()
+        Pattern clauses (DESIGN §12): a template of
+        :mod:`bsi_sklearn.specification.templates` (a catalogue name such as ``"Response"``,
+        or LTLf text with placeholders) and the propositions filling its slots, in slot
+        order. Stored by the template's name, the propositions sorted for a symmetric
+        template (``Choice(a, b)`` is ``Choice(b, a)``).
 
     Attributes
     ----------
@@ -96,6 +103,8 @@ class Specification:
     orders : frozenset of tuple
     conditions : dict
         Read-only copy of the relevant conditions.
+    patterns : frozenset of (str, tuple)
+        ``(template name, propositions)`` of every pattern clause.
 
     Examples
     --------
@@ -111,13 +120,14 @@ class Specification:
     True
     """
 
-    __slots__ = ("globals", "eventuals", "orders", "_conditions", "_hash")
+    __slots__ = ("globals", "eventuals", "orders", "_conditions", "patterns", "_hash")
 
-    def __init__(self, globals=(), eventuals=(), orders=(), conditions=None):
+    def __init__(self, globals=(), eventuals=(), orders=(), conditions=None, patterns=()):
         g = frozenset(_as_iterable(globals, "globals"))
         e = frozenset(_as_iterable(eventuals, "eventuals"))
         o = transitive_closure(_as_iterable(orders, "orders"))
-        for ident in [*g, *e, *(x for p in o for x in p)]:
+        pats = frozenset(_pattern_key(item) for item in _as_iterable(patterns, "patterns"))
+        for ident in [*g, *e, *(x for p in o for x in p), *(x for _, p in pats for x in p)]:
             if not isinstance(ident, Hashable):
                 raise ValueError(f"identifier {ident!r} is not hashable")
         conds = {}
@@ -130,9 +140,10 @@ class Specification:
         object.__setattr__(self, "eventuals", e)
         object.__setattr__(self, "orders", o)
         object.__setattr__(self, "_conditions", tuple(sorted(conds.items(), key=_pair_key)))
-        object.__setattr__(
-            self, "_hash", hash((g, e, o, self._conditions))
-        )
+        object.__setattr__(self, "patterns", pats)
+        # Without patterns, the hash of the paper's template as it always was.
+        key = (g, e, o, self._conditions)
+        object.__setattr__(self, "_hash", hash((*key, pats) if pats else key))
 
     def __setattr__(self, name, value):
         raise AttributeError("Specification is immutable")
@@ -140,7 +151,8 @@ class Specification:
     def __reduce__(self):
         return (
             Specification,
-            (tuple(self.globals), tuple(self.eventuals), tuple(self.orders), self.conditions),
+            (tuple(self.globals), tuple(self.eventuals), tuple(self.orders), self.conditions,
+             tuple(self.patterns)),
         )
 
     @property
@@ -150,8 +162,8 @@ class Specification:
 
     @property
     def n_conjuncts(self):
-        """Number of clauses ``|tau| + |W1| + |W2|``."""
-        return len(self.globals) + len(self.eventuals) + len(self.orders)
+        """Number of clauses ``|tau| + |W1| + |W2|``, and the pattern clauses."""
+        return len(self.globals) + len(self.eventuals) + len(self.orders) + len(self.patterns)
 
     def clauses(self):
         """Return the clause keys: ``("G", p)``, ``("F", w)``, ``("U", a, b)``.
@@ -172,6 +184,7 @@ class Specification:
             and self.eventuals == other.eventuals
             and self.orders == other.orders
             and self._conditions == other._conditions
+            and self.patterns == other.patterns
         )
 
     def __hash__(self):
@@ -185,6 +198,8 @@ class Specification:
         ]
         if self._conditions:
             parts.append(f"conditions={self.conditions!r}")
+        if self.patterns:
+            parts.append(f"patterns={sorted(self.patterns, key=_pattern_sort)!r}")
         return f"Specification({', '.join(parts)})"
 
     def implied_orders(self):
@@ -421,6 +436,28 @@ def _as_iterable(value, name):
     if isinstance(value, (str, bytes)) or not isinstance(value, Iterable):
         raise ValueError(f"{name} must be an iterable of identifiers, got {value!r}")
     return list(value)
+
+
+def _pattern_key(item):
+    """``(template name, propositions)`` of one pattern clause, checked and canonical."""
+    try:
+        template, props = item
+    except (TypeError, ValueError):
+        raise ValueError(f"pattern {item!r} is not a pair (template, propositions)") from None
+    t = get_template(template)
+    props = tuple(_as_iterable(props, f"the propositions of pattern {t.name!r}"))
+    if len(props) != len(t.slots):
+        raise ValueError(f"pattern {t.name!r} has {len(t.slots)} slots ({', '.join(t.slots)}), "
+                         f"got {len(props)} propositions {list(props)}")
+    if len(set(props)) != len(props):
+        raise ValueError(f"pattern {t.name!r}: a proposition fills two slots in {list(props)}")
+    if t.symmetric:
+        props = tuple(sorted(props, key=_sort_key))
+    return (t.name, props)
+
+
+def _pattern_sort(key):
+    return (key[0], tuple(_sort_key(x) for x in key[1]))
 
 
 def _pair_key(pair):
