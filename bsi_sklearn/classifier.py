@@ -1,5 +1,6 @@
 """`BSIClassifier`: Bayesian Specification Inference as a scikit-learn classifier."""
 
+import dataclasses
 import math
 from numbers import Integral, Real
 
@@ -15,6 +16,12 @@ from bsi_sklearn.inference.policy import InferencePolicy, infer
 from bsi_sklearn.model import make_model
 from bsi_sklearn.model.clauses import clause_truth
 from bsi_sklearn.model.likelihood import LIKELIHOODS, is_flip_prior
+from bsi_sklearn.model.pattern_candidates import (
+    check_p_patterns,
+    check_templates,
+    pattern_candidates,
+    pattern_probabilities,
+)
 from bsi_sklearn.model.priors import PRIORS
 from bsi_sklearn.param_validation import (
     NONZERO_INTEGER,
@@ -68,10 +75,25 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         setting without an expert's roles: vacuous clauses and chance orders then enter the
         MAP). Roles given explicitly are used as given; ``roles_`` says what was used; see
         ``docs/roles.md``.
+    templates : "paper" or list of str, default="paper"
+        Pattern clauses the specification may hold besides the paper's template (DESIGN
+        §12): names of the catalogue (``"Response"``, ``"AtMostOnce"``, ...;
+        :data:`bsi_sklearn.specification.templates.TEMPLATES`) or LTLf formulas with
+        placeholders (``"G(x -> F(y))"``). Each template is instantiated over the
+        propositions that hold somewhere in the training demonstrations, instances every
+        training demonstration satisfies set apart as vacuous; each instance is then an
+        independent inclusion, like a ``G`` clause. ``"paper"``: the paper's template alone,
+        exactly.
     p_global : float, default=0.8
         Prior inclusion probability of each ``G`` clause.
     p_eventual : float, default=0.8
         Prior inclusion probability of each eventual clause.
+    p_patterns : float or dict, default=None
+        Prior inclusion probability of each pattern clause: one for all, or a dict from
+        template family (``"relation"``) or name (``"Response"``) to one. ``None`` (and the
+        families and names a dict leaves out): the family's default,
+        :data:`bsi_sklearn.model.pattern_candidates.FAMILY_P` (0.2 for existence and
+        absence, 0.1 for relations and choices, 0.05 for orderings, negations and scopes).
     p_part : float, default=0.3
         Probability of starting a new chain after each subtask (Prior 2).
     n_new : float, default=5.0
@@ -158,6 +180,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         The roles used, as parameters (``BSIClassifier(**clf.roles_)`` fits with them):
         ``global_candidates``, ``subtasks`` and ``conditions`` (subtask -> condition), by
         proposition name for DataFrames and by column index otherwise.
+    pattern_candidates_ : list of (str, list)
+        The pattern clauses the fit considered (``templates``): template name and the
+        propositions filling its slots. Empty with ``templates="paper"``.
     feature_names_in_ : ndarray of str
         Proposition names, when the demonstrations were DataFrames with string columns.
     posterior_ : Posterior
@@ -247,8 +272,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     """
 
     def __init__(self, *, prior="sets_of_chains", likelihood="cb", global_candidates=None,
-                 subtasks=None, conditions=None, roles="infer", p_global=0.8, p_eventual=0.8,
-                 p_part=0.3, n_new=5.0, epsilon=None, flip_prior=None, vote="predictive",
+                 subtasks=None, conditions=None, roles="infer", templates="paper",
+                 p_global=0.8, p_eventual=0.8, p_patterns=None, p_part=0.3, n_new=5.0,
+                 epsilon=None, flip_prior=None, vote="predictive",
                  label_noise="learned", inference="auto", n_samples="auto", burn_in=100,
                  n_chains=4, n_temperatures="auto", max_exact_hypotheses=None, tol=1e-9,
                  binarize=None, pos_label=None, n_jobs=None, random_state=None, verbose=0):
@@ -258,8 +284,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         self.subtasks = subtasks
         self.conditions = conditions
         self.roles = roles
+        self.templates = templates
         self.p_global = p_global
         self.p_eventual = p_eventual
+        self.p_patterns = p_patterns
         self.p_part = p_part
         self.n_new = n_new
         self.epsilon = epsilon
@@ -299,8 +327,11 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         "subtasks": "no_validation",
         "conditions": "no_validation",
         "roles": [StrOptions({"all", "infer"})],
+        "templates": [StrOptions({"paper"}), list, tuple],
         "p_global": [Interval(Real, 0.0, 1.0, closed="both")],
         "p_eventual": [Interval(Real, 0.0, 1.0, closed="both")],
+        "p_patterns": [None, Satisfies(check_p_patterns, "a probability in (0, 1) or a mapping "
+                                                         "from template family or name to one")],
         "p_part": [Interval(Real, 0.0, 1.0, closed="both")],
         "n_new": [Interval(Real, 0.0, math.inf, closed="neither")],
         "epsilon": [Interval(Real, 0.0, 1.0, closed="neither"), None],
@@ -358,12 +389,19 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         given = (self.global_candidates, self.subtasks, self.conditions)
         roles = (infer_roles(traces, y01, *given) if self.roles == "infer" else
                  resolve_roles(*given, traces.n_props, traces.feature_names))
-        n_g, n = roles.n_globals, roles.n_subtasks
+        names = check_templates(self.templates)
+        p_pat = []
+        if names:  # pattern clauses: global slots after the G candidates (DESIGN §12)
+            candidates, _ = pattern_candidates(traces, names)
+            roles = dataclasses.replace(roles, patterns=candidates)
+            probs = pattern_probabilities(names, self.p_patterns)
+            p_pat = [probs[name] for name, _ in candidates]
+        n_g, n = roles.n_global_slots, roles.n_subtasks
         truth = clause_truth(traces, roles)
         model = make_model(prior=self.prior, likelihood=self.likelihood, n_globals=n_g,
                            n_subtasks=n, p_global=self.p_global, p_eventual=self.p_eventual,
                            p_part=self.p_part, n_new=self.n_new, epsilon=self.epsilon,
-                           flip_prior=self.flip_prior)
+                           flip_prior=self.flip_prior, p_patterns=p_pat)
         policy = InferencePolicy(
             inference=self.inference, prior=self.prior,
             max_exact_hypotheses=self.max_exact_hypotheses, tol=self.tol,
@@ -382,6 +420,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         self.classes_ = classes
         self.n_features_in_ = traces.n_props
         self.roles_ = roles.to_params()
+        self.pattern_candidates_ = [(name, list(props)) for name, props in roles.pattern_keys()]
         if traces.feature_names is not None:
             self.feature_names_in_ = traces.feature_names
         elif hasattr(self, "feature_names_in_"):

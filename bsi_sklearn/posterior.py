@@ -39,8 +39,9 @@ class Posterior:
     ----------
     structures : ndarray of shape (n_specs, n_subtasks)
         Parent array of every specification's order forest (-1 for roots).
-    tau_masks : ndarray of shape (n_specs, n_globals), bool
-        Which global candidates every specification includes.
+    tau_masks : ndarray of shape (n_specs, n_globals + n_patterns), bool
+        Which global candidates, then which pattern clauses (``roles.patterns``), every
+        specification includes.
     w1_masks : ndarray of shape (n_specs, n_subtasks), bool
         Which eventual clauses every specification includes.
     probabilities : ndarray of shape (n_specs,)
@@ -86,7 +87,7 @@ class Posterior:
         self.roles = roles
         self.dropped_mass = float(dropped_mass)
         self._masks = clause_masks(
-            self._structures, self._tau, self._w1, roles.n_globals, roles.n_subtasks
+            self._structures, self._tau, self._w1, roles.n_global_slots, roles.n_subtasks
         )
         if clause_marginals is None:
             clause_marginals = self._marginals_from_specs()
@@ -167,6 +168,8 @@ class Posterior:
                 "n_globals": [len(s.globals) for s in specs],
                 "n_eventuals": [len(s.eventuals) for s in specs],
                 "n_orders": [len(s.orders) for s in specs],
+                **({"n_patterns": [len(s.patterns) for s in specs]}
+                   if self.roles.patterns else {}),
             },
             index=pd.RangeIndex(n, name="rank"),
         )
@@ -180,12 +183,13 @@ class Posterior:
     def clause_keys(self):
         """Key of every candidate clause, in the order of :meth:`clause_marginals`."""
         g, s = self.roles.global_names(), self.roles.subtask_names()
-        keys = [("G", p) for p in g] + [("F", w) for w in s]
+        keys = [("G", p) for p in g] + [("P", *key) for key in self.roles.pattern_keys()]
+        keys += [("F", w) for w in s]
         keys += [("U", a, b) for a in s for b in s if a != b]
         return keys
 
     def _clause_slots(self):
-        n_g, n = self.roles.n_globals, self.roles.n_subtasks
+        n_g, n = self.roles.n_global_slots, self.roles.n_subtasks
         return list(range(n_g)) + [clause_index_eventual(w, n_g) for w in range(n)] + [
             clause_index_order(a, b, n_g, n) for a in range(n) for b in range(n) if a != b
         ]
@@ -196,7 +200,7 @@ class Posterior:
         Columns follow :meth:`clause_keys`; no Specification objects are built, so this is the
         fast path for metrics over large posteriors.
         """
-        n_cl = n_clauses(self.roles.n_globals, self.roles.n_subtasks)
+        n_cl = n_clauses(self.roles.n_global_slots, self.roles.n_subtasks)
         bits = np.unpackbits(self._masks.view(np.uint8), axis=1, bitorder="little")[:, :n_cl]
         return bits[:, self._clause_slots()].astype(bool)
 
@@ -235,7 +239,7 @@ class Posterior:
         )
 
     def _marginals_from_specs(self):
-        n_cl = n_clauses(self.roles.n_globals, self.roles.n_subtasks)
+        n_cl = n_clauses(self.roles.n_global_slots, self.roles.n_subtasks)
         bits = np.unpackbits(
             self._masks.view(np.uint8), axis=1, bitorder="little"
         )[:, :n_cl].astype(float)
@@ -464,6 +468,7 @@ a str is the JSON text: to read a file, pass a pathlib.Path or call Posterior.re
             return self._specs[i]
         r = self.roles
         g, s = r.global_names(), r.subtask_names()
+        n_gp, pats = len(g), r.pattern_keys()
         parent = self._structures[i]
         orders = []
         for v in range(len(parent)):
@@ -471,11 +476,13 @@ a str is the JSON text: to read a file, pass a pathlib.Path or call Posterior.re
             while a >= 0:
                 orders.append((s[a], s[v]))
                 a = parent[a]
+        tau = np.flatnonzero(self._tau[i])
         return Specification(
-            globals=[g[j] for j in np.flatnonzero(self._tau[i])],
+            globals=[g[j] for j in tau if j < n_gp],
             eventuals=[s[w] for w in np.flatnonzero(self._w1[i])],
             orders=orders,
             conditions=r.condition_names(),
+            patterns=[pats[j - n_gp] for j in tau if j >= n_gp],
         )
 
 

@@ -35,9 +35,11 @@ from bsi_sklearn.model import Model
 from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order
 from bsi_sklearn.model.likelihood import cb_rejected, log_likelihood
 from bsi_sklearn.model.priors import (
+    global_inclusion,
     is_forest,
     log_inclusion,
     log_prior,
+    log_prior_globals,
     log_prior_structure,
     log_prior_subset,
 )
@@ -164,7 +166,8 @@ def _unmanaged_bundles(state, demos, model, bufs):
     model = Model(model.n_g, model.n, model.prior, model.forest, model.p_global,
                   model.p_eventual, model.p_part, model.n_new, model.log_eps, model.likelihood,
                   _unmanaged(model.lp_chains), _unmanaged(model.forest_g), model.forest_const,
-                  model.flip_a, model.flip_b)
+                  model.flip_a, model.flip_b, _unmanaged(model.pat_in),
+                  _unmanaged(model.pat_out))
     bufs = ChainBuffers(_unmanaged(bufs.ubuf), _unmanaged(bufs.viol),
                         _unmanaged(bufs.lw), _unmanaged(bufs.cand_lp), _unmanaged(bufs.cand_ll),
                         _unmanaged(bufs.cand_head), _unmanaged(bufs.cand_pos),
@@ -261,11 +264,11 @@ def _sweep(r, beta, state, demos, model, bufs, cache, u0):
     tau, w1, parent, viol = state.tau[r], state.w1[r], state.parent[r], bufs.viol[r]
     ubuf, old_parent = bufs.ubuf, bufs.old_parent
     n_g, n = model.n_g, model.n
-    lg_in, lg_out = log_inclusion(model.p_global)
     le_in, le_out = log_inclusion(model.p_eventual)
     upos = u0
     moved = 0
     for j in range(n_g):
+        lg_in, lg_out = global_inclusion(j, model)
         new, ll[r], used = flip_move(j, tau[j], lg_in, lg_out, viol, n_conj[r], demos, model,
                                      ubuf[upos], beta)
         upos += used
@@ -393,12 +396,12 @@ def make_loop(n_rungs):
 def _init_cache(state, demos, model, bufs, loop):
     # Violation counts of every replica into bufs.viol, and per replica the number of
     # conjuncts, log priors (subsets, structure) and log-likelihood the moves keep up to date.
-    n_g, n = model.n_g, model.n
+    n = model.n
     for r in range(loop.slot.shape[0]):
         viol = bufs.viol[r]
         loop.n_conj[r] = fill_viol(viol, state.tau[r], state.w1[r], state.parent[r],
                                    demos.truth_t, model)
-        loop.lp_sub[r] = (log_prior_subset(state.tau[r].sum(), n_g, model.p_global)
+        loop.lp_sub[r] = (log_prior_globals(state.tau[r], model)
                           + log_prior_subset(state.w1[r].sum(), n, model.p_eventual))
         loop.lp_struct[r] = log_prior_structure(state.parent[r], model)
         ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)

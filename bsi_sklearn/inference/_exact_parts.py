@@ -53,11 +53,15 @@ class SubsetGroups(NamedTuple):
     pair_lw: np.ndarray     # log prior weight of each member pair of groups
 
 
-def subset_table(clause_bits, first_clause, n_items, p, full):
+def subset_table(clause_bits, first_clause, n_items, p, full, pat_in=(), pat_out=()):
     """Bitset, size and log prior of every subset (bit mask) of ``n_items`` clauses.
 
     Plain numpy, one doubling step per clause (it spares a compilation on the first fit).
+    The last ``len(pat_in)`` items are pattern clauses (DESIGN §12), each included with its
+    own log probabilities ``pat_in`` / ``pat_out``; the others are SampleSubset(p).
     """
+    n_pat = len(pat_in)
+    n_plain = n_items - n_pat
     bits = np.empty((1 << n_items, clause_bits.shape[1]), dtype=np.uint64)
     size = np.zeros(1 << n_items, dtype=np.int64)
     bits[0] = full
@@ -65,8 +69,16 @@ def subset_table(clause_bits, first_clause, n_items, p, full):
         half = 1 << i  # masks [half, 2 half) add clause i to masks [0, half)
         bits[half:2 * half] = bits[:half] & clause_bits[first_clause + i]
         size[half:2 * half] = size[:half] + 1
-    lp = np.array([log_prior_subset.py_func(k, n_items, p) for k in range(n_items + 1)])
-    return PartTable(bits, size, lp[size])
+    lp = np.array([log_prior_subset.py_func(k, n_plain, p) for k in range(n_plain + 1)])
+    if not n_pat:
+        return PartTable(bits, size, lp[size])
+    # The plain clauses are the low n_plain bits of a mask; each pattern clause one bit above.
+    lp_pat = np.full(1 << n_items, float(np.sum(pat_out)))
+    for i in range(n_pat):
+        half = 1 << (n_plain + i)
+        lp_pat[half:2 * half] = lp_pat[:half] + (pat_in[i] - pat_out[i])
+    lo = np.arange(1 << n_items) & ((1 << n_plain) - 1)
+    return PartTable(bits, size, lp[size[lo]] + lp_pat)
 
 
 def _members(gid, n_groups):
@@ -92,7 +104,8 @@ def group_subsets(clause_bits, full, model, spend=None, allocate=None):
         spend(ROW_COST * (2.0**n_g + 2.0**n), what)
     if allocate is not None:  # a row, and as much twice again while it is grouped
         allocate(3.0 * (8 * n_words + 24) * (2.0**n_g + 2.0**n), what)
-    t_tab = subset_table(clause_bits, 0, n_g, model.p_global, full)
+    t_tab = subset_table(clause_bits, 0, n_g, model.p_global, full, model.pat_in,
+                         model.pat_out)
     e_tab = subset_table(clause_bits, clause_index_eventual(0, n_g), n, model.p_eventual, full)
     t_gid, tg = group_rows(t_tab.bits, t_tab.size, t_tab.lp)
     e_gid, eg = group_rows(e_tab.bits, e_tab.size, e_tab.lp)

@@ -31,8 +31,10 @@ from bsi_sklearn.inference._local_search import _score, _scratch, n_neighbours_m
 from bsi_sklearn.model.clauses import clause_index_eventual
 from bsi_sklearn.model.likelihood import log_likelihood
 from bsi_sklearn.model.priors import (
+    global_inclusion,
     is_forest,
     log_inclusion,
+    log_prior_globals,
     log_prior_structure,
     log_prior_subset,
 )
@@ -172,27 +174,23 @@ def _weigh(source, demos, model, floor, bufs, work, scratch, out, out_lp):
         w1[w] = source[w1_at + w]
         parent[w] = source[base + w]
     lp_struct = log_prior_structure(parent, model)
-    n_tau, n_w1 = 0, 0
-    for j in range(n_g):
-        n_tau += tau[j]
+    n_w1 = 0
     for w in range(n):
         n_w1 += w1[w]
-    lp_sub = (log_prior_subset(n_tau, n_g, model.p_global)
-              + log_prior_subset(n_w1, n, model.p_eventual))
+    lp_sub = log_prior_globals(tau, model) + log_prior_subset(n_w1, n, model.p_eventual)
     m = np.int64(0)
     scored = np.int64(0)  # neighbours scored from scratch
     if lp_struct + lp_sub == -np.inf:
         return m, scored
     n_conj = fill_viol(viol, tau, w1, parent, demos.truth_t, model)
     cut = floor - MARGIN
-    lg = log_inclusion(model.p_global)
     le = log_inclusion(model.p_eventual)
     # One inclusion bit: tau's, and W1's too when there is no order to move them with.
     n_bits = n_g + (n if n <= 1 else 0)
     for b in range(n_bits):
         c = b if b < n_g else clause_index_eventual(b - n_g, n_g)
         inc = source[b]
-        l_in, l_out = lg if b < n_g else le
+        l_in, l_out = global_inclusion(b, model) if b < n_g else le
         ps_out, ns_out, ps_in, ns_in = flip_sums(viol, demos.truth_t, c, inc, demos.w_pos,
                                                  demos.w_neg)
         if inc:  # the neighbour leaves the clause out

@@ -357,7 +357,8 @@ def _ungrouped(clause_bits, full, labels, model, log_keep, max_kept, budget, tol
     n_g, n = model.n_g, model.n
     structures = support_structures(model)
     parts_s = ungrouped_structures(structures, clause_bits, full, model)
-    parts_t = PartTable(*subset_table(clause_bits, 0, n_g, model.p_global, full))
+    parts_t = PartTable(*subset_table(clause_bits, 0, n_g, model.p_global, full, model.pat_in,
+                                      model.pat_out))
     parts_e = PartTable(*subset_table(clause_bits, clause_index_eventual(0, n_g), n,
                                       model.p_eventual, full))
     log_z, keep_idx, keep_lp, mass_s, mass_t, mass_e, mass_v = ungrouped_kernel(

@@ -39,10 +39,12 @@ class Model(NamedTuple):
     forest_const: float
     flip_a: float             # Beta(a, b) prior of the flip rate (likelihood code 2), else 0
     flip_b: float
+    pat_in: np.ndarray        # log p, log(1 - p) of each pattern clause: the last
+    pat_out: np.ndarray       # len(pat_in) global slots (DESIGN §12); empty for the paper's
 
 
 def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_eventual=0.8,
-               p_part=0.3, n_new=5.0, epsilon=None, flip_prior=None):
+               p_part=0.3, n_new=5.0, epsilon=None, flip_prior=None, p_patterns=()):
     """Build the model bundle of one fit.
 
     Parameters
@@ -50,7 +52,7 @@ def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_even
     prior : {"linear_chain", "sets_of_chains", "forest"}
     likelihood : {"cb", "ci", "calibrated"}
     n_globals, n_subtasks : int
-        Numbers of global candidates and subtasks.
+        Numbers of global slots (the ``G`` candidates, then the pattern clauses) and subtasks.
     p_global, p_eventual, p_part, n_new : float
         Prior parameters (see :class:`~bsi_sklearn.BSIClassifier`).
     epsilon : float or None
@@ -58,6 +60,10 @@ def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_even
     flip_prior : tuple of float or None
         ``(a, b)``: with ``"ci"``, the flip rate integrated over a Beta(a, b) prior
         (:func:`bsi_sklearn.model.likelihood.resolve_flip_prior` says where it applies).
+    p_patterns : array-like of float, default=()
+        Inclusion probability of each pattern clause (DESIGN §12), the last
+        ``len(p_patterns)`` of the ``n_globals`` global slots; the ``G`` clauses before them
+        have ``p_global``. Empty: the paper's template.
 
     Returns
     -------
@@ -70,6 +76,10 @@ def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_even
     (2, 3, True, -22.181)
     """
     n_g, n = int(n_globals), int(n_subtasks)
+    pat_p = np.asarray(p_patterns, dtype=float).reshape(-1)
+    if len(pat_p) > n_g or np.any(~((pat_p > 0) & (pat_p < 1))):
+        raise ValueError(f"p_patterns must hold at most n_globals = {n_g} probabilities in "
+                         f"(0, 1), got {pat_p.tolist()}")
     flip_a, flip_b = resolve_flip_prior(likelihood, flip_prior, epsilon)
     forest, lp_chains, forest_g, forest_const = prior_tables(prior, n, float(p_part),
                                                              float(n_new))
@@ -79,4 +89,5 @@ def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_even
         log_eps=float(resolve_log_epsilon(epsilon, n_g, n)),
         likelihood=likelihood_code(likelihood, flip_prior), lp_chains=lp_chains,
         forest_g=forest_g, forest_const=float(forest_const), flip_a=flip_a, flip_b=flip_b,
+        pat_in=np.log(pat_p), pat_out=np.log1p(-pat_p),
     )

@@ -16,6 +16,7 @@ from numba import njit, types
 from numba.extending import intrinsic, register_jitable
 
 from bsi_sklearn._compile_progress import install_notice
+from bsi_sklearn.model.patterns import pattern_truth
 
 __all__ = [
     "clause_index_eventual",
@@ -61,15 +62,30 @@ def clause_truth(traces, roles):
     Returns
     -------
     truth : ndarray of shape (n_demos, n_clauses), dtype uint8
+        In the layout above with ``n_g = roles.n_globals + roles.n_patterns``: the pattern
+        clauses (``roles.patterns``) are the global slots after the ``G`` candidates.
     """
     n_props = traces.data.shape[1]
+    n_g, n = len(roles.global_idx), len(roles.subtask_idx)
     # Allocated here: a numpy allocation inside the kernel is one more compilation.
-    out = np.zeros((len(traces.offsets) - 1, n_clauses(len(roles.global_idx),
-                                                        len(roles.subtask_idx))), dtype=np.uint8)
+    out = np.zeros((len(traces.offsets) - 1, n_clauses(n_g, n)), dtype=np.uint8)
     _clause_truth(traces.data, traces.offsets, roles.global_idx, roles.subtask_idx,
                   roles.condition_idx, out, np.empty(n_props, dtype=np.uint8),
                   np.empty(n_props, dtype=np.int64))
-    return out
+    if not roles.patterns:
+        return out
+    # The pattern clauses are global slots n_g.. (DESIGN §12): their truth goes between the
+    # G clauses and the eventual ones, one pass over the traces per template.
+    patterns = np.zeros((out.shape[0], len(roles.patterns)), dtype=np.uint8)
+    by_template = {}
+    for k, (name, cols) in enumerate(roles.patterns):
+        by_template.setdefault(name, []).append((k, cols))
+    for name, items in by_template.items():
+        ks = [k for k, _ in items]
+        patterns[:, ks] = pattern_truth(name, traces.data, traces.offsets,
+                                        [cols for _, cols in items])
+    first_eventual = clause_index_eventual(0, n_g)
+    return np.concatenate([out[:, :first_eventual], patterns, out[:, first_eventual:]], axis=1)
 
 
 @njit(cache=True, nogil=True)

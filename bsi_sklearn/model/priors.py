@@ -42,6 +42,8 @@ __all__ = [
     "log_prior",
     "log_prior_structure",
     "log_prior_subset",
+    "log_prior_globals",
+    "global_inclusion",
     "log_inclusion",
     "prior_tables",
     "count_structures",
@@ -189,7 +191,11 @@ def sample_hypothesis(prior, n_globals, n_subtasks, rng, p_global=0.8, p_eventua
 
 def draw_hypothesis(model, rng):
     """Draw ``(tau, w1, parent)`` from the prior a model bundle describes."""
-    return sample_hypothesis(PRIORS[model.prior], model.n_g, model.n, rng, model.p_global,
+    p_global = model.p_global
+    if model.pat_in.shape[0]:  # the pattern slots' own inclusion probabilities
+        p_global = np.full(model.n_g, model.p_global)
+        p_global[model.n_g - model.pat_in.shape[0]:] = np.exp(model.pat_in)
+    return sample_hypothesis(PRIORS[model.prior], model.n_g, model.n, rng, p_global,
                              model.p_eventual, model.p_part, model.n_new)
 
 
@@ -314,10 +320,38 @@ def log_prior_structure(parent, model):
     return _log_prior_chains(n, n_roots, model.prior, model.p_part)
 
 
+@register_jitable
+def log_prior_globals(tau, model):
+    """Log prior of the global slots of a hypothesis: its ``G`` clauses, its pattern clauses.
+
+    The ``G`` clauses are SampleSubset(|T|, p_global) (the paper's term, computed as it
+    always was); each pattern clause, the last ``len(model.pat_in)`` slots, is an independent
+    inclusion with its own probability (DESIGN §12).
+    """
+    n_pat = model.pat_in.shape[0]
+    n_gp = tau.shape[0] - n_pat
+    k = 0
+    for j in range(n_gp):
+        k += tau[j]
+    lp = log_prior_subset(k, n_gp, model.p_global)
+    for i in range(n_pat):
+        lp += model.pat_in[i] if tau[n_gp + i] else model.pat_out[i]
+    return lp
+
+
+@register_jitable
+def global_inclusion(j, model):
+    """``(log p, log(1 - p))`` of including / leaving out global slot ``j``."""
+    n_gp = model.n_g - model.pat_in.shape[0]
+    if j < n_gp:
+        return log_inclusion(model.p_global)
+    return model.pat_in[j - n_gp], model.pat_out[j - n_gp]
+
+
 @njit(cache=True, nogil=True)
 def log_prior(tau, w1, parent, model):
     """Log prior of a whole hypothesis: both subsets (SampleSubset) and the order structure."""
-    return (log_prior_subset(tau.sum(), tau.shape[0], model.p_global)
+    return (log_prior_globals(tau, model)
             + log_prior_subset(w1.sum(), w1.shape[0], model.p_eventual)
             + log_prior_structure(parent, model))
 

@@ -127,7 +127,8 @@ def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=Non
         {"probability": frame["probability"].to_numpy(), "ltl": frame["ltl"].to_numpy(),
          "readable": [s.readable(vacuous, negations=negations)
                       for s in frame["specification"]],
-         "n_clauses": (frame["n_globals"] + frame["n_eventuals"] + frame["n_orders"]).to_numpy(),
+         "n_clauses": (frame["n_globals"] + frame["n_eventuals"] + frame["n_orders"]
+                       + frame.get("n_patterns", 0)).to_numpy(),
          "difference": [_difference(s, spec, negations) for s in frame["specification"]]},
         index=pd.RangeIndex(1, len(frame) + 1, name="rank"),
     )

@@ -1,0 +1,164 @@
+"""Pattern clauses in the model (DESIGN §12): candidates, prior, exact and sampled posteriors."""
+
+import pickle
+
+import numpy as np
+import pytest
+from _reference import brute_force_posterior, instance_holds
+from sklearn.base import clone
+
+from bsi_sklearn import BSIClassifier
+from bsi_sklearn.data.traces import check_traces
+from bsi_sklearn.inference.diagnostics import total_variation
+from bsi_sklearn.model.bundle import make_model
+from bsi_sklearn.model.pattern_candidates import (
+    FAMILY_P,
+    check_templates,
+    pattern_candidates,
+    pattern_probabilities,
+)
+from bsi_sklearn.model.patterns import FAMILIES, TEMPLATES, instantiate
+from bsi_sklearn.model.priors import log_prior_globals
+
+NAMES = ["g", "a", "b"]
+
+
+def _response_data(n=14, seed=0, p=0.35, steps=4):
+    """Demonstrations over (g, a, b), labelled by Response(a, b) and G(g)."""
+    rng = np.random.default_rng(seed)
+    X, y = [], []
+    for _ in range(n):
+        x = (rng.random((steps, 3)) < p).astype(int)
+        x[:, 0] = rng.random() < 0.85  # g holds throughout, mostly
+        X.append(x)
+        y.append(int(instance_holds("Response", [1, 2], x) and x[:, 0].all()))
+    return X, np.array(y)
+
+
+def _clf(**kw):
+    return BSIClassifier(global_candidates=["g"], subtasks=["a", "b"], conditions={},
+                         templates=["Response"], random_state=0, **kw)
+
+
+def _frames(X):
+    import pandas as pd
+    return [pd.DataFrame(x, columns=NAMES) for x in X]
+
+
+def _reference(X, y, clf, prior="sets_of_chains", likelihood="cb"):
+    probs = pattern_probabilities(("Response",), clf.p_patterns)
+    pats = [(name, tuple(props), probs[name]) for name, props in clf.pattern_candidates_]
+    return brute_force_posterior(X, y, NAMES, ["g"], ["a", "b"], {}, prior, likelihood,
+                                 patterns=pats)
+
+
+@pytest.mark.parametrize("prior", ["sets_of_chains", "forest"])
+@pytest.mark.parametrize("likelihood", ["cb", "ci"])
+def test_exact_posterior_with_patterns_matches_first_principles(prior, likelihood):
+    X, y = _response_data()
+    X = _frames(X)
+    clf = _clf(prior=prior, likelihood=likelihood, inference="exact", tol=0.0).fit(X, y)
+    # every instance over the three propositions, but those every demonstration satisfies
+    assert 0 < len(clf.pattern_candidates_) <= 6
+    ref = _reference(X, y, clf, prior, likelihood)
+    assert clf.inference_ == "exact"
+    assert total_variation(clf.posterior_, ref) < 1e-9
+    best = max(ref, key=ref.get)
+    assert ref[clf.map_specification_] == pytest.approx(ref[best], rel=1e-9)
+    marg = clf.posterior_.clause_marginals()
+    for key, value in marg.items():
+        if key[0] == "P":
+            expected = sum(p for s, p in ref.items() if key[1:] in s.patterns)
+            assert value == pytest.approx(expected, abs=1e-9)
+
+
+def test_sampler_with_patterns_agrees_with_exact():
+    X, y = _response_data(n=20, seed=3)
+    X = _frames(X)
+    exact = _clf(inference="exact", tol=0.0).fit(X, y)
+    mcmc = _clf(inference="mcmc").fit(X, y)
+    assert mcmc.inference_ == "mcmc"
+    ref = dict(zip(exact.posterior_.specifications, exact.posterior_.probabilities))
+    assert total_variation(mcmc.posterior_, ref) < 0.02
+    assert mcmc.map_specification_ == exact.map_specification_
+
+
+def test_the_rule_is_the_map_and_predictions_use_the_pattern_truth():
+    X, y = _response_data(n=40, seed=1, steps=5)
+    X = _frames(X)
+    clf = _clf().fit(X, y)
+    assert ("Response", ("a", "b")) in clf.map_specification_.patterns
+    Xn, yn = _response_data(n=60, seed=7, steps=5)
+    Xn = _frames(Xn)
+    assert np.mean(clf.predict(Xn) == yn) >= 0.9
+    # without the pattern, the paper's template cannot say it
+    paper = clone(clf).set_params(templates="paper").fit(X, y)
+    assert paper.map_specification_.patterns == frozenset()
+    assert paper.pattern_candidates_ == []
+    again = pickle.loads(pickle.dumps(clf))
+    np.testing.assert_array_equal(again.predict_proba(Xn), clf.predict_proba(Xn))
+
+
+def test_candidates_leave_out_vacuous_instances_and_idle_propositions():
+    x = np.array([[1, 0, 0], [1, 1, 0], [1, 0, 1]])
+    traces = check_traces([x, x[:2]])
+    cands, n_vacuous = pattern_candidates(traces, ("Absence", "Existence"))
+    # columns 0 and 1 hold in both demonstrations: their Existence is vacuous; column 2 only
+    # in the first, so Existence(2) and every Absence are violated by some demonstration
+    assert ("Existence", (0,)) not in cands and ("Existence", (1,)) not in cands
+    assert ("Existence", (2,)) in cands
+    assert ("Absence", (0,)) in cands and ("Absence", (2,)) in cands
+    assert n_vacuous == 2
+    idle = check_traces([np.zeros((3, 2), dtype=int), np.array([[1, 0], [0, 0]])])
+    cands, _ = pattern_candidates(idle, ("Response",))
+    assert cands == ()  # column 1 never holds: no slot for it, and no instance left
+    with pytest.raises(ValueError, match="more than 2"):
+        pattern_candidates(traces, ("Response",), max_candidates=2)
+
+
+def test_template_and_probability_parameters_are_checked():
+    assert check_templates("paper") == ()
+    assert check_templates(("Response", "G(x -> F(y))")) == ("Response", "G(x -> F(y))")
+    for bad, match in [("Response", "list of one template"), ([], "empty list"),
+                       (["Respons"], "unknown template"),
+                       (["Response", "Response"], "more than once"),
+                       (["G(true)"], "no placeholder")]:
+        with pytest.raises(ValueError, match=match):
+            check_templates(bad)
+    assert set(FAMILY_P) == set(FAMILIES)
+    got = pattern_probabilities(tuple(TEMPLATES), {"relation": 0.3, "Response": 0.01})
+    assert got["Response"] == 0.01 and got["Precedence"] == 0.3
+    assert got["Absence"] == FAMILY_P["absence"]
+    assert set(pattern_probabilities(("Response", "Absence"), 0.4).values()) == {0.4}
+    with pytest.raises(ValueError, match="Response"):
+        pattern_probabilities(("Response",), {"Response": 1.0})
+    X, y = _response_data()
+    for params in [dict(templates="all"), dict(templates=["Respons"]),
+                   dict(templates=["Response"], p_patterns=1.5),
+                   dict(templates=["Response"], p_patterns=["x"])]:
+        with pytest.raises(ValueError):
+            BSIClassifier(**params).fit(X, y)
+
+
+def test_the_pattern_prior_is_each_slots_own_inclusion():
+    model = make_model(prior="sets_of_chains", likelihood="cb", n_globals=3, n_subtasks=1,
+                       p_global=0.8, p_patterns=[0.1, 0.3])
+    tau = np.array([1, 0, 1])  # G slot in, first pattern out, second in
+    expected = np.log(0.8) + np.log(0.9) + np.log(0.3)
+    assert log_prior_globals(tau, model) == pytest.approx(expected)
+    with pytest.raises(ValueError, match="p_patterns"):
+        make_model(prior="sets_of_chains", likelihood="cb", n_globals=1, n_subtasks=1,
+                   p_patterns=[0.1, 0.2])
+
+
+@pytest.mark.parametrize("template", sorted(TEMPLATES))
+def test_the_reference_evaluator_agrees_with_the_kernels(template):
+    # the brute-force posterior's truth (definitions) against pattern_truth (recurrences)
+    from bsi_sklearn.model.patterns import pattern_truth
+
+    rng = np.random.default_rng(len(template))
+    cols = np.array(instantiate(template, [0, 1, 2]))
+    for _ in range(30):
+        x = (rng.random((int(rng.integers(1, 6)), 3)) < 0.4).astype(np.uint8)
+        truth = pattern_truth(template, x, np.array([0, len(x)]), cols)[0]
+        assert [instance_holds(template, c, x) for c in cols] == truth.astype(bool).tolist()
