@@ -11,6 +11,8 @@ structures grouped here.
 
 from typing import NamedTuple
 
+import math
+
 import numpy as np
 
 from bsi_sklearn.inference._grouping import Groups, group_rows
@@ -81,6 +83,11 @@ def subset_table(clause_bits, first_clause, n_items, p, full, pat_in=(), pat_out
     return PartTable(bits, size, lp[size[lo]] + lp_pat)
 
 
+def _pow2(k):
+    # 2**k as a float, infinite past the floats (hundreds of pattern clauses are global slots)
+    return math.ldexp(1.0, k) if k < 1024 else math.inf
+
+
 def _members(gid, n_groups):
     # CSR lists of the items of each group, items in increasing order.
     ok = np.flatnonzero(gid >= 0)
@@ -101,9 +108,9 @@ def group_subsets(clause_bits, full, model, spend=None, allocate=None):
     n_words = clause_bits.shape[1]
     what = f"the subset tables (2**{n_g} + 2**{n} rows)"
     if spend is not None:
-        spend(ROW_COST * (2.0**n_g + 2.0**n), what)
+        spend(ROW_COST * (_pow2(n_g) + _pow2(n)), what)
     if allocate is not None:  # a row, and as much twice again while it is grouped
-        allocate(3.0 * (8 * n_words + 24) * (2.0**n_g + 2.0**n), what)
+        allocate(3.0 * (8 * n_words + 24) * (_pow2(n_g) + _pow2(n)), what)
     t_tab = subset_table(clause_bits, 0, n_g, model.p_global, full, model.pat_in,
                          model.pat_out)
     e_tab = subset_table(clause_bits, clause_index_eventual(0, n_g), n, model.p_eventual, full)
