@@ -8,7 +8,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from bsi_sklearn.ltl.formula import Atom, Formula, Not
-from bsi_sklearn.specification.templates import TEMPLATES, get_template, step_truth
+from bsi_sklearn.specification.template_truth import step_truth
+from bsi_sklearn.specification.templates import TEMPLATES, get_template
 
 __all__ = ["Pattern"]
 

@@ -22,7 +22,8 @@ from bsi_sklearn._literals import (
     render_clause,
 )
 from bsi_sklearn.data.values import trace_columns
-from bsi_sklearn.specification.templates import TEMPLATES, get_template, holds
+from bsi_sklearn.specification.template_truth import holds
+from bsi_sklearn.specification.templates import TEMPLATES, get_template
 
 __all__ = ["Specification", "transitive_closure"]
 
@@ -423,7 +424,7 @@ class Specification:
         """Evaluate the formula at t=0 on a finite trace (last state repeats forever).
 
         The pattern clauses are read in LTLf, on the finite trace as it is (their ``X`` is
-        false at the last step, ``WX`` true; :func:`~.templates.holds`); the other clauses
+        false at the last step, ``WX`` true; :func:`~.template_truth.holds`); the other clauses
         mean the same either way.
 
         Parameters

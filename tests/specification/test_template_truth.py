@@ -12,7 +12,7 @@ import pytest
 
 from bsi_sklearn.model.patterns import TEMPLATES, instantiate, pattern_truth
 from bsi_sklearn.specification import Specification
-from bsi_sklearn.specification.templates import holds, step_truth
+from bsi_sklearn.specification.template_truth import holds, step_truth
 
 _USER = ["G(x -> WX(!x))", "x R y", "(x <-> y) U (x & !y)", "X(x) | WX(false)",
          "G(x -> X(y U z))", "F(x) -> !WX(true)"]
@@ -151,3 +151,54 @@ def test_jaccard_counts_pattern_clauses():
     assert jaccard_similarity(Specification(globals=["s"], patterns=[("Response", ("b", "a"))]),
                               truth) == 1 / 3
     assert jaccard_similarity(truth, truth) == 1.0
+
+
+# ------------------------------------------------------------------ to_ltlf with pattern clauses
+def _project_truth(text, names, trace):
+    """The project's LTLf reader and evaluator on the whole text (any number of atoms)."""
+    from bsi_sklearn.specification.template_truth import _tree_steps
+    from bsi_sklearn.specification.templates import parse_ltlf
+
+    arr = np.asarray(trace, dtype=bool)[None]
+    atoms = {n: arr[:, :, k] for k, n in enumerate(names)}
+    at_end = np.arange(arr.shape[1])[None, :] >= arr.shape[1] - 1
+    return bool(_tree_steps(parse_ltlf(text), atoms, at_end)[0, 0])
+
+
+@pytest.mark.parametrize("name", [*TEMPLATES, *_USER[:3]])
+def test_to_ltlf_writes_the_instance_formula_flloat_and_the_project_read_alike(name):
+    from bsi_sklearn.specification.templates import get_template
+
+    n = len(get_template(name).slots)
+    spec = Specification(globals=["s"], orders=[("a", "b")],
+                         patterns=[(name, ["b", "!c", "a"][:n])])
+    text = spec.to_ltlf(dialect="ltlf2dfa")
+    assert text.startswith("G(s) & (!(b) U (a)) & (")
+    names = ["a", "b", "c", "s"]
+    rng = np.random.default_rng(11)
+    traces = [rng.random((int(rng.integers(1, 6)), 4)) < 0.6 for _ in range(120)]
+    traces += [np.array([[0, 0, 0, 1]], dtype=bool), np.ones((1, 4), dtype=bool)]
+    flloat = pytest.importorskip("flloat.parser.ltlf")
+    formula = flloat.LTLfParser()(text)
+    for tr in traces:
+        # the column "!c" is the negation of c: give the specification that column too
+        full = np.concatenate([tr, ~tr[:, 2:3]], axis=1)
+        expected = spec.satisfied_by(full, feature_names=[*names, "!c"])
+        assert _project_truth(text, names, tr) == expected, (text, tr.astype(int))
+        steps = [{a: bool(v) for a, v in zip(names, row)} for row in tr]
+        assert formula.truth(steps, 0) == expected, (text, tr.astype(int))
+
+
+def test_to_ltlf_spot_writes_the_strong_next_spot_reads_in_both_logics():
+    spec = Specification(patterns=[("ChainResponse", ("Fee", "b")),
+                                   ("AlternatePrecedence", ("a", "b"))])
+    text = spec.to_ltlf(dialect="spot")
+    assert text == ('(((!b U a) | G(!b)) & G(b -> !X[!]!((!b U a) | G(!b))))'
+                    ' & (G("Fee" -> X[!](b)))')
+    try:
+        import spot
+    except ImportError:
+        pytest.skip("Spot is not installed")
+    if not hasattr(spot, "from_ltlf"):
+        pytest.skip("the spot module here is not Spot's Python binding")
+    spot.from_ltlf(spot.formula(text))
