@@ -25,12 +25,19 @@ class Roles:
         Column of each subtask's condition pi_w, or -1 when pi_w = true.
     names : list
         Identifier of every column, as used in specifications.
+    patterns : tuple of (str, tuple of int)
+        The pattern clauses' candidates (DESIGN §12): for each instance, its template's name
+        (:func:`bsi_sklearn.specification.templates.get_template`) and the column filling each
+        of its slots, in slot order. Empty for the paper's template. Instance ``k`` is the
+        global slot ``n_globals + k`` of the clause and state layouts: the engines treat a
+        pattern clause as they treat a ``G`` clause, an independent inclusion.
     """
 
     global_idx: np.ndarray
     subtask_idx: np.ndarray
     condition_idx: np.ndarray
     names: list
+    patterns: tuple = ()
 
     @property
     def n_globals(self):
@@ -41,6 +48,11 @@ class Roles:
     def n_patterns(self):
         """Number of pattern-clause candidates (global slots after the ``G`` candidates)."""
         return len(self.patterns)
+
+    @property
+    def n_global_slots(self):
+        """Global slots of the clause and state layouts: the ``G`` candidates, then patterns."""
+        return len(self.global_idx) + len(self.patterns)
 
     @property
     def n_subtasks(self):
