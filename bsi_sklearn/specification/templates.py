@@ -376,7 +376,8 @@ def instance_text(template, names):
     t = get_template(template)
     names = _check_instance(t, names)
     if t.code < 0:
-        return f"{instance_ltlf(t, names, dialect='spot')} holds"
+        # the template's own syntax (WX, not Spot's X[!]), atoms quoted where needed
+        return f"{fill_formula(t, [spot_atom(n) for n in names])} holds"
     table = dict(zip(t.slots, names))
     reading = re.sub(r"\b[a-z]\b", lambda m: table.get(m.group(0), m.group(0)), t.sentence)
     return f"{t.name}({', '.join(names)}): {reading}"
