@@ -67,7 +67,8 @@ def jaccard_similarity(spec, truth):
     """Jaccard index between the clause sets of two specifications (paper eq. 13).
 
     ``L = |C(spec) & C(truth)| / |C(spec) | C(truth)|`` where ``C`` is
-    :meth:`Specification.clauses` (globals, eventuals and the transitively closed orders).
+    :meth:`Specification.clauses` (globals, eventuals, the transitively closed orders and
+    the pattern clauses, ``("P", template, propositions)``).
     Two empty specifications are identical: their similarity is 1.
 
     Parameters

@@ -350,9 +350,10 @@ def _cycles(graph):
 
 
 # Formula's methods (to_specification, parsing helpers) call its parser and template lazily:
-# one package, one concept.
+# one package, one concept. The pattern-clause node (ltl/pattern.py, a Formula the parser
+# builds and the template reads) joins the same circle.
 _ALLOWED_CYCLES = [{"bsi_sklearn.ltl.formula", "bsi_sklearn.ltl.parser",
-                    "bsi_sklearn.ltl.template"}]
+                    "bsi_sklearn.ltl.template", "bsi_sklearn.ltl.pattern"}]
 
 
 @pytest.mark.parametrize("package", PACKAGES)

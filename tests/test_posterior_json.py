@@ -43,7 +43,8 @@ def test_round_trip_gives_identical_predictions(kwargs, frames, tmp_path):
         assert again.dropped_mass == post.dropped_mass
         assert again.roles.names == list(post.roles.names)
     doc = json.loads(text)
-    assert doc["schema"] == SCHEMA and doc["version"] == SCHEMA_VERSION
+    # without pattern candidates the file is version 1, as before them; SCHEMA_VERSION is 2
+    assert doc["schema"] == SCHEMA and doc["version"] == 1 and SCHEMA_VERSION == 2
     assert doc["specifications"][0]["ltl"] == clf.map_specification_.to_ltl()
     assert set(doc) == {"schema", "version", "names", "roles", "specifications",
                         "probabilities", "clause_marginals", "dropped_mass"}
@@ -68,8 +69,8 @@ def _doc():
 @pytest.mark.parametrize("edit, message", [
     (lambda d: d.update(schema="something/else"), "schema: expected 'bsi-sklearn/posterior', "
                                                   "got 'something/else'"),
-    (lambda d: d.update(version=2), "schema version 2 is not supported; this bsi-sklearn "
-                                    "reads version 1"),
+    (lambda d: d.update(version=3), "schema version 3 is not supported; this bsi-sklearn "
+                                    "reads versions 1, 2"),
     (lambda d: d["roles"]["subtasks"].append("zz"), "roles.subtasks\\[\\d+\\]: 'zz' is not one "
                                                     "of the names"),
     (lambda d: d["probabilities"].pop(), "probabilities: .* probabilities for .* "

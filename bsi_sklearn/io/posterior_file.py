@@ -22,6 +22,7 @@ import numpy as np
 from bsi_sklearn.data.roles import Roles
 from bsi_sklearn.io._atomic import write_atomic
 from bsi_sklearn.specification import Specification
+from bsi_sklearn.specification.templates import get_template
 
 __all__ = [
     "SCHEMA",
@@ -34,9 +35,12 @@ __all__ = [
     "write_posterior",
 ]
 
-#: Name and version of the format (the ``schema`` and ``version`` fields).
+#: Name and version of the format (the ``schema`` and ``version`` fields). Version 2 adds
+#: the pattern clauses (DESIGN §12); a posterior without pattern candidates is still written
+#: as version 1, byte for byte as before, and both versions are read.
 SCHEMA = "bsi-sklearn/posterior"
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
+_VERSIONS = (1, 2)
 
 #: Default most specifications a file lists; the rest is written as ``dropped_mass``.
 MAX_LISTED = 10_000
@@ -48,6 +52,9 @@ _TOP_KEYS = ("schema", "version", "names", "roles", "specifications", "probabili
              "clause_marginals", "dropped_mass")
 _ROLE_KEYS = ("global_candidates", "subtasks", "conditions")
 _SPEC_KEYS = ("globals", "eventuals", "orders", "ltl")
+# Version 2: the roles list the pattern candidates, each specification its pattern clauses.
+_ROLE_KEYS_2 = _ROLE_KEYS + ("patterns",)
+_SPEC_KEYS_2 = ("globals", "eventuals", "orders", "patterns", "ltl")
 
 
 class PosteriorDocument(NamedTuple):
@@ -57,7 +64,8 @@ class PosteriorDocument(NamedTuple):
     ----------
     roles : Roles
     structures : ndarray of shape (n_specs, n_subtasks), int64
-    tau_masks : ndarray of shape (n_specs, n_globals), bool
+    tau_masks : ndarray of shape (n_specs, n_globals + n_patterns), bool
+        The ``G`` candidates, then the pattern candidates (``roles.patterns``).
     w1_masks : ndarray of shape (n_specs, n_subtasks), bool
     probabilities : ndarray of shape (n_specs,)
     marginal_keys : list of tuple
@@ -87,14 +95,27 @@ def _json_key(x):
     return (type(x).__name__, x)
 
 
-def _spec_entry(spec):
-    return {
+def _spec_entry(spec, version):
+    entry = {
         "globals": sorted((_plain(p) for p in spec.globals), key=_json_key),
         "eventuals": sorted((_plain(w) for w in spec.eventuals), key=_json_key),
         "orders": sorted(([_plain(a), _plain(b)] for a, b in spec.orders),
                          key=lambda o: (_json_key(o[0]), _json_key(o[1]))),
-        "ltl": spec.to_ltl(),
     }
+    if version >= 2:
+        entry["patterns"] = sorted(([name, [_plain(p) for p in props]]
+                                    for name, props in spec.patterns),
+                                   key=lambda k: (k[0], [_json_key(p) for p in k[1]]))
+    elif spec.patterns:
+        raise ValueError("a specification has pattern clauses but the roles list no pattern "
+                         f"candidate: {spec.to_ltl()!r}")
+    entry["ltl"] = spec.to_ltl()
+    return entry
+
+
+def _key_entry(key):
+    # A pattern clause's key ("P", template, propositions) nests its propositions.
+    return [_plain(x) if not isinstance(x, tuple) else [_plain(p) for p in x] for x in key]
 
 
 def dump_posterior(roles, specifications, probabilities, marginal_keys, marginals,
@@ -118,20 +139,27 @@ def dump_posterior(roles, specifications, probabilities, marginal_keys, marginal
     Returns
     -------
     text : str
-        One field a line, one specification or probability a line; floats exactly.
+        One field a line, one specification or probability a line; floats exactly. Version 2
+        when the roles have pattern candidates (``roles.patterns``, listed by template name
+        or user LTLf text and their propositions), else version 1, as before them.
     """
+    version = 2 if getattr(roles, "patterns", ()) else 1
+    role_entry = {
+        "global_candidates": [_plain(n) for n in roles.global_names()],
+        "subtasks": [_plain(n) for n in roles.subtask_names()],
+        "conditions": [[_plain(w), _plain(c)] for w, c in roles.condition_names().items()],
+    }
+    if version >= 2:
+        role_entry["patterns"] = [[name, [_plain(p) for p in props]]
+                                  for name, props in roles.pattern_keys()]
     doc = {
         "schema": SCHEMA,
-        "version": SCHEMA_VERSION,
+        "version": version,
         "names": [_plain(n) for n in roles.names],
-        "roles": {
-            "global_candidates": [_plain(n) for n in roles.global_names()],
-            "subtasks": [_plain(n) for n in roles.subtask_names()],
-            "conditions": [[_plain(w), _plain(c)] for w, c in roles.condition_names().items()],
-        },
-        "specifications": [_spec_entry(s) for s in specifications],
+        "roles": role_entry,
+        "specifications": [_spec_entry(s, version) for s in specifications],
         "probabilities": [float(p) for p in probabilities],
-        "clause_marginals": [[[_plain(x) for x in key], float(v)]
+        "clause_marginals": [[_key_entry(key), float(v)]
                              for key, v in zip(marginal_keys, marginals)],
         "dropped_mass": float(dropped_mass),
     }
@@ -258,6 +286,12 @@ def parse_posterior(text, who="Posterior.from_json"):
     return _Reader(who).document(doc)
 
 
+def _canonical(key):
+    """A pattern key as :attr:`Specification.patterns` holds it."""
+    (key,) = Specification(patterns=[key]).patterns
+    return key
+
+
 class _BadConstant(Exception):
     pass
 
@@ -318,9 +352,10 @@ class _Reader:
         if doc.get("schema") != SCHEMA:
             self.fail("schema", f"expected {SCHEMA!r}, got {doc.get('schema')!r}")
         version = doc.get("version")
-        if isinstance(version, bool) or version != SCHEMA_VERSION:
+        if isinstance(version, bool) or version not in _VERSIONS:
             self.fail("version", f"schema version {version!r} is not supported; this "
-                      f"bsi-sklearn reads version {SCHEMA_VERSION}")
+                      f"bsi-sklearn reads versions {', '.join(map(str, _VERSIONS))}")
+        self.version = version
         self.object(doc, "(document)", _TOP_KEYS)
         names = self.names(doc["names"])
         roles = self.roles(doc["roles"], names)
@@ -366,7 +401,7 @@ class _Reader:
         return allowed.index(ident)
 
     def roles(self, value, names):
-        roles = self.object(value, "roles", _ROLE_KEYS)
+        roles = self.object(value, "roles", _ROLE_KEYS_2 if self.version >= 2 else _ROLE_KEYS)
         g = self.members(roles["global_candidates"], "roles.global_candidates", names,
                          "one of the names")
         s = self.members(roles["subtasks"], "roles.subtasks", names, "one of the names")
@@ -384,8 +419,30 @@ class _Reader:
             if cond[s.index(w)] >= 0:
                 self.fail(field, f"subtask {names[w]!r} has a second condition")
             cond[s.index(w)] = c
+        patterns = self.pattern_list(roles.get("patterns", []), "roles.patterns", names)
+        if len(set(patterns)) < len(patterns):
+            k = next(k for k, p in enumerate(patterns) if p in patterns[:k])
+            self.fail(f"roles.patterns[{k}]", "listed twice")
         return Roles(np.asarray(g, dtype=np.int64), np.asarray(s, dtype=np.int64), cond,
-                     list(names))
+                     list(names),
+                     tuple((t, tuple(names.index(p) for p in props)) for t, props in patterns))
+
+    def pattern_list(self, value, field, allowed):
+        """``[(template name, propositions), ...]``, each checked, the propositions as given."""
+        out = []
+        for k, item in enumerate(self.list(value, field)):
+            where = f"{field}[{k}]"
+            if not isinstance(item, list) or len(item) != 2 or not isinstance(item[0], str):
+                self.fail(where, f"expected a pair [template, [propositions]], got {item!r}")
+            props = self.list(item[1], f"{where}[1]")
+            for j, ident in enumerate(props):
+                self.position(ident, f"{where}[1][{j}]", allowed, "one of the names")
+            try:
+                Specification(patterns=[(item[0], props)])  # the template and its slots
+            except ValueError as exc:
+                self.fail(where, str(exc))
+            out.append((get_template(item[0]).name, tuple(props)))
+        return out
 
     def specifications(self, value, roles):
         specs = self.list(value, "specifications")
@@ -393,13 +450,17 @@ class _Reader:
             self.fail("specifications", "the list is empty (a posterior lists at least one)")
         g_names, s_names = roles.global_names(), roles.subtask_names()
         n_g, n = len(g_names), len(s_names)
+        # As a Specification stores them (a symmetric template's propositions sorted).
+        p_keys = [_canonical(key) for key in roles.pattern_keys()]
         structures = np.full((len(specs), n), -1, dtype=np.int64)
         tau = np.zeros((len(specs), n_g), dtype=bool)
+        chosen = np.zeros((len(specs), len(p_keys)), dtype=bool)  # the patterns, after tau
         w1 = np.zeros((len(specs), n), dtype=bool)
         conditions = roles.condition_names()
         for h, entry in enumerate(specs):
             field = f"specifications[{h}]"
-            entry = self.object(entry, field, _SPEC_KEYS)
+            entry = self.object(entry, field,
+                                _SPEC_KEYS_2 if self.version >= 2 else _SPEC_KEYS)
             tau[h, self.members(entry["globals"], f"{field}.globals", g_names,
                                 "a global candidate")] = True
             w1[h, self.members(entry["eventuals"], f"{field}.eventuals", s_names,
@@ -412,14 +473,27 @@ class _Reader:
                 a, b = self.members(pair, where, s_names, "a subtask")
                 pairs.append((a, b))
             structures[h] = self.forest(pairs, n, f"{field}.orders")
+            where = f"{field}.patterns"
+            for k, key in enumerate(self.pattern_list(entry.get("patterns", []), where,
+                                                      roles.names)):
+                key = _canonical(key)
+                if key not in p_keys:
+                    self.fail(f"{where}[{k}]", f"{key[0]}{list(key[1])} is not one of the "
+                              "pattern candidates (roles.patterns)")
+                if chosen[h, p_keys.index(key)]:
+                    self.fail(f"{where}[{k}]", "listed twice")
+                chosen[h, p_keys.index(key)] = True
             ltl = entry["ltl"]
             spec = Specification(
                 [g_names[j] for j in np.flatnonzero(tau[h])],
                 [s_names[w] for w in np.flatnonzero(w1[h])],
-                [(s_names[a], s_names[b]) for a, b in pairs], conditions)
+                [(s_names[a], s_names[b]) for a, b in pairs], conditions,
+                patterns=[p_keys[k] for k in np.flatnonzero(chosen[h])])
             if ltl != spec.to_ltl():
+                what = "clauses" if self.version >= 2 else "globals, eventuals and orders"
                 self.fail(f"{field}.ltl", f"{ltl!r} is not the formula of the entry's "
-                          f"globals, eventuals and orders ({spec.to_ltl()!r})")
+                          f"{what} ({spec.to_ltl()!r})")
+        tau = np.concatenate([tau, chosen], axis=1)  # pattern k is global slot n_globals + k
         rows = np.concatenate([tau, w1, structures], axis=1)
         _, first, counts = np.unique(rows, axis=0, return_index=True, return_counts=True)
         if (counts > 1).any():
@@ -469,10 +543,16 @@ class _Reader:
             if not isinstance(item, list) or len(item) != 2 or not isinstance(item[0], list):
                 self.fail(field, f"expected a pair [clause key, probability], got {item!r}")
             key = item[0]
+            if key and key[0] == "P" and self.version >= 2 and len(key) == 3:
+                (pattern,) = self.pattern_list([key[1:]], field, names)
+                keys.append(("P", *_canonical(pattern)))
+                values.append(self.number(item[1], field, high=1.0 + 1e-9))
+                continue
             if not key or key[0] not in ("G", "F", "U") or len(key) != (3 if key[0] == "U"
                                                                           else 2):
                 self.fail(field, f"{key!r} is not a clause key ['G', p], ['F', w] or "
-                          "['U', a, b]")
+                          "['U', a, b]" + (", ['P', template, [propositions]]"
+                                           if self.version >= 2 else ""))
             for ident in key[1:]:
                 self.position(ident, field, names, "one of the names")
             keys.append(tuple(key))

@@ -1,6 +1,7 @@
 """A small general LTL on finite traces: formulas, their parser, reading one as the template.
 
-``formula`` holds the tree (:class:`Formula` and its nodes), ``evaluation`` its truth over
+``formula`` holds the tree (:class:`Formula` and its nodes; ``pattern`` the pattern-clause node
+:class:`Pattern`), ``evaluation`` its truth over
 ragged traces, ``parser`` :func:`parse_ltl`, ``template`` the reading of a formula as a
 :class:`~bsi_sklearn.specification.Specification`. The other way, a specification written as
 LTLf text (:func:`to_ltlf`, :class:`SpecificationAutomaton`) and its minimal DFA
@@ -26,6 +27,7 @@ from bsi_sklearn.ltl.formula import (
     Until,
 )
 from bsi_sklearn.ltl.parser import parse_ltl
+from bsi_sklearn.ltl.pattern import Pattern
 
 __all__ = [
     "Formula",
@@ -41,6 +43,7 @@ __all__ = [
     "Equivalent",
     "Until",
     "Release",
+    "Pattern",
     "parse_ltl",
     "to_ltlf",
     "SpecificationAutomaton",

@@ -16,6 +16,8 @@ def evaluate_traces(formula, traces, feature_names=None):
     Demonstrations are grouped by length and padded by repeating their last state, which
     leaves the infinite word (and so every truth value) unchanged; each group is a boolean
     cube ``(n, t_max, n_atoms)`` that every subformula evaluates on at once.
+    Pattern clauses (:class:`~bsi_sklearn.ltl.formula.Pattern`, read in LTLf on the
+    finite trace) are given each trace's length, so the padding leaves them unchanged too.
 
     Parameters
     ----------
@@ -63,7 +65,8 @@ def evaluate_traces(formula, traces, feature_names=None):
         steps = np.minimum(np.arange(t_max)[None, :], lengths[idx, None] - 1)
         rows = traces.offsets[idx, None] + steps
         cube = used[rows]  # (n, t_max, n_atoms)
-        cache = {}
+        # A pattern clause (LTLf) reads where each padded trace ends.
+        cache = {"lengths": lengths[idx]}
         value = formula._eval(cube, columns, cache)
         result[idx] = value[:, 0]
         start = stop

@@ -36,7 +36,9 @@ class Formula:
     step has ``b`` and every earlier step has ``a``, and ``X phi`` at the last step reads
     ``phi`` on the (repeated) last state. For formulas without ``X`` this coincides with
     the usual LTLf semantics; on the last step ``X`` differs from LTLf's strong next (false
-    there) and weak next (true there).
+    there) and weak next (true there). A pattern clause, ``Response(a, b)``
+    (:class:`~bsi_sklearn.ltl.pattern.Pattern`), is the exception: its template is read in
+    LTLf on the finite trace.
 
     Build formulas with :func:`parse_ltl` (prefix notation of samples2LTL / Scarlet such as
     ``"&(F(a),G(!(b)))"``, or infix such as ``"F(a) & G(!b)"``), with the node classes, or
@@ -168,7 +170,8 @@ class Formula:
 
         The template is a conjunction of ``G(p)``, ``F(w)``, ``pi -> F(w)``,
         ``(!b U a)`` and ``pi -> (!b U a)`` clauses over propositions (see
-        :class:`~bsi_sklearn.specification.Specification`).
+        :class:`~bsi_sklearn.specification.Specification`), and pattern clauses
+        (:class:`~bsi_sklearn.ltl.pattern.Pattern`, ``Response(a, b)``) as conjuncts of their own.
         Literals are read as propositions: ``!p`` becomes the proposition named
         ``negation_prefix + p`` (the column
         :class:`~bsi_sklearn.data.preprocessing.NegationAugmenter` adds), so ``G(!p)`` is in the
@@ -444,3 +447,4 @@ class Release(_Binary):
     def _compute(self, cube, columns, cache):
         return ~_until(~self.left._eval(cube, columns, cache),
                        ~self.right._eval(cube, columns, cache))
+

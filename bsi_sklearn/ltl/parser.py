@@ -20,6 +20,7 @@ from bsi_sklearn.ltl.formula import (
     Release,
     Until,
 )
+from bsi_sklearn.ltl.pattern import Pattern
 
 __all__ = ["parse_ltl"]
 
@@ -28,7 +29,7 @@ _BINARY = {"&": And, "|": Or, "->": Implies, "<->": Equivalent, "U": Until, "R":
 
 _TOKEN = re.compile(
     r"(?:(?P<op><->|->|[!~&|(),])|(?P<name>[A-Za-z0-9_][A-Za-z0-9_.]*)"
-    r"|\"(?P<quoted>[^\"]+)\")"
+    r"|\"(?P<quoted>[^\"]+)\"|\{(?P<template>[^{}]*)\})"
 )
 
 
@@ -48,6 +49,8 @@ def _tokenize(text):
             tokens.append(("op", m.group("op"), pos))
         elif m.group("name") is not None:
             tokens.append(("name", m.group("name"), pos))
+        elif m.group("template") is not None:  # a user template's LTLf text, in braces
+            tokens.append(("template", m.group("template"), pos))
         else:
             tokens.append(("atom", m.group("quoted"), pos))
         pos = m.end()
@@ -79,6 +82,25 @@ class _Parser:
         if self.i != len(self.tokens):
             raise self.error(f"unexpected {self.peek()[1]!r}")
 
+    def pattern(self, kind, tok, argument):
+        """A pattern clause ``Name(args)`` / ``{ltlf}(args)``, or None for anything else."""
+        if not (kind == "template" or (kind == "name" and tok not in _RESERVED
+                                       and tok.lower() not in _CONSTANTS
+                                       and self.peek()[:2] == ("op", "("))):
+            return None
+        at = self.i - 1
+        self.take("(")
+        args = [argument()]
+        while self.peek()[1] == ",":
+            self.take(",")
+            args.append(argument())
+        self.take(")")
+        try:
+            return Pattern(tok, tuple(args))
+        except ValueError as exc:
+            self.i = at
+            raise self.error(str(exc)) from None
+
     def leaf(self, kind, tok):
         if kind == "atom":
             return Atom(tok)
@@ -91,7 +113,7 @@ class _Parser:
     # prefix: OP(args) ------------------------------------------------------------------
     def prefix(self):
         kind, tok = self.take()
-        node = self.leaf(kind, tok)
+        node = self.pattern(kind, tok, self.prefix) or self.leaf(kind, tok)
         if node is not None:
             return node
         if tok in _UNARY:
@@ -160,7 +182,7 @@ class _Parser:
             node = self.equivalence()
             self.take(")")
             return node
-        node = self.leaf(kind, tok)
+        node = self.pattern(kind, tok, self.equivalence) or self.leaf(kind, tok)
         if node is None:
             self.i -= 1
             raise self.error(f"unexpected {tok!r}")
@@ -178,7 +200,10 @@ def parse_ltl(text, notation="auto"):
     with precedence (loosest first) ``<->``, ``->`` (right-associative), ``|``, ``&``,
     ``U`` / ``R`` (right-associative), then the unary operators. Atoms are names of letters,
     digits, ``_`` and ``.`` other than ``X F G U R true false``; any other name is written
-    in double quotes. ``true`` and ``false`` are the constants.
+    in double quotes. ``true`` and ``false`` are the constants. A pattern clause
+    (:class:`~bsi_sklearn.ltl.pattern.Pattern`, read in LTLf) is a template's name and its
+    propositions, ``Response(a, b)``, or a user template's LTLf text in braces,
+    ``{G(x -> WX(!x))}(a)``: the forms :meth:`Specification.to_ltl` writes.
 
     Parameters
     ----------
@@ -202,6 +227,8 @@ def parse_ltl(text, notation="auto"):
     parse_ltl('->(F(x1),U(!(x0),x1))')
     >>> print(parse_ltl("G(safe) & (b_ok -> F(b)) & (!b U a)").to_prefix())
     &(&(G(safe),->(b_ok,F(b))),U(!(b),a))
+    >>> print(parse_ltl("Response(order, pay) & {G(x -> WX(!x))}(refund)"))
+    Response(order, pay) & {G(x -> WX(!x))}(refund)
     """
     if not isinstance(text, str):
         raise ValueError(f"a formula must be a string, got {type(text).__name__}")

@@ -15,6 +15,7 @@ from bsi_sklearn.ltl.formula import (
     Or,
     Until,
 )
+from bsi_sklearn.ltl.pattern import Pattern
 from bsi_sklearn.specification import Specification
 
 __all__ = ["formula_to_specification"]
@@ -65,7 +66,7 @@ def formula_to_specification(formula, names=None, prefix="!"):
     >>> formula_to_specification(parse_ltl("G(a) & F(b) & (!c U b)"))
     Specification(globals=['a'], eventuals=['b'], orders=[('b', 'c')])
     """
-    globals_, eventuals, orders = set(), {}, {}
+    globals_, eventuals, orders, patterns = set(), {}, {}, []
     conditions = {}  # subtask -> condition (None: unconditioned)
 
     def set_condition(w, cond):
@@ -133,6 +134,8 @@ def formula_to_specification(formula, names=None, prefix="!"):
         for part in _conjuncts(formula):
             if isinstance(part, Globally):
                 add_global(part.operand)
+            elif isinstance(part, Pattern):  # a pattern clause, over literals
+                patterns.append((part.template, [_literal(a, prefix) for a in part.args]))
             elif isinstance(part, Constant) and not part.value:
                 raise _NotInTemplate
             else:
@@ -164,9 +167,12 @@ def formula_to_specification(formula, names=None, prefix="!"):
         e = [rename(w) for w in eventuals]
         o = [(rename(a), rename(b)) for a, b in orders]
         conds = {rename(w): rename(c) for w, c in conditions.items() if c is not None}
+        pats = [(t, [rename(p) for p in props]) for t, props in patterns]
+        if any(len(set(props)) < len(props) for _, props in pats):
+            raise _NotInTemplate  # Response(a, a): a formula, not a pattern clause
     except _NotInTemplate:
         return None
-    return Specification(globals=g, eventuals=e, orders=o, conditions=conds)
+    return Specification(globals=g, eventuals=e, orders=o, conditions=conds, patterns=pats)
 
 
 def _renamer(names):

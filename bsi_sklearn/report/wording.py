@@ -12,6 +12,7 @@ from bsi_sklearn._literals import (
     render_clause,
 )
 from bsi_sklearn.specification import Specification
+from bsi_sklearn.specification.templates import TEMPLATES, instance_text
 
 __all__ = [
     "clause_sentence",
@@ -24,7 +25,7 @@ __all__ = [
     "violated_clauses",
 ]
 
-_KINDS = {"G": "global", "F": "eventual", "U": "order"}
+_KINDS = {"G": "global", "F": "eventual", "U": "order", "P": "pattern"}
 _ASCII = {"G": "G", "F": "F", "U": " U ", "not": "!", "implies": " -> ", "true": "true"}
 _UNICODE = {"G": "□", "F": "◇", "U": " U ", "not": "¬", "implies": " → ", "true": "⊤"}
 
@@ -34,9 +35,10 @@ def _sort_key(x):
 
 
 def ordered_clauses(specification):
-    """Clause keys of a specification in reading order: globals, eventuals, then orders.
+    """Clause keys of a specification in reading order: globals, eventuals, orders, patterns.
 
-    Keys are ``("G", p)``, ``("F", w)`` and ``("U", a, b)`` (*a precedes b*), as in
+    Keys are ``("G", p)``, ``("F", w)``, ``("U", a, b)`` (*a precedes b*) and
+    ``("P", template, propositions)``, as in
     :meth:`Specification.clauses`; within a kind they are sorted by identifier, the order
     of :meth:`Specification.clause_strings`.
 
@@ -53,6 +55,9 @@ def ordered_clauses(specification):
         + [("F", w) for w in sorted(spec.eventuals, key=_sort_key)]
         + [("U", a, b) for a, b in sorted(spec.orders,
                                           key=lambda o: (_sort_key(o[0]), _sort_key(o[1])))]
+        # the pattern clauses last, catalogue templates first, as clause_strings lists them
+        + [("P", t, ps) for t, ps in sorted(spec.patterns, key=lambda k: (
+            k[0] not in TEMPLATES, k[0], tuple(_sort_key(p) for p in k[1])))]
     )
 
 
@@ -104,7 +109,10 @@ def unicode_ltl(specification, *, chains=False, vacuous=(), negations=None):
     for key in ordered_clauses(spec):
         if key in implied:
             continue
-        text = render_clause(clause_form(key, cond, negates), readable_atom, _UNICODE)
+        if key[0] == "P":  # written by its template's name, as readable() writes it
+            text = clause_specification(key).readable(negations=negations)
+        else:
+            text = render_clause(clause_form(key, cond, negates), readable_atom, _UNICODE)
         (apart if key in vacuous else parts).append(text)
     shown = " ∧ ".join(parts) if parts else "⊤"
     return f"{shown}  [untested: {' ∧ '.join(apart)}]" if apart else shown
@@ -130,6 +138,8 @@ def clause_specification(clause, conditions=None):
     (a_ok -> (!b U a))
     """
     kind = _check_clause(clause)
+    if kind == "P":
+        return Specification(patterns=[(clause[1], clause[2])])
     if kind == "G":
         return Specification(globals=[clause[1]])
     if kind == "F":
@@ -139,10 +149,12 @@ def clause_specification(clause, conditions=None):
 
 def _check_clause(clause):
     ok = isinstance(clause, tuple) and len(clause) >= 2 and clause[0] in _KINDS and (
-        len(clause) == (3 if clause[0] == "U" else 2))
+        len(clause) == (3 if clause[0] in ("U", "P") else 2)) and (
+        clause[0] != "P" or isinstance(clause[2], tuple))
     if not ok:
         raise ValueError(
-            f"clause {clause!r} is not a clause key ('G', p), ('F', w) or ('U', a, b)"
+            f"clause {clause!r} is not a clause key ('G', p), ('F', w), ('U', a, b) or "
+            "('P', template, propositions)"
         )
     return clause[0]
 
@@ -264,8 +276,11 @@ def clause_sentence(clause, conditions=None, descriptions=None, *, negations=Non
     ('q never holds.', 'Eventually, q does not hold.')
     >>> clause_sentence(("U", "omega_1", "!pi_1"), descriptions=d)
     'POI 1 is accessible until POI 1 is visited.'
+    >>> clause_sentence(("P", "Response", ("order", "pay")))
+    'Response(order, pay): every order is eventually followed by pay.'
     """
-    _check_clause(clause)
+    if _check_clause(clause) == "P":
+        return _pattern_sentence(clause)
     d = _check_descriptions(descriptions)
     cond = dict(conditions) if conditions is not None else {}
     negates = negation_reader(negations, "clause_sentence")
@@ -338,7 +353,8 @@ def event_log_sentence(clause, conditions=None, *, negations=None, repeats=None)
     >>> event_log_sentence(("G", "pay<=1"), repeats={"pay<=1": "pay"})
     'absence2(pay): pay occurs at most once.'
     """
-    _check_clause(clause)
+    if _check_clause(clause) == "P":
+        return _pattern_sentence(clause)
     cond = {k: v for k, v in (conditions or {}).items() if v is not None}
     negates = negation_reader(negations, "event_log_sentence")
     c, body = _form(clause, cond, negates)
@@ -469,6 +485,12 @@ def violated_clauses(specification, trace, feature_names=None):
             if not clause_specification(c, cond).satisfied_by(trace, feature_names)]
 
 
+def _pattern_sentence(clause):
+    # The template's own reading (instance_text): "Response(a, b): every a is ... b."; the
+    # propositions by name (descriptions are not woven into a template's sentence).
+    return f"{instance_text(clause[1], [str(p) for p in clause[2]])}."
+
+
 def _check_spec(spec):
     if not isinstance(spec, Specification):
         raise ValueError(f"specification must be a Specification, got {type(spec).__name__}")
@@ -476,7 +498,7 @@ def _check_spec(spec):
 
 
 def _clause_condition(clause, conditions):
-    if clause[0] == "G":
+    if clause[0] in ("G", "P"):
         return None
     return conditions.get(clause[1])
 
@@ -496,5 +518,7 @@ def _short_label(key):
         return f"G({key[1]})"
     if key[0] == "F":
         return f"F({key[1]})"
+    if key[0] == "P":
+        return f"{key[1]}({', '.join(map(str, key[2]))})"
     return f"{key[1]} before {key[2]}"
 

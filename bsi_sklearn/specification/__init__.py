@@ -14,9 +14,16 @@ from collections.abc import Hashable, Iterable, Mapping
 
 import numpy as np
 
-from bsi_sklearn._literals import clause_form, negation_reader, readable_atom, render_clause
+from bsi_sklearn._literals import (
+    clause_form,
+    literal,
+    negation_reader,
+    readable_atom,
+    render_clause,
+)
 from bsi_sklearn.data.values import trace_columns
-from bsi_sklearn.specification.templates import get_template
+from bsi_sklearn.specification.template_truth import holds
+from bsi_sklearn.specification.templates import TEMPLATES, get_template
 
 __all__ = ["Specification", "transitive_closure"]
 
@@ -166,14 +173,22 @@ class Specification:
         return len(self.globals) + len(self.eventuals) + len(self.orders) + len(self.patterns)
 
     def clauses(self):
-        """Return the clause keys: ``("G", p)``, ``("F", w)``, ``("U", a, b)``.
+        """Return the clause keys: ``("G", p)``, ``("F", w)``, ``("U", a, b)``, ``("P", t, ps)``.
 
-        These are the elements the Jaccard similarity of the paper's eq. (13) compares.
+        These are the elements the Jaccard similarity of the paper's eq. (13) compares. A
+        pattern clause's key is ``("P", template name, propositions)``, as in
+        :attr:`patterns` (a symmetric template's propositions sorted).
+
+        Examples
+        --------
+        >>> sorted(Specification(globals=["s"], patterns=[("Response", ("a", "b"))]).clauses())
+        [('G', 's'), ('P', 'Response', ('a', 'b'))]
         """
         return frozenset(
             [("G", p) for p in self.globals]
             + [("F", w) for w in self.eventuals]
             + [("U", a, b) for a, b in self.orders]
+            + [("P", name, props) for name, props in self.patterns]
         )
 
     def __eq__(self, other):
@@ -242,9 +257,22 @@ class Specification:
         return frozenset(self.orders - kept)
 
     def clause_strings(self, latex=False, *, chains=False):
-        """Render every clause as a string, in a stable order (G, then F, then U).
+        r"""Render every clause as a string, in a stable order (G, F, U, then the patterns).
 
-        With ``chains=True`` the orders of :meth:`implied_orders` are left out.
+        With ``chains=True`` the orders of :meth:`implied_orders` are left out. A pattern
+        clause is written by its template's name and its propositions, ``Response(a, b)``; a
+        user template (LTLf text) in braces before them, ``{G(x -> F(y))}(a, b)``: the
+        template's own LTLf (its ``X`` the strong next) is not this text's LTL, whose ``X``
+        reads the repeated last state. :func:`bsi_sklearn.ltl.parse_ltl` reads both forms back.
+
+        Examples
+        --------
+        >>> spec = Specification(globals=["s"], patterns=[("Response", ("a", "b")),
+        ...                                               ("G(x -> WX(!x))", ["c"])])
+        >>> spec.clause_strings()
+        ['G(s)', 'Response(a, b)', '{G(x -> WX(!x))}(c)']
+        >>> print(spec.clause_strings(latex=True)[1])
+        \mathrm{Response}(\mathit{a}, \mathit{b})
         """
         return [text for _, text in self._clause_texts(latex, chains)]
 
@@ -266,6 +294,8 @@ class Specification:
             body = f"({not_op}{_fmt(b, latex)}{u_op}{_fmt(a, latex)})"
             out.append((("U", a, b),
                         f"({_fmt(cond[a], latex)}{imp}{body})" if a in cond else body))
+        out += [(("P", name, props), _pattern_text(name, [_fmt(p, latex) for p in props], latex))
+                for name, props in sorted(self.patterns, key=_pattern_sort)]
         return out
 
     def to_ltl(self, latex=False, *, chains=False):
@@ -293,7 +323,8 @@ class Specification:
         Parameters
         ----------
         vacuous : iterable of clause keys, default=()
-            Clauses the data could not test (``("G", p)``, ``("F", w)``, ``("U", a, b)``;
+            Clauses the data could not test (``("G", p)``, ``("F", w)``, ``("U", a, b)``,
+            ``("P", template, propositions)``;
             ``BSIClassifier.vacuous_clauses_``: satisfied by every training demonstration,
             acceptable or not). Keys of clauses the formula does not have are ignored.
         negations : None, False or mapping, default=None
@@ -346,8 +377,15 @@ class Specification:
                 + [("F", w) for w in sorted(self.eventuals, key=_sort_key)]
                 + [("U", a, b) for a, b in sorted(self.orders - self.implied_orders(),
                                                   key=_pair_key)])
-        return [(key, render_clause(clause_form(key, cond, negates), readable_atom, _ASCII))
-                for key in keys]
+        out = [(key, render_clause(clause_form(key, cond, negates), readable_atom, _ASCII))
+               for key in keys]
+        for name, props in sorted(self.patterns, key=_pattern_sort):
+            # A negated column is the literal !p here too, as in the other clauses.
+            lits = [literal(p, negates) for p in props]
+            args = [readable_atom(x.atom) if x.positive else f"!{readable_atom(x.atom)}"
+                    for x in lits]
+            out.append((("P", name, props), _pattern_text(name, args, False)))
+        return out
 
     def __str__(self):
         return self.to_ltl(chains=True)
@@ -384,6 +422,10 @@ class Specification:
 
     def satisfied_by(self, trace, feature_names=None):
         """Evaluate the formula at t=0 on a finite trace (last state repeats forever).
+
+        The pattern clauses are read in LTLf, on the finite trace as it is (their ``X`` is
+        false at the last step, ``WX`` true; :func:`~.template_truth.holds`); the other clauses
+        mean the same either way.
 
         Parameters
         ----------
@@ -429,7 +471,9 @@ class Specification:
             first_a = int(np.argmax(ca))
             if cb[:first_a].any():
                 return False
-        return True
+        # Pattern clauses in LTLf on the finite trace as it is (DESIGN §12).
+        return all(holds(name, np.stack([col(p) for p in props], axis=1))
+                   for name, props in self.patterns)
 
 
 def _as_iterable(value, name):
@@ -457,7 +501,8 @@ def _pattern_key(item):
 
 
 def _pattern_sort(key):
-    return (key[0], tuple(_sort_key(x) for x in key[1]))
+    # Catalogue templates by name, then user templates (their LTLf text).
+    return (key[0] not in TEMPLATES, key[0], tuple(_sort_key(x) for x in key[1]))
 
 
 def _pair_key(pair):
@@ -492,11 +537,24 @@ def _clause_keys(keys):
         raise ValueError(f"vacuous must be an iterable of clause keys, got {keys!r}")
     keys = frozenset(keys)
     for key in keys:
-        if not (isinstance(key, tuple) and len(key) == (3 if key[:1] == ("U",) else 2)
-                and key[0] in ("G", "F", "U")):
-            raise ValueError(f"vacuous: {key!r} is not a clause key ('G', p), ('F', w) or "
-                             "('U', a, b)")
+        if not (isinstance(key, tuple) and key[:1] in (("G",), ("F",), ("U",), ("P",))
+                and len(key) == (3 if key[0] in ("U", "P") else 2)
+                and (key[0] != "P" or isinstance(key[2], tuple))):
+            raise ValueError(f"vacuous: {key!r} is not a clause key ('G', p), ('F', w), "
+                             "('U', a, b) or ('P', template, propositions)")
     return keys
+
+
+def _pattern_text(name, args, latex):
+    """``Name(a, b)`` of a catalogue template, ``{formula}(a, b)`` of a user template."""
+    if name in TEMPLATES:
+        head = rf"\mathrm{{{name}}}" if latex else name
+    elif latex:
+        text = name.replace("\\", r"\textbackslash{}").replace("&", r"\&")
+        head = rf"\texttt{{\{{{text}\}}}}"
+    else:
+        head = f"{{{name}}}"
+    return f"{head}({', '.join(args)})"
 
 
 _ASCII = {"G": "G", "F": "F", "U": " U ", "not": "!", "implies": " -> ", "true": "true"}

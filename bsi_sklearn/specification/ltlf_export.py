@@ -11,7 +11,6 @@ the project, flloat its cross-check in the tests) accepts a trace exactly when
 
 from __future__ import annotations
 
-import re
 from collections.abc import Mapping
 
 import numpy as np
@@ -19,55 +18,12 @@ import numpy as np
 from bsi_sklearn._literals import Literal, literal, negation_reader
 from bsi_sklearn.data.values import trace_columns
 from bsi_sklearn.param_validation import StrOptions, validate_params
+from bsi_sklearn.specification._atoms import ltlf_atom_problem, spot_atom
+from bsi_sklearn.specification.templates import fill_formula
 
 __all__ = ["DIALECTS", "SpecificationAutomaton", "ltlf_atom_problem", "spot_atom", "to_ltlf"]
 
 DIALECTS = ("spot", "ltlf2dfa")
-
-# Spot's scanner (spot/parsetl/scantl.ll) reads an unquoted atomic proposition as
-# [a-zA-EH-WYZ_.][a-zA-Z0-9_.]* (or F, G, X followed by a digit): a word starting with F, G or
-# X is an operator applied to the rest. Before that rule it reads 1, 0 and true / false in any
-# case as constants and the words U, R, V, W, M, xor, first_match as operators. Anything else is
-# written in double quotes, where a backslash escapes the next character.
-_SPOT_PLAIN = re.compile(r"[a-zA-EH-WYZ_][a-zA-Z0-9_]*\Z")
-_SPOT_WORDS = {"U", "R", "V", "W", "M", "xor", "first_match"}
-# flloat's and LTLf2DFA's lexers (flloat/parser/ltlf.lark) read [a-z][a-z0-9_]* as an atom but
-# try the keywords first, case-insensitively, on any prefix: "lastly" is LAST then "ly".
-_LTLF_ATOM = re.compile(r"[a-z][a-z0-9_]*\Z")
-_LTLF_PREFIXES = ("true", "false", "last", "end")
-_LTLF_WORDS = {"tt", "ff"}
-
-
-def spot_atom(name):
-    r"""``name`` as a Spot atomic proposition: plain when Spot reads it so, else quoted.
-
-    Examples
-    --------
-    >>> print(spot_atom("safe"), spot_atom("GPS_ok"), spot_atom("True"), spot_atom("V"))
-    safe "GPS_ok" "True" "V"
-    >>> print(spot_atom('say "hi"'), spot_atom("a\\b"))
-    "say \"hi\"" "a\\b"
-    """
-    text = str(name)
-    if _SPOT_PLAIN.match(text) and text not in _SPOT_WORDS and \
-            text.lower() not in ("true", "false"):
-        return text
-    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
-
-
-def ltlf_atom_problem(name):
-    """Why flloat / LTLf2DFA cannot read ``name`` as an atom (``None`` when they can)."""
-    text = str(name)
-    if not _LTLF_ATOM.match(text):
-        return "atoms are lowercase letters, digits and underscores, starting with a letter"
-    if text in _LTLF_WORDS:
-        return f"{text!r} is a constant"
-    for word in _LTLF_PREFIXES:
-        if text.startswith(word):
-            return (f"the parser reads the keyword {word!r} at its start (no atom may start "
-                    "with true, false, last or end)")
-    return None
-
 
 def _atom_table(idents, dialect, atoms):
     """Identifier -> atom text for every proposition of a formula, checked to be distinct."""
@@ -135,7 +91,11 @@ def to_ltlf(specification, dialect="spot", atoms=None, *, negations=None):
         ``true`` for the empty specification. Parsed by Spot or flloat, it is the same
         formula over the same atoms (over ``q`` for a negated ``"!q"``: on traces where the
         column ``"!q"`` is the negation of ``q``, the formula holds where the specification
-        does).
+        does). A pattern clause is written as its instance's LTLf formula
+        (:func:`~bsi_sklearn.specification.templates.instance_ltlf`), in parentheses after
+        the other clauses; its ``X`` is LTLf's strong next (``X[!]`` for Spot), so a text with
+        pattern clauses is to be read in LTLf (Spot: ``spot.from_ltlf``), not as LTL on the
+        repeated last state.
 
     Raises
     ------
@@ -155,6 +115,8 @@ def to_ltlf(specification, dialect="spot", atoms=None, *, negations=None):
     'G(p0) & F(p1) & F(p2)'
     >>> to_ltlf(Specification(globals=["!r"], orders=[("a", "!q")]), dialect="ltlf2dfa")
     'G(!r) & ((q) U (a))'
+    >>> to_ltlf(Specification(globals=["s"], patterns=[("ChainResponse", ["!a", "b"])]))
+    'G(s) & (G((!a) -> X[!](b)))'
     """
     validate_params({"dialect": dialect}, {"dialect": [StrOptions(DIALECTS)]}, "to_ltlf")
     if atoms is not None and not isinstance(atoms, Mapping):
@@ -169,7 +131,8 @@ def to_ltlf(specification, dialect="spot", atoms=None, *, negations=None):
 
     cond = specification.conditions
     idents = (set(specification.globals) | set(specification.eventuals)
-              | {x for o in specification.orders for x in o} | set(cond.values()))
+              | {x for o in specification.orders for x in o} | set(cond.values())
+              | {x for _, props in specification.patterns for x in props})
     literals = {ident: lit(ident) for ident in idents}
     table = _atom_table(sorted({x.atom for x in literals.values()}, key=_key), dialect, atoms)
 
@@ -189,11 +152,20 @@ def to_ltlf(specification, dialect="spot", atoms=None, *, negations=None):
     parts += [guarded(w, f"F({text(w)})") for w in sorted(specification.eventuals, key=_key)]
     parts += [guarded(a, until(a, b))
               for a, b in sorted(specification.orders, key=lambda p: (_key(p[0]), _key(p[1])))]
+    # A pattern clause is its instance's LTLf formula (a negated column its literal, in
+    # parentheses where the template's atom stood).
+    parts += [f"({fill_formula(name, [_atom_text(literals[p], table) for p in props], dialect)})"
+              for name, props in sorted(specification.patterns,
+                                        key=lambda k: (k[0], [_key(p) for p in k[1]]))]
     return " & ".join(parts) if parts else "true"
 
 
 def _key(x):
     return (type(x).__name__, x)
+
+
+def _atom_text(lit, table):
+    return table[lit.atom] if lit.positive else f"(!{table[lit.atom]})"
 
 
 class SpecificationAutomaton:

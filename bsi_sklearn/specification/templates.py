@@ -25,8 +25,11 @@ import re
 from itertools import combinations, permutations
 from typing import NamedTuple
 
+from bsi_sklearn.specification._atoms import ltlf_atom_problem, spot_atom
+
 __all__ = ["Template", "TEMPLATES", "FAMILIES", "MAX_SLOTS", "get_template", "instantiate",
-           "instance_ltlf", "instance_text", "parse_ltlf", "placeholders", "OPCODES"]
+           "instance_ltlf", "instance_text", "parse_ltlf", "placeholders", "OPCODES",
+           "fill_formula"]
 
 _ATOM, _TRUE, _FALSE, _NOT, _AND, _OR, _IMPLIES, _EQUIV = range(8)
 _NEXT, _WEAK_NEXT, _EVENTUALLY, _GLOBALLY, _UNTIL, _RELEASE = range(8, 14)
@@ -311,8 +314,10 @@ def instance_ltlf(template, names, dialect="ltlf2dfa"):
         The propositions filling the slots, in the template's slot order.
     dialect : {"ltlf2dfa", "spot"}, default="ltlf2dfa"
         ``"ltlf2dfa"``: flloat / LTLf2DFA text (a name those parsers cannot read as an atom is
-        a ``ValueError`` saying why); ``"spot"``: atoms quoted where Spot needs it (Spot reads
-        ``X`` as the strong next only in its LTLf mode: the text is LTLf).
+        a ``ValueError`` saying why); ``"spot"``: atoms quoted where Spot needs it, the strong
+        next written ``X[!]`` and the weak next ``!X[!]!`` (plain ``X`` is weak in Spot's LTLf
+        reading, strong in its LTL one: this text means the same in both). The text is LTLf:
+        give it to Spot through ``spot.from_ltlf``.
 
     Examples
     --------
@@ -321,9 +326,6 @@ def instance_ltlf(template, names, dialect="ltlf2dfa"):
     >>> instance_ltlf("G(x -> F(y))", ["Fee", "ship"], dialect="spot")  # F...: an operator
     'G("Fee" -> F(ship))'
     """
-    # Imported here: the export's atom rules serve this text only, not the truth computed above.
-    from bsi_sklearn.specification.ltlf_export import ltlf_atom_problem, spot_atom
-
     t = get_template(template)
     names = _check_instance(t, names)
     if dialect not in ("ltlf2dfa", "spot"):
@@ -338,8 +340,26 @@ def instance_ltlf(template, names, dialect="ltlf2dfa"):
                 raise ValueError(f"proposition {name!r} cannot be an LTLf2DFA / flloat atom: "
                                  f"{problem}; use dialect='spot' or rename it")
             atoms[slot] = name
+    return fill_formula(t, [atoms[slot] for slot in t.slots], dialect)
+
+
+def fill_formula(template, atoms, dialect="ltlf2dfa"):
+    """A template's formula with each slot replaced by the atom text given, in a dialect.
+
+    No check is made on ``atoms`` (already written for the dialect, such as ``q`` or
+    ``(!q)``); ``"spot"`` writes the nexts as :func:`instance_ltlf` says.
+
+    Examples
+    --------
+    >>> fill_formula("ChainResponse", ["(!q)", "r"], dialect="spot")
+    'G((!q) -> X[!](r))'
+    """
+    t = get_template(template)
+    table = dict(zip(t.slots, atoms))
+    if dialect == "spot":
+        table.update({"X": "X[!]", "WX": "!X[!]!"})
     # Rewrite the formula's own tokens: a placeholder never matches inside another name.
-    return re.sub(r"[A-Za-z_][A-Za-z0-9_]*", lambda m: atoms.get(m.group(0), m.group(0)),
+    return re.sub(r"[A-Za-z_][A-Za-z0-9_]*", lambda m: table.get(m.group(0), m.group(0)),
                   t.formula)
 
 
@@ -356,7 +376,9 @@ def instance_text(template, names):
     t = get_template(template)
     names = _check_instance(t, names)
     if t.code < 0:
-        return f"{instance_ltlf(t, names, dialect='spot')} holds"
+        # the template's own syntax (WX, not Spot's X[!]), atoms quoted where needed
+        return f"{fill_formula(t, [spot_atom(n) for n in names])} holds"
     table = dict(zip(t.slots, names))
     reading = re.sub(r"\b[a-z]\b", lambda m: table.get(m.group(0), m.group(0)), t.sentence)
     return f"{t.name}({', '.join(names)}): {reading}"
+
