@@ -351,8 +351,15 @@ def _cycles(graph):
 
 # Formula's methods (to_specification, parsing helpers) call its parser and template lazily:
 # one package, one concept.
+# The automaton builds pattern clauses from the templates' DFAs, and templates.instance_ltlf
+# reads the atom rules of ltlf_export, which builds the automaton: allowed until those rules
+# move below the templates (then this entry goes).
 _ALLOWED_CYCLES = [{"bsi_sklearn.ltl.formula", "bsi_sklearn.ltl.parser",
-                    "bsi_sklearn.ltl.template"}]
+                    "bsi_sklearn.ltl.template"},
+                   {"bsi_sklearn.specification.automaton",
+                    "bsi_sklearn.specification.ltlf_export",
+                    "bsi_sklearn.specification.template_automata",
+                    "bsi_sklearn.specification.templates"}]
 
 
 @pytest.mark.parametrize("package", PACKAGES)
