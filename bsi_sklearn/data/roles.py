@@ -25,12 +25,16 @@ class Roles:
         Column of each subtask's condition pi_w, or -1 when pi_w = true.
     names : list
         Identifier of every column, as used in specifications.
+    patterns : tuple of (str, tuple of int)
+        Every pattern-clause candidate (DESIGN §12): its template's name and the column of
+        each slot; candidate ``k`` is global slot ``n_globals + k``. Empty by default.
     """
 
     global_idx: np.ndarray
     subtask_idx: np.ndarray
     condition_idx: np.ndarray
     names: list
+    patterns: tuple = ()
 
     @property
     def n_globals(self):
