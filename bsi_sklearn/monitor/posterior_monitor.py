@@ -8,12 +8,17 @@ Every candidate clause of the posterior is *open*, *satisfied* or *violated* aft
   false at step 0), else open;
 - ``pi_a -> (!omega_b U omega_a)`` is satisfied at the first ``omega_a`` with no earlier
   ``omega_b`` (or at once when ``pi_a`` is false at step 0), violated at an ``omega_b`` before
-  any ``omega_a`` (an ``omega_a`` at the same step satisfies), else open.
+  any ``omega_a`` (an ``omega_a`` at the same step satisfies), else open;
+- a pattern clause (DESIGN §12) is violated as soon as no continuation of the trace can satisfy
+  its template, satisfied as soon as every continuation does, else open: the state of its
+  instance of the template's minimal DFA tells
+  (:func:`~bsi_sklearn.specification.template_automata.template_dfa`).
 
 A specification is violated when any of its clauses is, satisfied when all are, else open; the
 verdict's three probabilities are the posterior masses of those three sets. Closing the trace
 (its last state repeats forever) satisfies the open ``G`` clauses and violates the open ``F``
-and ``U`` clauses: ``p_satisfied`` is then the vote, :meth:`Posterior.predict_proba`.
+and ``U`` clauses; an open pattern clause is satisfied when its template holds on the finite
+trace (its DFA state accepts): ``p_satisfied`` is then the vote, :meth:`Posterior.predict_proba`.
 
 A clause never leaves a decided state, so the monitor keeps one state per clause slot and
 recomputes the specifications' states (one AND per word of their clause masks) only at the
@@ -31,7 +36,7 @@ from typing import NamedTuple
 import numpy as np
 
 from bsi_sklearn.data.traces import Traces
-from bsi_sklearn.model.clauses import n_clauses
+from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order, n_clauses
 from bsi_sklearn.model.state_layout import join_state
 from bsi_sklearn.monitor._clause_states import (
     STATE_NAMES,
@@ -41,6 +46,7 @@ from bsi_sklearn.monitor._clause_states import (
     _monitor_all,
     _pack_states,
     _step,
+    pack_patterns,
 )
 from bsi_sklearn.param_validation import Interval, validate_params
 from bsi_sklearn.posterior import Posterior
@@ -53,7 +59,8 @@ class ClauseEvent(NamedTuple):
     Attributes
     ----------
     clause : tuple
-        Clause key: ``("G", p)``, ``("F", w)`` or ``("U", a, b)`` (*a precedes b*).
+        Clause key: ``("G", p)``, ``("F", w)``, ``("U", a, b)`` (*a precedes b*) or
+        ``("P", template, propositions)`` (a pattern clause).
     state : str
         ``"satisfied"`` or ``"violated"``.
     inclusion_probability : float
@@ -158,21 +165,26 @@ class PosteriorMonitor:
         self.names = list(roles.names)
         self._shape = (len(self.names),)
         self._position = {name: i for i, name in enumerate(self.names)}
-        self._g_idx, self._s_idx = roles.global_idx, roles.subtask_idx
+        self._g_idx, self._s_idx = _global_columns(roles), roles.subtask_idx
         self._c_idx = roles.condition_idx
+        self._patterns = pack_patterns(roles.patterns)
         # [n_g, n, g_idx | s_idx | c_idx]: one argument for the step kernel, the columns laid
-        # out as a hypothesis' entries are (one per global candidate, two per subtask)
-        self._layout = np.concatenate([[roles.n_globals, roles.n_subtasks],
+        # out as a hypothesis' entries are (one per global slot, two per subtask)
+        n_g, n = self._g_idx.shape[0], roles.n_subtasks
+        self._layout = np.concatenate([[n_g, n],
                                        join_state(self._g_idx, self._s_idx, self._c_idx)])
-        self._masks = posterior._masks  # (n_specs, n_words) clause masks, same package
+        self._masks = _checked_masks(posterior, n_g, n)  # (n_specs, n_words) clause masks
         self._probs = np.ascontiguousarray(posterior.probabilities, dtype=np.float64)
-        n_g, n = roles.n_globals, roles.n_subtasks
         n_slots = n_clauses(n_g, n)
         bits = np.unpackbits(self._masks.view(np.uint8), axis=1, bitorder="little")
         self._used = bits[:, :n_slots].any(axis=0)  # clauses of at least one specification
-        slots = posterior._clause_slots()
-        self._keys = dict(zip(slots, posterior.clause_keys()))
-        self._marginal = dict(zip(slots, posterior.clause_marginals().to_numpy().tolist()))
+        if roles.n_patterns:
+            self._keys = _slot_keys(roles)
+            self._marginal = {s: float(posterior._marginals[s]) for s in self._keys}
+        else:  # the posterior's own keys and marginals, as before patterns
+            slots = posterior._clause_slots()
+            self._keys = dict(zip(slots, posterior.clause_keys()))
+            self._marginal = dict(zip(slots, posterior.clause_marginals().to_numpy().tolist()))
         self._changed = np.empty(n_slots, dtype=np.int64)
         self._p = np.zeros(3)
         self._words = np.zeros((2, self._masks.shape[1]), dtype=np.uint64)  # open, violated
@@ -190,6 +202,7 @@ class PosteriorMonitor:
         self : PosteriorMonitor
         """
         self._state = self._state0.copy()
+        self._dfa_state = self._patterns.start.copy()
         self._floats = self._floats0
         self.n_steps = 0
         self.verdict = None
@@ -232,7 +245,8 @@ class PosteriorMonitor:
         else:
             row = self._check_step(step)
         t = self.n_steps
-        n_changed = _step(row, t, self._state, self._layout, self._changed)
+        n_changed = _step(row, t, self._state, self._layout, self._changed, self._patterns,
+                          self._dfa_state)
         if n_changed == 0:  # nothing changed: the masses stand
             self.n_steps = t + 1
             self.verdict = Verdict(t, *self._floats, (), False)
@@ -244,7 +258,8 @@ class PosteriorMonitor:
     def finish(self):
         """Close the trace: its last state repeats forever, so no specification stays open.
 
-        Open ``G`` clauses become satisfied, open ``F`` and ``U`` clauses violated. Then
+        Open ``G`` clauses become satisfied, open ``F`` and ``U`` clauses violated, an open
+        pattern clause satisfied when its template holds on the trace read. Then
         ``p_open == 0`` and ``p_satisfied`` equals ``posterior.predict_proba([trace])[0, 1]``.
 
         Returns
@@ -255,7 +270,8 @@ class PosteriorMonitor:
             raise ValueError("the trace is already closed; call reset() to start a new one")
         if self.n_steps == 0:
             raise ValueError("finish() needs at least one step; a trace cannot be empty")
-        n_changed = _close(self._state, self._g_idx.shape[0], self._changed)
+        n_changed = _close(self._state, self._g_idx.shape[0], self._changed, self._patterns,
+                           self._dfa_state)
         self._closed = True
         return self._conclude(n_changed, self.n_steps - 1, closed=True)
 
@@ -372,7 +388,43 @@ def monitor_traces(posterior, traces):
         raise TypeError("traces must be a Traces object "
                         "(see bsi_sklearn.data.traces.check_traces)")
     roles = posterior.roles
-    out = _monitor_all(traces.data, traces.offsets, roles.global_idx, roles.subtask_idx,
-                       roles.condition_idx, posterior._masks,
-                       np.ascontiguousarray(posterior.probabilities, dtype=np.float64))
+    g_idx = _global_columns(roles)
+    masks = _checked_masks(posterior, g_idx.shape[0], roles.n_subtasks)
+    out = _monitor_all(traces.data, traces.offsets, g_idx, roles.subtask_idx,
+                       roles.condition_idx, masks,
+                       np.ascontiguousarray(posterior.probabilities, dtype=np.float64),
+                       pack_patterns(roles.patterns))
     return [out[traces.offsets[i]:traces.offsets[i + 1]] for i in range(traces.n_demos)]
+
+
+def _global_columns(roles):
+    """The column of every global slot: the ``G`` candidates', then -1 for each pattern."""
+    return np.concatenate([np.asarray(roles.global_idx, dtype=np.int64),
+                           np.full(roles.n_patterns, -1, dtype=np.int64)])
+
+
+def _checked_masks(posterior, n_g, n):
+    """The posterior's clause masks, refused when they do not lay out its roles' slots."""
+    masks, n_slots = posterior._masks, n_clauses(n_g, n)  # same package: the private masks
+    # The marginals have one entry a slot: they tell a layout short of a few slots too.
+    if masks.shape[1] != (n_slots + 63) // 64 or (
+            posterior.roles.n_patterns and len(posterior._marginals) != n_slots):
+        r = posterior.roles
+        raise ValueError(f"the posterior's clause masks do not cover the {n_slots} clause slots "
+                         f"of its roles ({r.n_globals} G candidates, {r.n_patterns} pattern "
+                         f"candidates, {r.n_subtasks} subtasks): its specifications were laid "
+                         "out without the pattern candidates")
+    return masks
+
+
+def _slot_keys(roles):
+    """Clause slot -> clause key, for every candidate clause of ``roles`` (patterns included)."""
+    n_g, n = roles.n_globals + roles.n_patterns, roles.n_subtasks
+    s = roles.subtask_names()
+    keys = {j: ("G", p) for j, p in enumerate(roles.global_names())}
+    keys.update({roles.n_globals + k: ("P", name, props)
+                 for k, (name, props) in enumerate(roles.pattern_keys())})
+    keys.update({clause_index_eventual(w, n_g): ("F", s[w]) for w in range(n)})
+    keys.update({clause_index_order(a, b, n_g, n): ("U", s[a], s[b])
+                 for a in range(n) for b in range(n) if a != b})
+    return keys

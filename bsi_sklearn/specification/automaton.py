@@ -9,10 +9,18 @@ trace (its truth as :meth:`Specification.satisfied_by` reads it, the last state 
   when ``w`` holds, else *waiting* until a step with ``w``;
 - ``pi_a -> (!b U a)``: at the first step, *free* when ``pi_a`` fails; then *done* at the first
   step with ``a``, *dead* at a step with ``b`` before it.
+- a pattern clause (DESIGN §12): its template's minimal DFA
+  (:func:`~bsi_sklearn.specification.template_automata.template_dfa`), read through the letter
+  bits of the propositions filling its slots; its permanently violated state is its *dead* one.
+
+On a finite trace every clause has one verdict, whether it is read with the last state
+repeating (the template's clauses) or as LTLf (pattern clauses): the product accepts when every
+component does.
 
 The specification's automaton is their product, explored from the start over the letters (the
 assignments of the propositions that matter: one bit for "every global holds", one for each
-subtask and condition), and minimised (Moore's partition refinement). It is exact, needs no
+subtask and condition, then one for each proposition of a pattern clause not among those), and
+minimised (Moore's partition refinement). It is exact, needs no
 optional package, and takes milliseconds for specifications whose subtasks are ordered; its
 size grows as 2^k with k mutually unordered eventual subtasks, as the minimal automaton must
 (it has to remember which of them have happened).
@@ -23,6 +31,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+from bsi_sklearn.specification.template_automata import VIOLATED, _minimise, template_dfa
 
 __all__ = ["DFA", "specification_dfa"]
 
@@ -39,7 +49,8 @@ class DFA:
     globals : tuple
         Propositions of the ``G`` clauses; letter bit 0 says they all hold (when any).
     atoms : tuple
-        The propositions read one by one: subtasks and conditions, letter bits after the
+        The propositions read one by one: subtasks and conditions, then the propositions of
+        pattern clauses not among them (a global among them too), letter bits after the
         global bit, in this order.
     delta : ndarray of shape (n_states, 2 ** n_bits), int64
         Next state for every state and letter; state 0 is the start.
@@ -244,7 +255,27 @@ def _clause_tables(spec, letters, bit):
         table[3] = 3
         tables.append(table)
         accepts.append(_ACCEPT)
+    for name, props in sorted(spec.patterns, key=_pattern_order):
+        dfa = template_dfa(name)
+        slot_letter = np.zeros(n, dtype=np.int64)
+        for i, p in enumerate(props):
+            slot_letter |= letters[:, bit[p]].astype(np.int64) << i
+        table, accept = dfa.delta[:, slot_letter], dfa.accepting
+        if not (dfa.permanence == VIOLATED).any():  # never violated for good: a dead state
+            table = np.vstack([table, np.full((1, n), dfa.n_states)])  # of its own, unreached
+            accept = np.append(accept, False)
+        tables.append(table)
+        accepts.append(accept)
     return tables, accepts
+
+
+def _dead_state(accept, table):
+    """A clause's rejecting sink: the non-accepting state that every letter keeps."""
+    return next(s for s in range(table.shape[0]) if not accept[s] and (table[s] == s).all())
+
+
+def _pattern_order(key):
+    return (key[0], tuple(map(_key, key[1])))
 
 
 def _key(x):
@@ -266,8 +297,8 @@ def specification_dfa(spec):
     Raises
     ------
     ValueError
-        When the letters would need more than 20 bits (subtasks, conditions and one bit for
-        the globals).
+        When the letters would need more than 20 bits (subtasks, conditions, propositions of
+        pattern clauses and one bit for the globals).
 
     Examples
     --------
@@ -280,12 +311,14 @@ def specification_dfa(spec):
     cond = spec.conditions
     atoms = sorted(set(spec.eventuals) | {x for o in spec.orders for x in o}
                    | set(cond.values()), key=_key)
+    atoms += sorted({x for _, props in spec.patterns for x in props} - set(atoms), key=_key)
     globals_ = tuple(sorted(spec.globals, key=_key))
     offset = 1 if globals_ else 0
     n_bits = offset + len(atoms)
     if n_bits > MAX_LETTER_BITS:
         raise ValueError(f"the automaton's letters would need {n_bits} bits (more than "
-                         f"{MAX_LETTER_BITS}): too many subtasks and conditions")
+                         f"{MAX_LETTER_BITS}): too many subtasks, conditions and propositions "
+                         "of pattern clauses")
     codes = np.arange(1 << n_bits)
     letters = (codes[:, None] >> np.arange(n_bits)) & 1 == 1
     bit = {a: offset + k for k, a in enumerate(atoms)}
@@ -299,16 +332,20 @@ def _product(tables, accepts, n_letters):
     """Reachable product states (tuples of clause states) from the all-start state.
 
     A clause in its rejecting sink rejects for good: every such product state is one (every
-    clause dead), which keeps the exploration small.
+    clause in its sink), which keeps the exploration small.
     """
-    table = np.asarray(tables, dtype=np.uint8).reshape(len(tables), 4, n_letters)
+    n_states = max([4] + [t.shape[0] for t in tables])
+    table = np.zeros((len(tables), n_states, n_letters), dtype=np.int64)
+    for c, t in enumerate(tables):  # rows past a clause's own states are never reached
+        table[c, :t.shape[0]] = t
+    dead = np.array([_dead_state(acc, t) for acc, t in zip(accepts, tables)], dtype=np.int64)
     clause = np.arange(len(tables))
-    start = np.zeros(len(tables), dtype=np.uint8)
+    start = np.zeros(len(tables), dtype=np.int64)
     index, states, rows = {start.tobytes(): 0}, [start], []
     k = 0
     while k < len(states):
         nxt = np.ascontiguousarray(table[clause, states[k], :].T)  # (n_letters, n_clauses)
-        nxt[(nxt == 3).any(axis=1)] = 3
+        nxt[(nxt == dead).any(axis=1)] = dead
         targets, inverse = np.unique(nxt, axis=0, return_inverse=True)
         ids = np.empty(len(targets), dtype=np.int64)
         for j, row in enumerate(targets):
@@ -322,23 +359,3 @@ def _product(tables, accepts, n_letters):
     accepting = np.array([all(acc[c] for acc, c in zip(accepts, st)) for st in states],
                          dtype=bool)
     return np.array(rows, dtype=np.int64).reshape(len(states), n_letters), accepting
-
-
-def _minimise(delta, accepting):
-    """Moore's partition refinement; the start state stays state 0."""
-    classes = accepting.astype(np.int64)
-    n_classes = len(np.unique(classes))
-    while True:
-        signature = np.concatenate([classes[:, None], classes[delta]], axis=1)
-        _, classes = np.unique(signature, axis=0, return_inverse=True)
-        classes = classes.ravel()
-        if len(np.unique(classes)) == n_classes:
-            break
-        n_classes = len(np.unique(classes))
-    # renumber: classes in the order their first state was reached (start first)
-    _, first = np.unique(classes, return_index=True)
-    rank = np.empty(len(first), dtype=np.int64)
-    rank[np.argsort(first)] = np.arange(len(first))
-    new = rank[classes]
-    reps = np.sort(first)
-    return new[delta[reps]], accepting[reps]

@@ -211,6 +211,7 @@ class SpecificationAutomaton:
         spec = specification
         idents = set(spec.globals) | set(spec.eventuals) | {x for o in spec.orders for x in o}
         idents |= set(spec.conditions.values())
+        idents |= {x for _, props in spec.patterns for x in props}
         self.propositions = sorted(idents, key=_key)
         self._atoms = {ident: f"p{k}" for k, ident in enumerate(self.propositions)}
         self.formula = to_ltlf(spec, dialect="ltlf2dfa", atoms=self._atoms, negations=False)
