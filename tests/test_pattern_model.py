@@ -162,3 +162,36 @@ def test_the_reference_evaluator_agrees_with_the_kernels(template):
         x = (rng.random((int(rng.integers(1, 6)), 3)) < 0.4).astype(np.uint8)
         truth = pattern_truth(template, x, np.array([0, len(x)]), cols)[0]
         assert [instance_holds(template, c, x) for c in cols] == truth.astype(bool).tolist()
+
+
+def test_every_use_of_a_fitted_pattern_posterior_agrees():
+    # text, file, automaton and monitor of a posterior with pattern clauses, from a fit
+    from bsi_sklearn import Posterior
+    from bsi_sklearn.ltl import parse_ltl
+
+    X, y = _response_data(n=40, seed=1, steps=5)
+    X = _frames(X)
+    clf = _clf(likelihood="ci").fit(X, y)
+    spec = clf.map_specification_
+    assert "Response(a, b)" in spec.to_ltl()
+    assert parse_ltl(spec.to_ltl()).to_specification() == spec
+    Xn, _ = _response_data(n=30, seed=11, steps=5)
+    Xn = _frames(Xn)
+    # the file keeps the pattern candidates: the same predictions read back
+    again = Posterior.from_json(clf.posterior_.to_json())
+    np.testing.assert_allclose(again.predict_proba(Xn), clf.posterior_.predict_proba(Xn))
+    # the MAP's automaton and its evaluation agree with the clause truth the fit used
+    dfa = spec.to_automaton()
+    sat = clf.posterior_.satisfaction(Xn)[0]
+    for x, s in zip(Xn, sat):
+        assert dfa.accepts(x) == spec.satisfied_by(x) == bool(s)
+    # the monitor's closed verdict is the paper's vote
+    vote = clone(clf).set_params(vote="satisfaction").fit(X, y).predict_proba(Xn)[:, 1]
+    closed = [rows[-1] for rows in clf.monitor_proba(Xn)]
+    monitor = clf.monitor()
+    for x, p in zip(Xn, vote):
+        for t in range(len(x)):
+            monitor.update(x.iloc[t].to_numpy())
+        assert monitor.finish().p_satisfied == pytest.approx(p, abs=1e-12)
+        monitor.reset()
+    assert len(closed) == len(Xn)

@@ -9,9 +9,8 @@ are counted in the tables of :mod:`bsi_sklearn.inference._structures` and their 
 structures grouped here.
 """
 
-from typing import NamedTuple
-
 import math
+from typing import NamedTuple
 
 import numpy as np
 
