@@ -23,6 +23,7 @@ from numba import carray, njit
 from numba.core import types
 from numba.extending import intrinsic
 
+from bsi_sklearn._jit import helper
 from bsi_sklearn.inference._gibbs_moves import (
     add_pair,
     chain_move,
@@ -46,7 +47,7 @@ from bsi_sklearn.model.priors import (
 from bsi_sklearn.model.state_layout import max_conjuncts, split_state, state_width
 
 __all__ = ["Demos", "ChainState", "ChainBuffers", "ChainLoop", "make_buffers", "make_loop",
-           "chain_kernel",
+           "chain_kernel", "add_structure_viol",
            "init_viol", "fill_viol", "score_one", "score_rows", "violation_rows"]
 
 
@@ -196,13 +197,20 @@ def fill_viol(viol, tau, w1, parent, truth_t, model):
 
     Returns the hypothesis' number of conjuncts.
     """
-    n_g, n = model.n_g, model.n
     viol[:] = 0
     n_conj = 0
-    for j in range(n_g):
+    for j in range(model.n_g):
         if tau[j]:
             add_pair(viol, truth_t, j, np.int64(1))
             n_conj += 1
+    return n_conj + add_structure_viol(viol, w1, parent, truth_t, model)
+
+
+@helper
+def add_structure_viol(viol, w1, parent, truth_t, model):
+    """Add the violations of the eventual and order clauses to ``viol``; their number."""
+    n_g, n = model.n_g, model.n
+    n_conj = 0
     for w in range(n):
         if w1[w]:
             add_pair(viol, truth_t, clause_index_eventual(w, n_g), np.int64(1))

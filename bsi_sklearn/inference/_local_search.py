@@ -21,10 +21,17 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn._jit import helper
-from bsi_sklearn.inference._chain_kernel import fill_viol
-from bsi_sklearn.inference._gibbs_moves import sat_counts
+from bsi_sklearn.inference._chain_kernel import add_structure_viol, fill_viol
+from bsi_sklearn.inference._gibbs_moves import add_pair, flip_sums, sat_counts
+from bsi_sklearn.model.clauses import clause_index_eventual
 from bsi_sklearn.model.likelihood import log_likelihood
-from bsi_sklearn.model.priors import is_forest, log_prior
+from bsi_sklearn.model.priors import (
+    is_forest,
+    log_prior,
+    log_prior_globals,
+    log_prior_structure,
+    log_prior_subset,
+)
 from bsi_sklearn.model.state_layout import parent_offset, split_state, state_width, w1_offset
 
 __all__ = ["beam_search", "neighbourhood", "n_neighbours_max"]
@@ -65,6 +72,64 @@ def _score(row, demos, model, scratch):
 
 
 @helper
+def _score_flip(row, b, viol, n_conj, demos, model, scratch):
+    # _score of `row`, which is one inclusion bit b away from a row whose violation counts are
+    # `viol` and conjuncts `n_conj`: the same number, bit for bit (the prior from the row as
+    # _score computes it; the satisfied counts are sums of whole numbers, exact in any order,
+    # so the likelihood gets the same arguments), in O(D) instead of O(D x conjuncts).
+    n_g, n = model.n_g, model.n
+    tau, w1, parent = scratch.tau, scratch.w1, scratch.parent
+    row_tau, row_w1, row_parent = split_state(row, n_g, n)
+    for j in range(n_g):
+        tau[j] = row_tau[j]
+    for w in range(n):
+        w1[w] = row_w1[w]
+        parent[w] = row_parent[w]
+    lp = log_prior(tau, w1, parent, model)
+    if lp == -np.inf:
+        return lp
+    c = b if b < n_g else clause_index_eventual(b - n_g, n_g)
+    inc = 1 - row[b]  # the bit in the row it came from
+    ps_out, ns_out, ps_in, ns_in = flip_sums(viol, demos.truth_t, c, inc, demos.w_pos,
+                                             demos.w_neg)
+    if inc:
+        return lp + log_likelihood(ps_out, ns_out, demos.n_pos, demos.n_neg, n_conj - 1,
+                                   model.log_eps, model.likelihood, model.flip_a, model.flip_b)
+    return lp + log_likelihood(ps_in, ns_in, demos.n_pos, demos.n_neg, n_conj + 1,
+                               model.log_eps, model.likelihood, model.flip_a, model.flip_b)
+
+
+@helper
+def _score_moved(row, lp_g, viol_g, n_g_conj, demos, model, scratch):
+    # _score of `row`, which keeps the global bits of a row whose G and pattern clauses alone
+    # have violation counts `viol_g` (`n_g_conj` of them, log prior `lp_g`): the same number,
+    # bit for bit (log_prior's sum in its order, the satisfied counts whole numbers), without
+    # recounting the global clauses, hundreds with pattern clauses, for every structure move.
+    n_g, n = model.n_g, model.n
+    w1, parent, viol = scratch.w1, scratch.parent, scratch.viol
+    _, row_w1, row_parent = split_state(row, n_g, n)
+    for w in range(n):
+        w1[w] = row_w1[w]
+        parent[w] = row_parent[w]
+    lp = (lp_g + log_prior_subset(w1.sum(), w1.shape[0], model.p_eventual)
+          + log_prior_structure(parent, model))
+    if lp == -np.inf:
+        return lp
+    for d in range(viol.shape[0]):
+        viol[d] = viol_g[d]
+    n_conj = n_g_conj + add_structure_viol(viol, w1, parent, demos.truth_t, model)
+    ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
+    return lp + log_likelihood(ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps,
+                               model.likelihood, model.flip_a, model.flip_b)
+
+
+@helper
+def _n_bits(model):
+    # The inclusion bits _neighbours flips first: tau's, and W1's when there is no order.
+    return parent_offset(model.n_g, model.n) if model.n <= 1 else w1_offset(model.n_g)
+
+
+@helper
 def _put(out, k, row, n_cols):
     for c in range(n_cols):
         out[k, c] = row[c]
@@ -77,7 +142,7 @@ def _neighbours(row, model, out, k, work):
     n_g, n = model.n_g, model.n
     base, n_cols = parent_offset(n_g, n), state_width(n_g, n)
     # The inclusion bits: tau's, and W1's too when there is no order to move them with.
-    for j in range(base if n <= 1 else w1_offset(n_g)):
+    for j in range(_n_bits(model)):
         _put(out, k, row, n_cols)
         out[k, j] = 1 - row[j]
         k += 1
@@ -194,13 +259,16 @@ def beam_search(start, demos, model, width, max_steps):
                  np.empty(rows, dtype=np.bool_), np.empty((width, n_cols), dtype=np.int64),
                  np.empty(width), np.empty((width, n_cols), dtype=np.int64), np.empty(width))
     lp = _beam_search(start, demos, model, int(width), int(max_steps), _scratch(demos, model),
-                      np.empty((3, model.n), dtype=np.int64), bufs)
+                      np.empty((3, model.n), dtype=np.int64), bufs,
+                      np.zeros((2, demos.truth_t.shape[1]), dtype=np.int32))
     return bufs.beam[0].copy(), lp
 
 
 @njit(cache=True, nogil=True)
-def _beam_search(start, demos, model, width, max_steps, scratch, work, bufs):
-    n_cols = state_width(model.n_g, model.n)
+def _beam_search(start, demos, model, width, max_steps, scratch, work, bufs, counts):
+    n_g, n = model.n_g, model.n
+    n_cols = state_width(n_g, n)
+    n_bits = _n_bits(model)
     pool, pool_lp, taken, beam, beam_lp, nxt, nxt_lp = bufs
     n_beam = min(width, start.shape[0])
     for i in range(n_beam):
@@ -214,8 +282,30 @@ def _beam_search(start, demos, model, width, max_steps, scratch, work, bufs):
             m += 1
         for i in range(n_beam):
             k = _neighbours(beam[i], model, pool, m, work)
-            for j in range(m, k):
-                pool_lp[j] = _score(pool[j], demos, model, scratch)
+            # The bit flips first: scored from the beam row's violation counts (hundreds of
+            # pattern clauses make hundreds of them, each O(D) instead of O(D x conjuncts)).
+            b_tau, b_w1, b_parent = split_state(beam[i], n_g, n)
+            for j in range(n_g):
+                scratch.tau[j] = b_tau[j]
+            for w in range(n):
+                scratch.w1[w] = b_w1[w]
+                scratch.parent[w] = b_parent[w]
+            viol, viol_g = counts[0], counts[1]
+            n_conj = fill_viol(viol, scratch.tau, scratch.w1, scratch.parent, demos.truth_t,
+                               model)
+            for j in range(m, m + n_bits):
+                pool_lp[j] = _score_flip(pool[j], j - m, viol, n_conj, demos, model, scratch)
+            # The structure moves keep the global bits: their clauses counted once.
+            lp_g = log_prior_globals(b_tau, model)
+            viol_g[:] = 0
+            n_g_conj = 0
+            for j in range(n_g):
+                if b_tau[j]:
+                    add_pair(viol_g, demos.truth_t, j, np.int64(1))
+                    n_g_conj += 1
+            for j in range(m + n_bits, k):
+                pool_lp[j] = _score_moved(pool[j], lp_g, viol_g, n_g_conj, demos, model,
+                                          scratch)
             m = k
         # The best `width` distinct rows, in decreasing order (the first of ties).
         taken[:m] = False

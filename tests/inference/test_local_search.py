@@ -1,0 +1,101 @@
+"""The beam search's neighbours scored from the beam row's counts, against scoring from scratch."""
+
+import numpy as np
+import pytest
+from numba import njit
+
+from bsi_sklearn.inference._chain_kernel import fill_viol
+from bsi_sklearn.inference._gibbs_moves import add_pair
+from bsi_sklearn.inference._local_search import (
+    _n_bits,
+    _neighbours,
+    _score,
+    _score_flip,
+    _score_moved,
+    _scratch,
+    n_neighbours_max,
+)
+from bsi_sklearn.inference.mcmc import deduplicate_demos
+from bsi_sklearn.model import make_model
+from bsi_sklearn.model.likelihood import LIKELIHOODS
+from bsi_sklearn.model.priors import PRIORS, draw_hypothesis, log_prior_globals
+from bsi_sklearn.model.state_layout import join_state, split_state
+
+
+@njit
+def _flip_scores(rows, demos, model, scratch, work, pool, viol):
+    # Per row, every bit flip scored both ways: (from the row's counts, from scratch).
+    n_bits = _n_bits(model)
+    out = np.empty((rows.shape[0], n_bits, 2))
+    for i in range(rows.shape[0]):
+        _neighbours(rows[i], model, pool, 0, work)
+        tau, w1, parent = split_state(rows[i], model.n_g, model.n)
+        n_conj = fill_viol(viol, tau.copy(), w1.copy(), parent.copy(), demos.truth_t, model)
+        for j in range(n_bits):
+            out[i, j, 0] = _score_flip(pool[j], j, viol, n_conj, demos, model, scratch)
+            out[i, j, 1] = _score(pool[j], demos, model, scratch)
+    return out
+
+
+@pytest.mark.parametrize("prior", PRIORS)
+@pytest.mark.parametrize("likelihood", LIKELIHOODS)
+@pytest.mark.parametrize("n", [0, 1, 4])
+def test_flip_scores_are_the_scores_bit_for_bit(prior, likelihood, n):
+    rng = np.random.default_rng(n)
+    n_g = 6
+    model = make_model(prior=prior, likelihood=likelihood, n_globals=n_g, n_subtasks=n,
+                       p_patterns=[0.1, 0.3, 0.05])  # three of the global slots patterns
+    truth = (rng.random((300, n_g + n + n * n)) < 0.9).astype(np.uint8)
+    demos = deduplicate_demos(truth, (rng.random(300) < 0.6).astype(np.int64))
+    rows = np.array([join_state(*draw_hypothesis(model, rng)) for _ in range(6)],
+                    dtype=np.int64)
+    pool = np.empty((n_neighbours_max(n_g, n), rows.shape[1]), dtype=np.int64)
+    got = _flip_scores(rows, demos, model, _scratch(demos, model),
+                       np.empty((3, n), dtype=np.int64), pool,
+                       np.zeros(demos.truth_t.shape[1], dtype=np.int32))
+    finite = np.isfinite(got[..., 1])
+    assert finite.sum() > 10
+    np.testing.assert_array_equal(got[..., 0], got[..., 1])  # equal, not close
+
+
+@njit
+def _move_scores(rows, demos, model, scratch, work, pool, counts):
+    # Per row, every structure move scored both ways: (from the global counts, from scratch).
+    n_bits = _n_bits(model)
+    out = np.empty((rows.shape[0], pool.shape[0], 2))
+    out[:] = np.nan
+    for i in range(rows.shape[0]):
+        k = _neighbours(rows[i], model, pool, 0, work)
+        tau, _, _ = split_state(rows[i], model.n_g, model.n)
+        viol_g = counts[1]
+        viol_g[:] = 0
+        n_g_conj = 0
+        for j in range(model.n_g):
+            if tau[j]:
+                add_pair(viol_g, demos.truth_t, j, np.int64(1))
+                n_g_conj += 1
+        lp_g = log_prior_globals(tau, model)
+        for j in range(n_bits, k):
+            out[i, j, 0] = _score_moved(pool[j], lp_g, viol_g, n_g_conj, demos, model, scratch)
+            out[i, j, 1] = _score(pool[j], demos, model, scratch)
+    return out
+
+
+@pytest.mark.parametrize("prior", PRIORS)
+@pytest.mark.parametrize("likelihood", LIKELIHOODS)
+def test_structure_move_scores_are_the_scores_bit_for_bit(prior, likelihood):
+    rng = np.random.default_rng(5)
+    n_g, n = 6, 4
+    model = make_model(prior=prior, likelihood=likelihood, n_globals=n_g, n_subtasks=n,
+                       p_patterns=[0.1, 0.3, 0.05])
+    truth = (rng.random((300, n_g + n + n * n)) < 0.9).astype(np.uint8)
+    demos = deduplicate_demos(truth, (rng.random(300) < 0.6).astype(np.int64))
+    rows = np.array([join_state(*draw_hypothesis(model, rng)) for _ in range(6)],
+                    dtype=np.int64)
+    pool = np.empty((n_neighbours_max(n_g, n), rows.shape[1]), dtype=np.int64)
+    got = _move_scores(rows, demos, model, _scratch(demos, model),
+                       np.empty((3, n), dtype=np.int64), pool,
+                       np.zeros((2, demos.truth_t.shape[1]), dtype=np.int32))
+    done = ~np.isnan(got[..., 1])
+    assert np.isfinite(got[..., 1][done]).sum() > 50
+    np.testing.assert_array_equal(got[..., 0][done], got[..., 1][done])
