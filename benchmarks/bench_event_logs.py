@@ -159,6 +159,72 @@ def recovery_specs(seeds, activities, noise=0.05, bsi=None):
             for s in seeds for a in activities]
 
 
+#: The templates of the pattern rows (issue 28): the Declare clauses of the logs' rules
+#: (existence is the paper's F, strong precedence its order clause).
+PATTERN_TEMPLATES = ("Absence", "AtMostOnce", "Response")
+#: The pattern rows' encoding: one activity a step (Declare's reading), no negated columns.
+PATTERN_ENCODER = {"encoding": "current", "negations": False}
+
+
+def pattern_specs(seeds, sizes, noise=0.05):
+    """Declare logs per seed and size: BSI's defaults, BSI with the pattern templates on the
+    current-activity encoding, and the practitioner's tree and logistic regression."""
+    out = []
+    for s in seeds:
+        for a, c in sizes:
+            base = dict(task="patterns", n_activities=a, n_cases=c, rule="declare",
+                        noise=noise, seed=s)
+            out += [dict(base, method="bsi"),
+                    dict(base, method="bsi", bsi={"templates": list(PATTERN_TEMPLATES)},
+                         encoder=dict(PATTERN_ENCODER)),
+                    dict(base, method="tree"), dict(base, method="logreg")]
+    return out
+
+
+def write_patterns(df, out, command, seconds):
+    """``patterns.csv`` and ``patterns.md`` under ``out``: every row, and per size the mean
+    accuracy of each row with its 95 % interval over the seeds and paired differences."""
+    from _roles_report import t_interval
+
+    df = _save_csv(df, out / "patterns.csv")
+    df["row"] = [("BSI (templates)" if isinstance(b, dict) or (isinstance(b, str) and b)
+                  else LABELS[m]) for m, b in zip(df["method"], df.get("bsi", [None] * len(df)))]
+    rows, summary = [], []
+    for _, r in df.iterrows():
+        rows.append([f"{r['n_activities']}x{r['n_cases']}", r["seed"], r["row"], r["status"],
+                     _fmt(r.get("accuracy")), _fmt(r.get("fit_s"), 2), r.get("rule_text"),
+                     r.get("map") if r["method"] == "bsi" else ""])
+    for (a, c), part in df.groupby(["n_activities", "n_cases"], sort=True):
+        acc = part.pivot_table(index="seed", columns="row", values="accuracy")
+        for name in acc.columns:
+            mean, lo, hi = t_interval(acc[name].dropna().to_numpy())
+            diff = (acc["BSI (templates)"] - acc[name]).dropna().to_numpy()
+            dm, dlo, dhi = t_interval(diff) if name != "BSI (templates)" else (0, 0, 0)
+            t = pd.to_numeric(part.loc[part["row"] == name, "fit_s"], errors="coerce")
+            summary.append([f"{a}x{c}", name, len(acc[name].dropna()),
+                            f"{mean:.3f} [{lo:.3f}, {hi:.3f}]",
+                            "" if name == "BSI (templates)"
+                            else f"{dm:+.3f} [{dlo:+.3f}, {dhi:+.3f}]",
+                            _fmt(t.median(), 1), _fmt(t.max(), 1)])
+    text = ["# Declare logs with pattern clauses (issues 27 and 28)", "",
+            *_header(command, seconds),
+            "Each log: `make_process_log(a, c, \"declare\", noise=0.05, random_state=seed)` "
+            "(a rule of one or two Declare clauses: existence, absence, at most once, "
+            "precedence, response), 70 % of the cases to train, accuracy on the rest against "
+            "the clean labels, each row in its own process. *BSI (templates)*: "
+            f"`EventLogEncoder({', '.join(f'{k}={v!r}' for k, v in PATTERN_ENCODER.items())})` "
+            f"and `BSIClassifier(templates={list(PATTERN_TEMPLATES)}, random_state=0)`, "
+            "every other parameter a default; *BSI (defaults)*: the default encoder and "
+            "classifier. Intervals: 95 % t intervals over the logs (seeds); the difference is "
+            "BSI (templates) minus the row, paired by log.", "",
+            md_table(["size", "row", "logs", "mean accuracy [95 %]",
+                      "BSI (templates) - row [95 %]", "median fit s", "max fit s"], summary), "",
+            md_table(["size", "seed", "row", "status", "accuracy", "fit s", "rule", "MAP"],
+                     rows), ""]
+    (out / "patterns.md").write_text("\n".join(text))
+    return [out / "patterns.csv", out / "patterns.md"]
+
+
 def _save_csv(df, path):
     # The rows in COLUMNS' order (then the rest) written to path; returns them.
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -381,6 +447,10 @@ def main(argv=None):
     parser.add_argument("--recovery-seeds", type=parse_seeds, default=None,
                         help="only the recovery rows, for these seeds (0-4 or 0,3), at the "
                              "activities of --sizes (default 10, 20, 40, 100)")
+    parser.add_argument("--pattern-seeds", type=parse_seeds, default=None,
+                        help="Declare logs of these seeds at --sizes (default 20x500,40x1000): "
+                             "BSI with and without pattern templates, tree, logistic "
+                             "regression")
     parser.add_argument("--likelihood", choices=["cb", "ci", "calibrated"], default=None,
                         help="with --recovery-seeds: BSI's likelihood (default: its default)")
     parser.add_argument("--scarlet-dir", default=str(DEFAULT_SCARLET_DIR))
@@ -403,6 +473,11 @@ def main(argv=None):
     if args.target_seeds is not None:
         df = run_grid(target_specs(args.target_seeds, args.noise), timeout, args.memory_limit)
         paths = write_target(df, out, command.strip(), time.perf_counter() - t0)
+    elif args.pattern_seeds is not None:
+        sizes = args.sizes or [(20, 500), (40, 1000)]
+        df = run_grid(pattern_specs(args.pattern_seeds, sizes, args.noise), timeout,
+                      args.memory_limit)
+        paths = write_patterns(df, out, command.strip(), time.perf_counter() - t0)
     elif args.recovery_seeds is not None:
         activities = sorted({a for a, _ in args.sizes}) if args.sizes else [10, 20, 40, 100]
         bsi = {"likelihood": args.likelihood} if args.likelihood else None
