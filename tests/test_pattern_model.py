@@ -195,3 +195,36 @@ def test_every_use_of_a_fitted_pattern_posterior_agrees():
         assert monitor.finish().p_satisfied == pytest.approx(p, abs=1e-12)
         monitor.reset()
     assert len(closed) == len(Xn)
+
+
+def test_readable_leaves_out_the_pattern_clauses_another_implies():
+    from bsi_sklearn import Specification
+    from bsi_sklearn.specification.implied_patterns import implied_patterns, implies
+
+    spec = Specification(globals=["g"], eventuals=["pay"], orders=[("pay", "ship")],
+                         patterns=[("Absence", ["refund"]), ("Response", ["refund", "pay"]),
+                                   ("Existence", ["pay"]), ("Universality", ["g"]),
+                                   ("G(x -> F(y))", ["order", "pay"]),
+                                   ("Response", ["order", "pay"]),
+                                   ("Precedence", ["pay", "ship"])])
+    # Absence => Response from it; F(pay) == Existence(pay); G(g) == Universality(g);
+    # (!ship U pay) => Precedence(pay, ship); of the two equal responses the catalogue's stays
+    assert implied_patterns(spec) == {
+        ("P", "Response", ("refund", "pay")), ("P", "Existence", ("pay",)),
+        ("P", "Universality", ("g",)), ("P", "G(x -> F(y))", ("order", "pay")),
+        ("P", "Precedence", ("pay", "ship"))}
+    text = spec.readable()
+    assert "Absence(refund)" in text and "Response(order, pay)" in text
+    assert "Existence" not in text and "Precedence" not in text and "{" not in text
+    # the shorter text means the same formula: the same verdict on every trace over its props
+    from bsi_sklearn.ltl import parse_ltl
+
+    shorter = parse_ltl(text).to_specification()
+    props = ["g", "pay", "ship", "refund", "order"]
+    rng = np.random.default_rng(0)
+    for _ in range(300):
+        x = (rng.random((int(rng.integers(1, 5)), len(props))) < 0.5).astype(int)
+        assert shorter.satisfied_by(x, props) == spec.satisfied_by(x, props)
+    assert not implies(("Response", ("a", "b")), ("Absence", ("a",)))
+    assert implies(("Succession", ("a", "b")), ("Response", ("a", "b")))
+    assert not implies(("Response", ("a", "b")), ("Response", ("b", "a")))

@@ -167,8 +167,7 @@ def _unmanaged_bundles(state, demos, model, bufs):
     model = Model(model.n_g, model.n, model.prior, model.forest, model.p_global,
                   model.p_eventual, model.p_part, model.n_new, model.log_eps, model.likelihood,
                   _unmanaged(model.lp_chains), _unmanaged(model.forest_g), model.forest_const,
-                  model.flip_a, model.flip_b, _unmanaged(model.pat_in),
-                  _unmanaged(model.pat_out))
+                  model.flip_a, model.flip_b, _unmanaged(model.pat_in), _unmanaged(model.pat_out))
     bufs = ChainBuffers(_unmanaged(bufs.ubuf), _unmanaged(bufs.viol),
                         _unmanaged(bufs.lw), _unmanaged(bufs.cand_lp), _unmanaged(bufs.cand_ll),
                         _unmanaged(bufs.cand_head), _unmanaged(bufs.cand_pos),

@@ -22,6 +22,7 @@ from bsi_sklearn._literals import (
     render_clause,
 )
 from bsi_sklearn.data.values import trace_columns
+from bsi_sklearn.specification.implied_patterns import implied_patterns
 from bsi_sklearn.specification.template_truth import holds
 from bsi_sklearn.specification.templates import TEMPLATES, get_template
 
@@ -337,7 +338,9 @@ class Specification:
         Returns
         -------
         text : str
-            ``to_ltl(chains=True)`` without the vacuous clauses, followed, when the formula has
+            ``to_ltl(chains=True)`` without the vacuous clauses and without the pattern
+            clauses one other clause implies (``implied_patterns``: the formula means the
+            same), followed, when the formula has
             some, by ``"  [untested: ...]"`` listing them joined by ``&``. The shown formula
             and the untested one together are the full formula: ``to_ltl()`` gives it in one
             piece. A negation is written ``!p``, never ``!!p``: an order on a negated
@@ -347,7 +350,8 @@ class Specification:
             (:mod:`bsi_sklearn._literals` lists the rules). A proposition named ``!x`` that
             ``negations`` does not make a negation is written in quotes, ``"!x"``. The text
             reads back with :func:`bsi_sklearn.ltl.parse_ltl` as the same formula over the
-            propositions themselves.
+            propositions themselves (an equivalent one where implied pattern clauses were
+            left out).
 
         Examples
         --------
@@ -379,7 +383,10 @@ class Specification:
                                                   key=_pair_key)])
         out = [(key, render_clause(clause_form(key, cond, negates), readable_atom, _ASCII))
                for key in keys]
+        implied = implied_patterns(self) if self.patterns else frozenset()
         for name, props in sorted(self.patterns, key=_pattern_sort):
+            if ("P", name, props) in implied:
+                continue
             # A negated column is the literal !p here too, as in the other clauses.
             lits = [literal(p, negates) for p in props]
             args = [readable_atom(x.atom) if x.positive else f"!{readable_atom(x.atom)}"
