@@ -207,6 +207,12 @@ def add_arguments(parser):
     parser.add_argument("--timestamp", default=None, metavar="COLUMN",
                         help="event logs: the timestamp column (default: time:timestamp; "
                              "without one, the file's order)")
+    parser.add_argument("--templates", nargs="+", metavar="TEMPLATE", default=None,
+                        help="pattern clauses beside the paper's template: catalogue names "
+                             "(Response, Absence, AtMostOnce, ...) or LTLf formulas with "
+                             "placeholders, quoted ('G(x -> F(y))'); default: none, the "
+                             "paper's template (BSIClassifier(templates=...)). On an event "
+                             "log, --encoding current reads them as Declare does")
     parser.add_argument("--encoding", choices=["occurred", "current"], default="occurred",
                         help="event logs: a proposition per activity, true once it has "
                              "occurred, or only at its own events (EventLogEncoder; default: "
@@ -376,6 +382,7 @@ def run(args):
         clf = BSIClassifier(prior=args.prior, likelihood=args.likelihood, roles=args.roles,
                             flip_prior=flip, inference=args.inference, n_samples=args.n_samples,
                             random_state=args.seed, pos_label=pos_label,
+                            templates=args.templates or "paper",
                             **_roles(args, names, path))
         y = np.ones(len(X), dtype=int) if y is None else np.asarray(y)
         try:
@@ -384,6 +391,7 @@ def run(args):
             message = re.sub(r"\bpos_label\b", "--pos-label", str(exc))
             message = re.sub(r"\bflip_prior\b", "--flip-prior", message)
             message = re.sub(r"\blikelihood='(\w+)'", r"--likelihood \1", message)
+            message = re.sub(r"^templates: ", "--templates: ", message)
             raise ValueError(f"{path}: {message}") from None
         n_good = int((y == clf.classes_[1]).sum())
         print(f"== {path}: {len(X)} demonstrations ({n_good} acceptable), "

@@ -257,3 +257,23 @@ def test_help_documents_event_logs(capsys):
     text = capsys.readouterr().out
     assert "*.xes, *.xes.gz" in text and "case:concept:name,concept:name" in text
     assert "--format {auto,csv,trace,event-log}" in text.replace("\n", " ").replace("  ", " ")
+
+
+def test_event_log_templates_add_pattern_clauses(tmp_path, capsys):
+    # Every pay is followed by a ship in the accepted cases only: Response(pay, ship)
+    path = _xes(tmp_path / "log.xes", [
+        ("c1", ["order", "pay", "ship"], "accepted"),
+        ("c2", ["order", "pay", "ship", "pay", "ship"], "accepted"),
+        ("c3", ["order", "ship", "pay", "ship"], "accepted"),
+        ("c4", ["order", "pay"], "rejected"), ("c5", ["order", "pay", "ship", "pay"], "rejected"),
+        ("c6", ["order", "ship", "pay"], "rejected")])
+    args = ["fit", str(path), "--label", "outcome", "--pos-label", "accepted", "--encoding",
+            "current", "--no-negations", "--globals", "--subtasks"]
+    assert main(args + ["--templates", "Response"]) == 0
+    out = capsys.readouterr().out
+    assert "MAP        : Response(pay, ship)" in out
+    assert "Response(pay, ship): every pay is eventually followed by ship." in out
+    assert "accuracy   : 1.000" in out
+    assert main(args + ["--templates", "Respons"]) != 0
+    err = capsys.readouterr().err
+    assert "--templates: unknown template 'Respons'" in err
