@@ -23,17 +23,17 @@ from numba import carray, njit
 from numba.core import types
 from numba.extending import intrinsic
 
-from bsi_sklearn.inference._flip_moves import flip_move, flip_move_masked, zero_one_masks
+from bsi_sklearn._jit import helper
 from bsi_sklearn.inference._gibbs_moves import (
     add_pair,
-    add_structure_viol,
     chain_move,
     draw,
+    flip_move,
     forest_move,
     sat_counts,
 )
 from bsi_sklearn.model import Model
-from bsi_sklearn.model.clauses import clause_index_eventual
+from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order
 from bsi_sklearn.model.likelihood import cb_rejected, log_likelihood
 from bsi_sklearn.model.priors import (
     global_inclusion,
@@ -47,7 +47,7 @@ from bsi_sklearn.model.priors import (
 from bsi_sklearn.model.state_layout import max_conjuncts, split_state, state_width
 
 __all__ = ["Demos", "ChainState", "ChainBuffers", "ChainLoop", "make_buffers", "make_loop",
-           "chain_kernel",
+           "chain_kernel", "add_structure_viol",
            "init_viol", "fill_viol", "score_one", "score_rows", "violation_rows"]
 
 
@@ -93,8 +93,7 @@ class ChainBuffers(NamedTuple):
     size: np.ndarray      # (n,) subtree sizes (Prior 3)
     old_parent: np.ndarray
     zmask: np.ndarray     # (1, W) uint64: the rows a structure move weighs its candidates over
-    suf: np.ndarray       # (n + 1, W) uint64: zmask AND a chain's suffix of (v -> u) clauses;
-    #                       first the bit flips' masks (zero_one_masks; at least 2 rows)
+    suf: np.ndarray       # (n + 1, W) uint64: zmask AND a chain's suffix of (v -> u) clauses
     acc: np.ndarray       # (1, W) uint64: a running AND
     ones: np.ndarray      # (1, W) uint64: every bit set
     anc: np.ndarray       # (n, W) uint64: rows an ancestor keeps satisfied (Prior 3)
@@ -122,7 +121,7 @@ def make_buffers(n_g, n, n_rows, n_rungs):
         child=np.empty(n, dtype=np.int64), in_s=np.zeros(n, dtype=np.int64),
         size=np.empty(n, dtype=np.int64), old_parent=np.empty(n, dtype=np.int64),
         zmask=np.zeros((1, n_words), dtype=np.uint64),
-        suf=np.zeros((max(n + 1, 2), n_words), dtype=np.uint64),
+        suf=np.zeros((n + 1, n_words), dtype=np.uint64),
         acc=np.zeros((1, n_words), dtype=np.uint64),
         ones=np.full((1, n_words), np.iinfo(np.uint64).max, dtype=np.uint64),
         anc=np.zeros((max(n, 1), n_words), dtype=np.uint64),
@@ -206,6 +205,24 @@ def fill_viol(viol, tau, w1, parent, truth_t, model):
     return n_conj + add_structure_viol(viol, w1, parent, truth_t, model)
 
 
+@helper
+def add_structure_viol(viol, w1, parent, truth_t, model):
+    """Add the violations of the eventual and order clauses to ``viol``; their number."""
+    n_g, n = model.n_g, model.n
+    n_conj = 0
+    for w in range(n):
+        if w1[w]:
+            add_pair(viol, truth_t, clause_index_eventual(w, n_g), np.int64(1))
+            n_conj += 1
+    for v in range(n):
+        a = parent[v]
+        while a >= 0:
+            add_pair(viol, truth_t, clause_index_order(a, v, n_g, n), np.int64(1))
+            n_conj += 1
+            a = parent[a]
+    return n_conj
+
+
 @njit(cache=True, nogil=True)
 def score_one(tau, w1, parent, demos, model):
     """Exact unnormalised ``(log prior, log-likelihood)`` of one hypothesis."""
@@ -257,12 +274,10 @@ def _sweep(r, beta, state, demos, model, bufs, cache, u0):
     le_in, le_out = log_inclusion(model.p_eventual)
     upos = u0
     moved = 0
-    masks = bufs.suf  # scratch until the structure moves write theirs
-    zero_one_masks(viol, masks)
     for j in range(n_g):
         lg_in, lg_out = global_inclusion(j, model)
-        new, ll[r], used = flip_move_masked(j, tau[j], lg_in, lg_out, viol, masks, n_conj[r],
-                                            demos, model, ubuf[upos], beta)
+        new, ll[r], used = flip_move(j, tau[j], lg_in, lg_out, viol, n_conj[r], demos, model,
+                                     ubuf[upos], beta)
         upos += used
         if new != tau[j]:
             n_conj[r] += 1 if new else -1

@@ -1,7 +1,6 @@
 """The Gibbs moves of one MCMC chain, each an exact update of its block (no Hastings ratio).
 
-- one inclusion bit of tau or W1: :mod:`bsi_sklearn.inference._flip_moves` (its counts,
-  :func:`flip_sums`, are here);
+- :func:`flip_move`: one inclusion bit of tau or W1;
 - :func:`chain_move` (Priors 1, 2): take a subtask out of its chain and re-insert it at any
   position of any chain, or as a new chain where the prior allows one, drawing its eventual
   bit ``F(v)`` jointly with its place;
@@ -32,8 +31,8 @@ from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order,
 from bsi_sklearn.model.likelihood import log_likelihood, log_likelihood_cb
 from bsi_sklearn.model.priors import log_inclusion
 
-__all__ = ["add_pair", "add_structure_viol", "draw", "sat_counts", "zero_mask", "bit_sums",
-           "weighted", "flip_sums", "chain_move", "chain_candidates", "chain_apply", "forest_move",
+__all__ = ["add_pair", "draw", "sat_counts", "zero_mask", "bit_sums", "flip_move",
+           "flip_sums", "chain_move", "chain_candidates", "chain_apply", "forest_move",
            "forest_candidates", "forest_apply"]
 
 
@@ -92,7 +91,7 @@ def zero_mask(viol, zmask):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def weighted(word, planes, w):
+def _weighted(word, planes, w):
     # The weight of the rows of one word: bit-plane k of the weights counts 2**k.
     total = 0
     for k in range(planes.shape[0]):
@@ -117,10 +116,10 @@ def bit_sums(a, ia, b, ib, c, ic, demos):
         if out == 0:
             continue
         inn = out & c[ic, w]
-        ps_out += weighted(out, demos.pos_planes, w)
-        ns_out += weighted(out, demos.neg_planes, w)
-        ps_in += weighted(inn, demos.pos_planes, w)
-        ns_in += weighted(inn, demos.neg_planes, w)
+        ps_out += _weighted(out, demos.pos_planes, w)
+        ns_out += _weighted(out, demos.neg_planes, w)
+        ps_in += _weighted(inn, demos.pos_planes, w)
+        ns_in += _weighted(inn, demos.neg_planes, w)
     return float(ps_out), float(ns_out), float(ps_in), float(ns_in)
 
 
@@ -161,21 +160,34 @@ def add_pair(viol, truth_t, c, sign):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def add_structure_viol(viol, w1, parent, truth_t, model):
-    """Add the violations of the eventual and order clauses to ``viol``; their number."""
-    n_g, n = model.n_g, model.n
-    n_conj = 0
-    for w in range(n):
-        if w1[w]:
-            add_pair(viol, truth_t, clause_index_eventual(w, n_g), np.int64(1))
-            n_conj += 1
-    for v in range(n):
-        a = parent[v]
-        while a >= 0:
-            add_pair(viol, truth_t, clause_index_order(a, v, n_g, n), np.int64(1))
-            n_conj += 1
-            a = parent[a]
-    return n_conj
+def flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u, beta):
+    """Gibbs update of inclusion bit ``c``: ``(new bit, log-likelihood, uniform used)``."""
+    # Gibbs update of one inclusion bit at inverse temperature beta: returns the new bit, the
+    # new (untempered) log-likelihood and whether the uniform u was used (only when both
+    # outcomes are possible).
+    truth_t = demos.truth_t
+    ps_out, ns_out, ps_in, ns_in = flip_sums(viol, truth_t, c, inc, demos.w_pos, demos.w_neg)
+    n_out = n_conj - inc
+    ll_out = log_likelihood(ps_out, ns_out, demos.n_pos, demos.n_neg, n_out, model.log_eps,
+                            model.likelihood, model.flip_a, model.flip_b)
+    ll_in = log_likelihood(ps_in, ns_in, demos.n_pos, demos.n_neg, n_out + 1, model.log_eps,
+                           model.likelihood, model.flip_a, model.flip_b)
+    lw_out = lp_out + beta * ll_out
+    lw_in = lp_in + beta * ll_in
+    # P(in) = 1 / (1 + exp(lw_out - lw_in)), computed without overflow.
+    used = 0
+    if lw_in == -np.inf:
+        new = 0
+    elif lw_out == -np.inf:
+        new = 1
+    else:
+        diff = lw_out - lw_in
+        p_in = 1.0 / (1.0 + math.exp(diff)) if diff < 700.0 else 0.0
+        new = 1 if u < p_in else 0
+        used = 1
+    if new != inc:
+        add_pair(viol, truth_t, c, np.int64(1 if new else -1))
+    return new, (ll_in if new else ll_out), used
 
 
 @njit(cache=True, nogil=True, inline="always")

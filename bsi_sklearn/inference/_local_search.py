@@ -21,8 +21,8 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn._jit import helper
-from bsi_sklearn.inference._chain_kernel import fill_viol
-from bsi_sklearn.inference._gibbs_moves import add_pair, add_structure_viol, flip_sums, sat_counts
+from bsi_sklearn.inference._chain_kernel import add_structure_viol, fill_viol
+from bsi_sklearn.inference._gibbs_moves import add_pair, flip_sums, sat_counts
 from bsi_sklearn.model.clauses import clause_index_eventual
 from bsi_sklearn.model.likelihood import log_likelihood
 from bsi_sklearn.model.priors import (
