@@ -174,3 +174,17 @@ def brute_force_posterior(X, y, names, globals_, subtasks, conditions, prior, li
     mx = max(logpost.values())
     z = math.fsum(math.exp(v - mx) for v in logpost.values())
     return {k: math.exp(v - mx) / z for k, v in logpost.items()}
+
+
+def all_traces(n_props, max_len=4):
+    """Every trace of 1 to ``max_len`` steps over ``n_props`` propositions (tuples of rows)."""
+    steps = list(itertools.product([0, 1], repeat=n_props))
+    for length in range(1, max_len + 1):
+        yield from itertools.product(steps, repeat=length)
+
+
+def stack_traces(traces):
+    """``(data, offsets)`` of traces stacked as ``Traces`` holds them (uint8, int64)."""
+    data = np.array([row for tr in traces for row in tr], dtype=np.uint8)
+    offsets = np.concatenate([[0], np.cumsum([len(tr) for tr in traces])]).astype(np.int64)
+    return data, offsets

@@ -11,6 +11,7 @@ import re
 
 import numpy as np
 import pytest
+from _reference import all_traces, stack_traces
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -133,16 +134,6 @@ def _holds(f, trace, t):
 
 
 # ----------------------------------------------------------- all traces up to length 4
-def _all_traces(n_props, max_len=4):
-    steps = list(itertools.product([0, 1], repeat=n_props))
-    for length in range(1, max_len + 1):
-        yield from itertools.product(steps, repeat=length)
-
-
-def _stack(traces):
-    data = np.array([row for tr in traces for row in tr], dtype=np.uint8)
-    offsets = np.concatenate([[0], np.cumsum([len(tr) for tr in traces])]).astype(np.int64)
-    return data, offsets
 
 
 def _as_sets(trace, slots):
@@ -155,8 +146,8 @@ def test_truth_matches_brute_force_and_flloat_on_every_short_trace(name):
 
     t = TEMPLATES[name]
     slots = t.slots
-    traces = list(_all_traces(len(slots)))
-    data, offsets = _stack(traces)
+    traces = list(all_traces(len(slots)))
+    data, offsets = stack_traces(traces)
     got = pattern_truth(name, data, offsets, [list(range(len(slots)))])[:, 0]
     tree = _parse(t.formula)
     flloat_formula = LTLfParser()(t.formula)
@@ -172,8 +163,8 @@ def test_truth_matches_brute_force_and_flloat_on_every_short_trace(name):
 def test_columns_are_read_where_they_are_with_a_third_proposition(name):
     # 3 propositions, slots on columns (2, 0); the other column is noise.
     t = TEMPLATES[name]
-    traces = list(_all_traces(3, max_len=3))
-    data, offsets = _stack(traces)
+    traces = list(all_traces(3, max_len=3))
+    data, offsets = stack_traces(traces)
     got = pattern_truth(name, data, offsets, [[2, 0], [0, 2]])
     tree = _parse(t.formula)
     for tr, g in zip(traces, got):
@@ -186,7 +177,7 @@ def test_longer_random_traces_match_brute_force():
     rng = np.random.default_rng(0)
     traces = [tuple(map(tuple, rng.integers(0, 2, (rng.integers(5, 12), 2))))
               for _ in range(60)]
-    data, offsets = _stack(traces)
+    data, offsets = stack_traces(traces)
     for name, t in TEMPLATES.items():
         got = pattern_truth(name, data, offsets, [list(range(len(t.slots)))])[:, 0]
         tree = _parse(t.formula)
@@ -232,8 +223,8 @@ def test_the_catalogue_formula_read_as_a_user_template_gives_the_kernel_truth(na
     # Two independent implementations of one definition: the hand recurrence and the
     # formula's program (every step, every subformula).
     t = TEMPLATES[name]
-    traces = list(_all_traces(3, max_len=4))
-    data, offsets = _stack(traces)
+    traces = list(all_traces(3, max_len=4))
+    data, offsets = stack_traces(traces)
     cols = [list(c) for c in itertools.permutations(range(3), len(t.slots))]
     user = get_template(f"({t.formula})")  # in parentheses: never a name, read as LTLf
     assert user.code == -1 and user.family == "user"
@@ -277,8 +268,8 @@ def test_user_templates_against_brute_force_and_flloat_on_every_short_trace(tree
         return
     t = get_template(text)
     assert sorted(t.slots) == names
-    traces = list(_all_traces(3, max_len=4))
-    data, offsets = _stack(traces)
+    traces = list(all_traces(3, max_len=4))
+    data, offsets = stack_traces(traces)
     got = pattern_truth(t, data, offsets, [[("x", "y", "z").index(s) for s in t.slots]])[:, 0]
     want = [_holds(_parse(text), _as_sets(tr, ("x", "y", "z")), 0) for tr in traces]
     assert got.astype(bool).tolist() == want, text
@@ -341,8 +332,8 @@ def test_user_template_instances_and_truth_on_named_columns():
 def test_precedence_as_flloat_reads_it(bare, bracketed):
     from flloat.parser.ltlf import LTLfParser
 
-    traces = list(_all_traces(3, max_len=3))
-    data, offsets = _stack(traces)
+    traces = list(all_traces(3, max_len=3))
+    data, offsets = stack_traces(traces)
     cols = [[("x", "y", "z").index(s) for s in get_template(bare).slots]]
     np.testing.assert_array_equal(pattern_truth(bare, data, offsets, cols),
                                   pattern_truth(bracketed, data, offsets, cols))
@@ -381,8 +372,8 @@ def test_an_instance_formula_is_the_instance_flloat_reads(name):
     text = instance_ltlf(name, names)
     assert not set(re.findall(r"\b[a-z]\b", text)), text  # no placeholder left
     formula = LTLfParser()(text)
-    traces = list(_all_traces(3, max_len=3))
-    data, offsets = _stack(traces)
+    traces = list(all_traces(3, max_len=3))
+    data, offsets = stack_traces(traces)
     for tr, g in zip(traces, pattern_truth(name, data, offsets, cols)[:, 0]):
         sets = _as_sets(tr, _NAMES)
         assert formula.truth([{n: (n in st_) for n in _NAMES} for st_ in sets], 0) == bool(g)

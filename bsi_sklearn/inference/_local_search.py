@@ -52,21 +52,28 @@ def _scratch(demos, model):
 
 
 @helper
-def _score(row, demos, model, scratch):
-    # Exact log posterior of a row [tau, w1, parent].
+def _load(row, model, scratch):
+    # A row's parts into the scratch arrays, and its log prior (log_prior's arithmetic).
     n_g, n = model.n_g, model.n
-    tau, w1, parent, viol = scratch.tau, scratch.w1, scratch.parent, scratch.viol
+    tau, w1, parent = scratch.tau, scratch.w1, scratch.parent
     row_tau, row_w1, row_parent = split_state(row, n_g, n)
     for j in range(n_g):
         tau[j] = row_tau[j]
     for w in range(n):
         w1[w] = row_w1[w]
         parent[w] = row_parent[w]
-    lp = log_prior(tau, w1, parent, model)
+    return log_prior(tau, w1, parent, model)
+
+
+@helper
+def _score(row, demos, model, scratch):
+    # Exact log posterior of a row [tau, w1, parent].
+    lp = _load(row, model, scratch)
     if lp == -np.inf:
         return lp
-    n_conj = fill_viol(viol, tau, w1, parent, demos.truth_t, model)
-    ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
+    n_conj = fill_viol(scratch.viol, scratch.tau, scratch.w1, scratch.parent, demos.truth_t,
+                       model)
+    ps, ns = sat_counts(scratch.viol, demos.w_pos, demos.w_neg)
     return lp + log_likelihood(ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps,
                                model.likelihood, model.flip_a, model.flip_b)
 
@@ -77,15 +84,8 @@ def _score_flip(row, b, viol, n_conj, demos, model, scratch):
     # `viol` and conjuncts `n_conj`: the same number, bit for bit (the prior from the row as
     # _score computes it; the satisfied counts are sums of whole numbers, exact in any order,
     # so the likelihood gets the same arguments), in O(D) instead of O(D x conjuncts).
-    n_g, n = model.n_g, model.n
-    tau, w1, parent = scratch.tau, scratch.w1, scratch.parent
-    row_tau, row_w1, row_parent = split_state(row, n_g, n)
-    for j in range(n_g):
-        tau[j] = row_tau[j]
-    for w in range(n):
-        w1[w] = row_w1[w]
-        parent[w] = row_parent[w]
-    lp = log_prior(tau, w1, parent, model)
+    n_g = model.n_g
+    lp = _load(row, model, scratch)
     if lp == -np.inf:
         return lp
     c = b if b < n_g else clause_index_eventual(b - n_g, n_g)

@@ -22,6 +22,19 @@ from bsi_sklearn.model.priors import PRIORS, draw_hypothesis, log_prior_globals
 from bsi_sklearn.model.state_layout import join_state, split_state
 
 
+def _problem(prior, likelihood, n, seed, n_g=6):
+    # Six global slots, three of them pattern clauses; 300 demonstrations, some repeated.
+    rng = np.random.default_rng(seed)
+    model = make_model(prior=prior, likelihood=likelihood, n_globals=n_g, n_subtasks=n,
+                       p_patterns=[0.1, 0.3, 0.05])
+    truth = (rng.random((300, n_g + n + n * n)) < 0.9).astype(np.uint8)
+    demos = deduplicate_demos(truth, (rng.random(300) < 0.6).astype(np.int64))
+    rows = np.array([join_state(*draw_hypothesis(model, rng)) for _ in range(6)],
+                    dtype=np.int64)
+    pool = np.empty((n_neighbours_max(n_g, n), rows.shape[1]), dtype=np.int64)
+    return model, demos, rows, pool
+
+
 @njit
 def _flip_scores(rows, demos, model, scratch, work, pool, viol):
     # Per row, every bit flip scored both ways: (from the row's counts, from scratch).
@@ -41,15 +54,7 @@ def _flip_scores(rows, demos, model, scratch, work, pool, viol):
 @pytest.mark.parametrize("likelihood", LIKELIHOODS)
 @pytest.mark.parametrize("n", [0, 1, 4])
 def test_flip_scores_are_the_scores_bit_for_bit(prior, likelihood, n):
-    rng = np.random.default_rng(n)
-    n_g = 6
-    model = make_model(prior=prior, likelihood=likelihood, n_globals=n_g, n_subtasks=n,
-                       p_patterns=[0.1, 0.3, 0.05])  # three of the global slots patterns
-    truth = (rng.random((300, n_g + n + n * n)) < 0.9).astype(np.uint8)
-    demos = deduplicate_demos(truth, (rng.random(300) < 0.6).astype(np.int64))
-    rows = np.array([join_state(*draw_hypothesis(model, rng)) for _ in range(6)],
-                    dtype=np.int64)
-    pool = np.empty((n_neighbours_max(n_g, n), rows.shape[1]), dtype=np.int64)
+    model, demos, rows, pool = _problem(prior, likelihood, n, n)
     got = _flip_scores(rows, demos, model, _scratch(demos, model),
                        np.empty((3, n), dtype=np.int64), pool,
                        np.zeros(demos.truth_t.shape[1], dtype=np.int32))
@@ -84,15 +89,8 @@ def _move_scores(rows, demos, model, scratch, work, pool, counts):
 @pytest.mark.parametrize("prior", PRIORS)
 @pytest.mark.parametrize("likelihood", LIKELIHOODS)
 def test_structure_move_scores_are_the_scores_bit_for_bit(prior, likelihood):
-    rng = np.random.default_rng(5)
-    n_g, n = 6, 4
-    model = make_model(prior=prior, likelihood=likelihood, n_globals=n_g, n_subtasks=n,
-                       p_patterns=[0.1, 0.3, 0.05])
-    truth = (rng.random((300, n_g + n + n * n)) < 0.9).astype(np.uint8)
-    demos = deduplicate_demos(truth, (rng.random(300) < 0.6).astype(np.int64))
-    rows = np.array([join_state(*draw_hypothesis(model, rng)) for _ in range(6)],
-                    dtype=np.int64)
-    pool = np.empty((n_neighbours_max(n_g, n), rows.shape[1]), dtype=np.int64)
+    n = 4
+    model, demos, rows, pool = _problem(prior, likelihood, n, 5)
     got = _move_scores(rows, demos, model, _scratch(demos, model),
                        np.empty((3, n), dtype=np.int64), pool,
                        np.zeros((2, demos.truth_t.shape[1]), dtype=np.int32))

@@ -5,10 +5,10 @@ templates) is the reference: the specification layer may not import it, so the t
 here, on every trace up to length 4 over 2 and 3 propositions and on random longer traces.
 """
 
-import itertools
 
 import numpy as np
 import pytest
+from _reference import all_traces, stack_traces
 
 from bsi_sklearn.model.patterns import TEMPLATES, instantiate, pattern_truth
 from bsi_sklearn.specification import Specification
@@ -18,16 +18,6 @@ _USER = ["G(x -> WX(!x))", "x R y", "(x <-> y) U (x & !y)", "X(x) | WX(false)",
          "G(x -> X(y U z))", "F(x) -> !WX(true)"]
 
 
-def _all_traces(n_props, max_len=4):
-    steps = list(itertools.product([0, 1], repeat=n_props))
-    for length in range(1, max_len + 1):
-        yield from itertools.product(steps, repeat=length)
-
-
-def _stack(traces):
-    data = np.array([row for tr in traces for row in tr], dtype=np.uint8)
-    offsets = np.concatenate([[0], np.cumsum([len(tr) for tr in traces])]).astype(np.int64)
-    return data, offsets
 
 
 def _padded(traces):
@@ -40,8 +30,8 @@ def _padded(traces):
 @pytest.mark.parametrize("name", [*TEMPLATES, *_USER])
 @pytest.mark.parametrize("n_props", [2, 3])
 def test_every_trace_up_to_length_4_matches_pattern_truth(name, n_props):
-    traces = list(_all_traces(n_props))
-    data, offsets = _stack(traces)
+    traces = list(all_traces(n_props))
+    data, offsets = stack_traces(traces)
     instances = instantiate(name, range(n_props))
     expected = pattern_truth(name, data, offsets, instances).astype(bool)
     cube, lengths = _padded(traces)
@@ -52,8 +42,8 @@ def test_every_trace_up_to_length_4_matches_pattern_truth(name, n_props):
 
 @pytest.mark.parametrize("name", [*TEMPLATES, *_USER])
 def test_holds_on_one_trace_at_a_time(name):
-    traces = list(_all_traces(2, max_len=3))
-    data, offsets = _stack(traces)
+    traces = list(all_traces(2, max_len=3))
+    data, offsets = stack_traces(traces)
     instances = instantiate(name, range(2))
     expected = pattern_truth(name, data, offsets, instances).astype(bool)
     for i, tr in enumerate(traces):
@@ -71,7 +61,7 @@ def test_random_traces_and_every_step_match_pattern_truth(name):
     instances = instantiate(name, range(3))
     # the truth at step t is the truth at step 0 of the suffix from t
     suffixes = [tr[t:] for tr in traces for t in range(len(tr))]
-    data, offsets = _stack(suffixes)
+    data, offsets = stack_traces(suffixes)
     expected = pattern_truth(name, data, offsets, instances).astype(bool)
     row = 0
     for tr in traces:
@@ -104,7 +94,7 @@ def test_bad_values_are_refused_naming_the_slots():
 def test_satisfied_by_reads_the_pattern_clauses_as_pattern_truth(name):
     rng = np.random.default_rng(7)
     traces = [rng.random((int(rng.integers(1, 7)), 3)) < 0.5 for _ in range(60)]
-    data, offsets = _stack(traces)
+    data, offsets = stack_traces(traces)
     names = ["p", "q", "r"]
     for cols in instantiate(name, range(3))[:3]:
         spec = Specification(globals=[], patterns=[(name, [names[c] for c in cols])])
