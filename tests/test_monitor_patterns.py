@@ -34,17 +34,11 @@ def _instances():
 
 
 def _posterior(conditions, n_specs=60, seed=0, p_pattern=0.1):
-    """A posterior over G, pattern, F and U clauses, laid out as a pattern-aware fit lays it.
-
-    The Posterior of this package builds its masks from the G candidates; a stand-in for
-    each pattern candidate gives the same layout (global slots ``n_globals + k``), and the
-    roles with the patterns replace its roles after.
-    """
+    """A posterior over G, pattern, F and U clauses, laid out as a pattern-aware fit lays it
+    (pattern candidate ``k`` is global slot ``n_globals + k``)."""
     rng = np.random.default_rng(seed)
     plain = resolve_roles(["safe", "c_ok"], ["a", "b", "c_ok"], conditions, 4, NAMES)
     patterns = _instances()
-    stand_in = Roles(np.concatenate([plain.global_idx, np.zeros(len(patterns), np.int64)]),
-                     plain.subtask_idx, plain.condition_idx, plain.names)
     roles = Roles(plain.global_idx, plain.subtask_idx, plain.condition_idx, plain.names,
                   patterns)
     n, n_g = roles.n_subtasks, roles.n_globals
@@ -57,9 +51,7 @@ def _posterior(conditions, n_specs=60, seed=0, p_pattern=0.1):
     tau = np.concatenate([rng.random((n_specs, n_g)) < 0.3,
                           rng.random((n_specs, len(patterns))) < p_pattern], axis=1)
     probs = np.sort(rng.dirichlet(np.ones(n_specs)))[::-1]
-    post = Posterior(structures, tau, rng.random((n_specs, n)) < 0.4, probs, stand_in)
-    post.roles = roles
-    return post
+    return Posterior(structures, tau, rng.random((n_specs, n)) < 0.4, probs, roles)
 
 
 POSTERIORS = {"plain": _posterior(None),
