@@ -228,3 +228,17 @@ def test_readable_leaves_out_the_pattern_clauses_another_implies():
     assert not implies(("Response", ("a", "b")), ("Absence", ("a",)))
     assert implies(("Succession", ("a", "b")), ("Response", ("a", "b")))
     assert not implies(("Response", ("a", "b")), ("Response", ("b", "a")))
+
+
+def test_hundreds_of_pattern_clauses_never_crash_the_exact_engine():
+    # 870 global slots: the exact budget's estimate passes the floats (2**870 rows); exact
+    # says so in words, auto samples
+    rng = np.random.default_rng(0)
+    X = [(rng.random((6, 30)) < 0.3).astype(int) for _ in range(20)]
+    y = rng.integers(0, 2, 20)
+    roles = dict(global_candidates=[], subtasks=[0, 1], conditions={}, templates=["Response"])
+    with pytest.raises(ValueError, match=r"870 global slots \(0 global candidates, 870 "
+                                         r"pattern clauses\).*e\+\d+ TiB"):
+        BSIClassifier(inference="exact", **roles).fit(X, y)
+    clf = BSIClassifier(n_samples=50, random_state=0, **roles).fit(X, y)
+    assert clf.inference_ == "mcmc" and len(clf.pattern_candidates_) == 870

@@ -26,7 +26,15 @@ class ExactMemoryExceeded(ExactWorkExceeded):
 
 
 def describe_bytes(nbytes):
-    """A number of bytes for a message (``"1.5 GiB"``)."""
+    """A number of bytes for a message (``"1.5 GiB"``; past a million TiB, ``"2.3e+262 TiB"``).
+
+    Examples
+    --------
+    >>> describe_bytes(3 * 2**29), describe_bytes(2.0**900)
+    ('1.5 GiB', '7.8e+230 TiB')
+    """
+    if nbytes >= 2.0**60:  # thousands separators past this are a wall of digits
+        return f"{nbytes / 2.0**40:.1e} TiB"
     for unit, scale in (("TiB", 2.0**40), ("GiB", 2.0**30), ("MiB", 2.0**20)):
         if nbytes >= scale:
             return f"{nbytes / scale:,.1f} {unit}"

@@ -56,6 +56,7 @@ from bsi_sklearn.inference._listing import Listing, list_hypotheses, members, wa
 from bsi_sklearn.inference._listing_bound import listing_work_lower_bound, log_evidence_upper
 from bsi_sklearn.inference._structure_walk import descend
 from bsi_sklearn.inference._structures import STEP_COST, StructureTables, structure_tables
+from bsi_sklearn.model.bundle import describe_globals
 from bsi_sklearn.model.clauses import (
     clause_index_eventual,
     clause_index_order,
@@ -389,7 +390,7 @@ def exact_refusal(exc, model, n_hypotheses, prior):
     It names the template's size, the table that did not fit and the way out.
     """
     return ValueError(
-        f"inference='exact' cannot enumerate this posterior ({model.n_g} global candidates, "
+        f"inference='exact' cannot enumerate this posterior ({describe_globals(model)}, "
         f"{model.n} subtasks, {format_count(n_hypotheses)} hypotheses, prior={prior!r}): "
         f"{exc}. Use inference='auto' or 'mcmc', or restrict the roles (global_candidates=, "
         "subtasks=) to fewer propositions")

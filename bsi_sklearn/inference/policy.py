@@ -26,6 +26,7 @@ from bsi_sklearn.inference.exact import (
     exact_refusal,
 )
 from bsi_sklearn.inference.mcmc import sample_posterior
+from bsi_sklearn.model.bundle import describe_globals
 from bsi_sklearn.model.likelihood import flip_rate_posterior
 from bsi_sklearn.model.priors import count_hypotheses, format_count
 
@@ -141,7 +142,7 @@ def infer(truth, y01, model, policy):
                                 n_temperatures=policy.n_temperatures)
     elif engine == "exact" and over_cap:
         raise ValueError(
-            f"inference='exact' needs {n_hyp:,} hypotheses ({model.n_g} global candidates, "
+            f"inference='exact' needs {n_hyp:,} hypotheses ({describe_globals(model)}, "
             f"{model.n} subtasks, prior={policy.prior!r}), above max_exact_hypotheses="
             f"{cap:,}; raise max_exact_hypotheses or use 'mcmc'")
     if engine == "exact":

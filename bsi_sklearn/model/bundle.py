@@ -14,7 +14,7 @@ import numpy as np
 from bsi_sklearn.model.likelihood import likelihood_code, resolve_flip_prior, resolve_log_epsilon
 from bsi_sklearn.model.priors import prior_code, prior_tables
 
-__all__ = ["Model", "make_model"]
+__all__ = ["Model", "make_model", "describe_globals"]
 
 
 class Model(NamedTuple):
@@ -91,3 +91,15 @@ def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_even
         forest_g=forest_g, forest_const=float(forest_const), flip_a=flip_a, flip_b=flip_b,
         pat_in=np.log(pat_p), pat_out=np.log1p(-pat_p),
     )
+
+
+def describe_globals(model):
+    """The global slots of a model for a message (``"3 global candidates"``).
+
+    With pattern clauses: ``"870 global slots (2 global candidates, 868 pattern clauses)"``.
+    """
+    n_pat = model.pat_in.shape[0]
+    if not n_pat:
+        return f"{model.n_g} global candidates"
+    return (f"{model.n_g} global slots ({model.n_g - n_pat} global candidates, {n_pat} "
+            "pattern clauses)")
