@@ -26,12 +26,12 @@ class ExactMemoryExceeded(ExactWorkExceeded):
 
 
 def describe_bytes(nbytes):
-    """A number of bytes for a message (``"1.5 GiB"``; past a million TiB, ``"2.3e+262 TiB"``).
+    """A number of bytes for a message (``"1.5 GiB"``; past a million TiB, ``"7.7e+258 TiB"``).
 
     Examples
     --------
     >>> describe_bytes(3 * 2**29), describe_bytes(2.0**900)
-    ('1.5 GiB', '7.8e+230 TiB')
+    ('1.5 GiB', '7.7e+258 TiB')
     """
     if nbytes >= 2.0**60:  # thousands separators past this are a wall of digits
         return f"{nbytes / 2.0**40:.1e} TiB"
