@@ -166,13 +166,15 @@ def test_a_posterior_laid_out_without_the_patterns_is_refused():
         PosteriorMonitor(plain)
 
 
-def test_without_patterns_the_keys_are_the_posteriors():
-    from bsi_sklearn.monitor.posterior_monitor import _slot_keys
-
+def test_the_monitors_keys_are_the_posteriors():
+    # with pattern clauses and without, the clause keys the events name are the posterior's
+    for post in POSTERIORS.values():
+        assert list(PosteriorMonitor(post)._keys.values()) == post.clause_keys()
+        assert any(k[0] == "P" for k in post.clause_keys())
     roles = resolve_roles(["safe", "c_ok"], ["a", "b", "c_ok"], None, 4, NAMES)
     post = Posterior(np.full((1, 3), -1), np.ones((1, 2), bool), np.ones((1, 3), bool),
                      [1.0], roles)
-    assert _slot_keys(roles) == dict(zip(post._clause_slots(), post.clause_keys()))
+    assert list(PosteriorMonitor(post)._keys.values()) == post.clause_keys()
     frame = pd.DataFrame([[1, 1, 1, 1]], columns=NAMES)
     mon = PosteriorMonitor(post)
     assert mon.update(frame.iloc[0]).p_open == 1.0  # G(...) open until the close

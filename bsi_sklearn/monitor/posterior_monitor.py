@@ -36,7 +36,7 @@ from typing import NamedTuple
 import numpy as np
 
 from bsi_sklearn.data.traces import Traces
-from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order, n_clauses
+from bsi_sklearn.model.clauses import n_clauses
 from bsi_sklearn.model.state_layout import join_state
 from bsi_sklearn.monitor._clause_states import (
     STATE_NAMES,
@@ -178,13 +178,10 @@ class PosteriorMonitor:
         n_slots = n_clauses(n_g, n)
         bits = np.unpackbits(self._masks.view(np.uint8), axis=1, bitorder="little")
         self._used = bits[:, :n_slots].any(axis=0)  # clauses of at least one specification
-        if roles.n_patterns:
-            self._keys = _slot_keys(roles)
-            self._marginal = {s: float(posterior._marginals[s]) for s in self._keys}
-        else:  # the posterior's own keys and marginals, as before patterns
-            slots = posterior._clause_slots()
-            self._keys = dict(zip(slots, posterior.clause_keys()))
-            self._marginal = dict(zip(slots, posterior.clause_marginals().to_numpy().tolist()))
+        # The posterior's own keys and marginals, its pattern clauses' among them.
+        slots = posterior._clause_slots()
+        self._keys = dict(zip(slots, posterior.clause_keys()))
+        self._marginal = dict(zip(slots, posterior.clause_marginals().to_numpy().tolist()))
         self._changed = np.empty(n_slots, dtype=np.int64)
         self._p = np.zeros(3)
         self._words = np.zeros((2, self._masks.shape[1]), dtype=np.uint64)  # open, violated
@@ -415,16 +412,3 @@ def _checked_masks(posterior, n_g, n):
                          f"candidates, {r.n_subtasks} subtasks): its specifications were laid "
                          "out without the pattern candidates")
     return masks
-
-
-def _slot_keys(roles):
-    """Clause slot -> clause key, for every candidate clause of ``roles`` (patterns included)."""
-    n_g, n = roles.n_globals + roles.n_patterns, roles.n_subtasks
-    s = roles.subtask_names()
-    keys = {j: ("G", p) for j, p in enumerate(roles.global_names())}
-    keys.update({roles.n_globals + k: ("P", name, props)
-                 for k, (name, props) in enumerate(roles.pattern_keys())})
-    keys.update({clause_index_eventual(w, n_g): ("F", s[w]) for w in range(n)})
-    keys.update({clause_index_order(a, b, n_g, n): ("U", s[a], s[b])
-                 for a in range(n) for b in range(n) if a != b})
-    return keys
