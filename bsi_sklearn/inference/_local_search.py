@@ -22,7 +22,7 @@ from numba import njit
 
 from bsi_sklearn._jit import helper
 from bsi_sklearn.inference._chain_kernel import add_structure_viol, fill_viol
-from bsi_sklearn.inference._gibbs_moves import add_pair, flip_sums, sat_counts
+from bsi_sklearn.inference._gibbs_moves import flip_sums, sat_counts
 from bsi_sklearn.model.clauses import clause_index_eventual
 from bsi_sklearn.model.likelihood import log_likelihood
 from bsi_sklearn.model.priors import (
@@ -284,25 +284,19 @@ def _beam_search(start, demos, model, width, max_steps, scratch, work, bufs, cou
             k = _neighbours(beam[i], model, pool, m, work)
             # The bit flips first: scored from the beam row's violation counts (hundreds of
             # pattern clauses make hundreds of them, each O(D) instead of O(D x conjuncts)).
+            # The beam row's global clauses counted once (its global bits alone: no eventual,
+            # no order), which the structure moves keep; its own counts add the rest.
             b_tau, b_w1, b_parent = split_state(beam[i], n_g, n)
-            for j in range(n_g):
-                scratch.tau[j] = b_tau[j]
-            for w in range(n):
-                scratch.w1[w] = b_w1[w]
-                scratch.parent[w] = b_parent[w]
             viol, viol_g = counts[0], counts[1]
-            n_conj = fill_viol(viol, scratch.tau, scratch.w1, scratch.parent, demos.truth_t,
-                               model)
+            scratch.w1[:] = 0
+            scratch.parent[:] = -1
+            n_g_conj = fill_viol(viol_g, b_tau, scratch.w1, scratch.parent, demos.truth_t,
+                                 model)
+            viol[:] = viol_g
+            n_conj = n_g_conj + add_structure_viol(viol, b_w1, b_parent, demos.truth_t, model)
             for j in range(m, m + n_bits):
                 pool_lp[j] = _score_flip(pool[j], j - m, viol, n_conj, demos, model, scratch)
-            # The structure moves keep the global bits: their clauses counted once.
             lp_g = log_prior_globals(b_tau, model)
-            viol_g[:] = 0
-            n_g_conj = 0
-            for j in range(n_g):
-                if b_tau[j]:
-                    add_pair(viol_g, demos.truth_t, j, np.int64(1))
-                    n_g_conj += 1
             for j in range(m + n_bits, k):
                 pool_lp[j] = _score_moved(pool[j], lp_g, viol_g, n_g_conj, demos, model,
                                           scratch)
