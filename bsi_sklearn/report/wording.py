@@ -13,7 +13,7 @@ from bsi_sklearn._literals import (
 )
 from bsi_sklearn.specification import Specification
 from bsi_sklearn.specification.implied_patterns import implied_patterns
-from bsi_sklearn.specification.templates import TEMPLATES, instance_text
+from bsi_sklearn.specification.templates import instance_text, pattern_order
 
 __all__ = [
     "clause_sentence",
@@ -57,8 +57,7 @@ def ordered_clauses(specification):
         + [("U", a, b) for a, b in sorted(spec.orders,
                                           key=lambda o: (_sort_key(o[0]), _sort_key(o[1])))]
         # the pattern clauses last, catalogue templates first, as clause_strings lists them
-        + [("P", t, ps) for t, ps in sorted(spec.patterns, key=lambda k: (
-            k[0] not in TEMPLATES, k[0], tuple(_sort_key(p) for p in k[1])))]
+        + [("P", t, ps) for t, ps in sorted(spec.patterns, key=pattern_order)]
     )
 
 

@@ -24,7 +24,7 @@ from bsi_sklearn._literals import (
 from bsi_sklearn.data.values import trace_columns
 from bsi_sklearn.specification.implied_patterns import implied_patterns
 from bsi_sklearn.specification.template_truth import holds
-from bsi_sklearn.specification.templates import TEMPLATES, get_template
+from bsi_sklearn.specification.templates import TEMPLATES, get_template, pattern_order
 
 __all__ = ["Specification", "transitive_closure"]
 
@@ -215,7 +215,7 @@ class Specification:
         if self._conditions:
             parts.append(f"conditions={self.conditions!r}")
         if self.patterns:
-            parts.append(f"patterns={sorted(self.patterns, key=_pattern_sort)!r}")
+            parts.append(f"patterns={sorted(self.patterns, key=pattern_order)!r}")
         return f"Specification({', '.join(parts)})"
 
     def implied_orders(self):
@@ -296,7 +296,7 @@ class Specification:
             out.append((("U", a, b),
                         f"({_fmt(cond[a], latex)}{imp}{body})" if a in cond else body))
         out += [(("P", name, props), _pattern_text(name, [_fmt(p, latex) for p in props], latex))
-                for name, props in sorted(self.patterns, key=_pattern_sort)]
+                for name, props in sorted(self.patterns, key=pattern_order)]
         return out
 
     def to_ltl(self, latex=False, *, chains=False):
@@ -384,7 +384,7 @@ class Specification:
         out = [(key, render_clause(clause_form(key, cond, negates), readable_atom, _ASCII))
                for key in keys]
         implied = implied_patterns(self) if self.patterns else frozenset()
-        for name, props in sorted(self.patterns, key=_pattern_sort):
+        for name, props in sorted(self.patterns, key=pattern_order):
             if ("P", name, props) in implied:
                 continue
             # A negated column is the literal !p here too, as in the other clauses.
@@ -505,11 +505,6 @@ def _pattern_key(item):
     if t.symmetric:
         props = tuple(sorted(props, key=_sort_key))
     return (t.name, props)
-
-
-def _pattern_sort(key):
-    # Catalogue templates by name, then user templates (their LTLf text).
-    return (key[0] not in TEMPLATES, key[0], tuple(_sort_key(x) for x in key[1]))
 
 
 def _pair_key(pair):

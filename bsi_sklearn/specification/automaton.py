@@ -33,6 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from bsi_sklearn.specification.template_automata import VIOLATED, _minimise, template_dfa
+from bsi_sklearn.specification.templates import pattern_order
 
 __all__ = ["DFA", "specification_dfa"]
 
@@ -255,7 +256,7 @@ def _clause_tables(spec, letters, bit):
         table[3] = 3
         tables.append(table)
         accepts.append(_ACCEPT)
-    for name, props in sorted(spec.patterns, key=_pattern_order):
+    for name, props in sorted(spec.patterns, key=pattern_order):
         dfa = template_dfa(name)
         slot_letter = np.zeros(n, dtype=np.int64)
         for i, p in enumerate(props):
@@ -272,10 +273,6 @@ def _clause_tables(spec, letters, bit):
 def _dead_state(accept, table):
     """A clause's rejecting sink: the non-accepting state that every letter keeps."""
     return next(s for s in range(table.shape[0]) if not accept[s] and (table[s] == s).all())
-
-
-def _pattern_order(key):
-    return (key[0], tuple(map(_key, key[1])))
 
 
 def _key(x):

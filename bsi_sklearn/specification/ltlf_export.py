@@ -19,7 +19,7 @@ from bsi_sklearn._literals import Literal, literal, negation_reader
 from bsi_sklearn.data.values import trace_columns
 from bsi_sklearn.param_validation import StrOptions, validate_params
 from bsi_sklearn.specification._atoms import ltlf_atom_problem, spot_atom
-from bsi_sklearn.specification.templates import fill_formula
+from bsi_sklearn.specification.templates import fill_formula, pattern_order
 
 __all__ = ["DIALECTS", "SpecificationAutomaton", "ltlf_atom_problem", "spot_atom", "to_ltlf"]
 
@@ -130,10 +130,7 @@ def to_ltlf(specification, dialect="spot", atoms=None, *, negations=None):
         return literal(ident, negates)
 
     cond = specification.conditions
-    idents = (set(specification.globals) | set(specification.eventuals)
-              | {x for o in specification.orders for x in o} | set(cond.values())
-              | {x for _, props in specification.patterns for x in props})
-    literals = {ident: lit(ident) for ident in idents}
+    literals = {ident: lit(ident) for ident in _propositions(specification)}
     table = _atom_table(sorted({x.atom for x in literals.values()}, key=_key), dialect, atoms)
 
     def text(ident):
@@ -155,13 +152,18 @@ def to_ltlf(specification, dialect="spot", atoms=None, *, negations=None):
     # A pattern clause is its instance's LTLf formula (a negated column its literal, in
     # parentheses where the template's atom stood).
     parts += [f"({fill_formula(name, [_atom_text(literals[p], table) for p in props], dialect)})"
-              for name, props in sorted(specification.patterns,
-                                        key=lambda k: (k[0], [_key(p) for p in k[1]]))]
+              for name, props in sorted(specification.patterns, key=pattern_order)]
     return " & ".join(parts) if parts else "true"
 
 
 def _key(x):
     return (type(x).__name__, x)
+
+
+def _propositions(spec):
+    """Every proposition a specification mentions: its clauses', conditions and patterns'."""
+    return (set(spec.globals) | set(spec.eventuals) | {x for o in spec.orders for x in o}
+            | set(spec.conditions.values()) | {x for _, props in spec.patterns for x in props})
 
 
 def _atom_text(lit, table):
@@ -209,10 +211,7 @@ class SpecificationAutomaton:
 
         self.specification = specification
         spec = specification
-        idents = set(spec.globals) | set(spec.eventuals) | {x for o in spec.orders for x in o}
-        idents |= set(spec.conditions.values())
-        idents |= {x for _, props in spec.patterns for x in props}
-        self.propositions = sorted(idents, key=_key)
+        self.propositions = sorted(_propositions(spec), key=_key)
         self._atoms = {ident: f"p{k}" for k, ident in enumerate(self.propositions)}
         self.formula = to_ltlf(spec, dialect="ltlf2dfa", atoms=self._atoms, negations=False)
         self.dfa = specification_dfa(spec)

@@ -28,8 +28,8 @@ from typing import NamedTuple
 from bsi_sklearn.specification._atoms import ltlf_atom_problem, spot_atom
 
 __all__ = ["Template", "TEMPLATES", "FAMILIES", "MAX_SLOTS", "get_template", "instantiate",
-           "instance_ltlf", "instance_text", "parse_ltlf", "placeholders", "OPCODES",
-           "fill_formula"]
+           "instance_ltlf", "instance_text", "pattern_order", "parse_ltlf", "placeholders",
+           "OPCODES", "fill_formula"]
 
 _ATOM, _TRUE, _FALSE, _NOT, _AND, _OR, _IMPLIES, _EQUIV = range(8)
 _NEXT, _WEAK_NEXT, _EVENTUALLY, _GLOBALLY, _UNTIL, _RELEASE = range(8, 14)
@@ -361,6 +361,23 @@ def fill_formula(template, atoms, dialect="ltlf2dfa"):
     # Rewrite the formula's own tokens: a placeholder never matches inside another name.
     return re.sub(r"[A-Za-z_][A-Za-z0-9_]*", lambda m: table.get(m.group(0), m.group(0)),
                   t.formula)
+
+
+def pattern_order(key):
+    """Sort key of a pattern clause ``(template name, propositions)``.
+
+    The catalogue's templates by name, then user templates (their LTLf text); propositions of
+    mixed types compare by type name first. Every listing of a specification's pattern
+    clauses (its text, its automaton, the sentences) follows it.
+
+    Examples
+    --------
+    >>> sorted([("{x}", ("a",)), ("Response", (2, "b")), ("Absence", ("c",))],
+    ...        key=pattern_order)
+    [('Absence', ('c',)), ('Response', (2, 'b')), ('{x}', ('a',))]
+    """
+    name, props = key
+    return (name not in TEMPLATES, name, tuple((type(p).__name__, p) for p in props))
 
 
 def instance_text(template, names):
