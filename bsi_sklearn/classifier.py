@@ -390,14 +390,14 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         roles = (infer_roles(traces, y01, *given) if self.roles == "infer" else
                  resolve_roles(*given, traces.n_props, traces.feature_names))
         names = check_templates(self.templates)
-        p_pat = []
+        p_pat, block = [], None
         if names:  # pattern clauses: global slots after the G candidates (DESIGN §12)
-            candidates, _ = pattern_candidates(traces, names)
+            candidates, block, _ = pattern_candidates(traces, names)
             roles = dataclasses.replace(roles, patterns=candidates)
             probs = pattern_probabilities(names, self.p_patterns)
             p_pat = [probs[name] for name, _ in candidates]
         n_g, n = roles.n_global_slots, roles.n_subtasks
-        truth = clause_truth(traces, roles)
+        truth = clause_truth(traces, roles, block)
         model = make_model(prior=self.prior, likelihood=self.likelihood, n_globals=n_g,
                            n_subtasks=n, p_global=self.p_global, p_eventual=self.p_eventual,
                            p_part=self.p_part, n_new=self.n_new, epsilon=self.epsilon,

@@ -8,9 +8,11 @@ from _reference import brute_force_posterior, instance_holds
 from sklearn.base import clone
 
 from bsi_sklearn import BSIClassifier
+from bsi_sklearn.data.roles import Roles
 from bsi_sklearn.data.traces import check_traces
 from bsi_sklearn.inference.diagnostics import total_variation
 from bsi_sklearn.model.bundle import make_model
+from bsi_sklearn.model.clauses import clause_truth
 from bsi_sklearn.model.pattern_candidates import (
     FAMILY_P,
     check_templates,
@@ -102,16 +104,21 @@ def test_the_rule_is_the_map_and_predictions_use_the_pattern_truth():
 def test_candidates_leave_out_vacuous_instances_and_idle_propositions():
     x = np.array([[1, 0, 0], [1, 1, 0], [1, 0, 1]])
     traces = check_traces([x, x[:2]])
-    cands, n_vacuous = pattern_candidates(traces, ("Absence", "Existence"))
+    cands, truth, n_vacuous = pattern_candidates(traces, ("Absence", "Existence"))
     # columns 0 and 1 hold in both demonstrations: their Existence is vacuous; column 2 only
     # in the first, so Existence(2) and every Absence are violated by some demonstration
     assert ("Existence", (0,)) not in cands and ("Existence", (1,)) not in cands
     assert ("Existence", (2,)) in cands
     assert ("Absence", (0,)) in cands and ("Absence", (2,)) in cands
     assert n_vacuous == 2
+    # the truth the candidates were chosen by is the clause truth's own pattern block
+    roles = Roles(np.arange(3), np.zeros(0, np.int64), np.zeros(0, np.int64), [0, 1, 2], cands)
+    np.testing.assert_array_equal(clause_truth(traces, roles, truth),
+                                  clause_truth(traces, roles))
     idle = check_traces([np.zeros((3, 2), dtype=int), np.array([[1, 0], [0, 0]])])
-    cands, _ = pattern_candidates(idle, ("Response",))
+    cands, truth_idle, _ = pattern_candidates(idle, ("Response",))
     assert cands == ()  # column 1 never holds: no slot for it, and no instance left
+    assert truth_idle.shape == (2, 0)
     with pytest.raises(ValueError, match="more than 2"):
         pattern_candidates(traces, ("Response",), max_candidates=2)
 

@@ -51,13 +51,17 @@ def clause_index_order(a, b, n_g, n):
     return n_g + n + a * n + b
 
 
-def clause_truth(traces, roles):
+def clause_truth(traces, roles, pattern_block=None):
     """Truth of every candidate clause on every demonstration.
 
     Parameters
     ----------
     traces : Traces
     roles : Roles
+    pattern_block : ndarray of shape (n_demos, roles.n_patterns), uint8, default=None
+        The pattern clauses' truth on ``traces`` when already computed (a fit's candidates
+        are chosen from it: :func:`bsi_sklearn.model.pattern_candidates.pattern_candidates`);
+        ``None``: computed here.
 
     Returns
     -------
@@ -76,14 +80,16 @@ def clause_truth(traces, roles):
         return out
     # The pattern clauses are global slots n_g.. (DESIGN §12): their truth goes between the
     # G clauses and the eventual ones, one pass over the traces per template.
-    patterns = np.zeros((out.shape[0], len(roles.patterns)), dtype=np.uint8)
-    by_template = {}
-    for k, (name, cols) in enumerate(roles.patterns):
-        by_template.setdefault(name, []).append((k, cols))
-    for name, items in by_template.items():
-        ks = [k for k, _ in items]
-        patterns[:, ks] = pattern_truth(name, traces.data, traces.offsets,
-                                        [cols for _, cols in items])
+    patterns = pattern_block
+    if patterns is None:
+        patterns = np.zeros((out.shape[0], len(roles.patterns)), dtype=np.uint8)
+        by_template = {}
+        for k, (name, cols) in enumerate(roles.patterns):
+            by_template.setdefault(name, []).append((k, cols))
+        for name, items in by_template.items():
+            ks = [k for k, _ in items]
+            patterns[:, ks] = pattern_truth(name, traces.data, traces.offsets,
+                                            [cols for _, cols in items])
     first_eventual = clause_index_eventual(0, n_g)
     return np.concatenate([out[:, :first_eventual], patterns, out[:, first_eventual:]], axis=1)
 

@@ -9,6 +9,7 @@ global slots after the ``G`` candidates (:class:`bsi_sklearn.data.roles.Roles`),
 independent inclusion with its template family's probability.
 """
 
+import math
 from numbers import Real
 
 import numpy as np
@@ -112,6 +113,12 @@ def check_p_patterns(p_patterns):
     return False
 
 
+def _n_instances(name, n_props):
+    # How many tuples instantiate(name, ...) lists over n_props propositions.
+    t = get_template(name)
+    return (math.comb if t.symmetric else math.perm)(n_props, len(t.slots))
+
+
 def pattern_candidates(traces, names, max_candidates=MAX_PATTERN_CANDIDATES):
     """The pattern candidates of a fit: ``(template name, columns)`` of each kept instance.
 
@@ -130,12 +137,17 @@ def pattern_candidates(traces, names, max_candidates=MAX_PATTERN_CANDIDATES):
         In the order of ``names``, then of :func:`~bsi_sklearn.model.patterns.instantiate`
         over the propositions that hold somewhere; the instances every demonstration
         satisfies left out.
+    truth : ndarray of shape (n_demos, len(candidates)), uint8
+        Their truth on the demonstrations, computed here to find the vacuous ones: the
+        clause truth of the fit takes it (:func:`bsi_sklearn.model.clauses.clause_truth`'s
+        ``pattern_block``) rather than computing it again.
     n_vacuous : int
         How many instances were set apart as vacuous.
     """
     data = np.ascontiguousarray(traces.data, dtype=np.uint8)
-    held = np.flatnonzero(data.any(axis=0))
-    count = sum(len(instantiate(name, range(len(held)))) for name in names)
+    held = np.flatnonzero(data.any(axis=0)).tolist()
+    # Counted before any is listed: a three-slot template over 200 propositions is 7.9e6.
+    count = sum(_n_instances(name, len(held)) for name in names)
     if count > max_candidates:
         raise ValueError(
             f"templates {list(names)} over the {len(held)} propositions that hold somewhere "
@@ -143,13 +155,14 @@ def pattern_candidates(traces, names, max_candidates=MAX_PATTERN_CANDIDATES):
             "coordinate of the sampler and a column of the clause truth. Ask for fewer "
             "templates, or select the propositions first (for example a ColumnTransformer "
             "or fewer activities)")
-    out, n_vacuous = [], 0
+    out, blocks, n_vacuous = [], [np.zeros((len(traces.offsets) - 1, 0), np.uint8)], 0
     for name in names:
-        cols = np.array(instantiate(name, held.tolist()), dtype=np.int64)
+        cols = np.array(instantiate(name, held), dtype=np.int64)
         if not len(cols):
             continue
         truth = pattern_truth(name, data, traces.offsets, cols)
         keep = ~truth.all(axis=0)
         n_vacuous += int((~keep).sum())
         out.extend((name, tuple(int(c) for c in row)) for row in cols[keep])
-    return tuple(out), n_vacuous
+        blocks.append(truth[:, keep])
+    return tuple(out), np.concatenate(blocks, axis=1), n_vacuous
