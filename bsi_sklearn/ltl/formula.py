@@ -447,4 +447,3 @@ class Release(_Binary):
     def _compute(self, cube, columns, cache):
         return ~_until(~self.left._eval(cube, columns, cache),
                        ~self.right._eval(cube, columns, cache))
-
