@@ -237,6 +237,44 @@ def test_readable_leaves_out_the_pattern_clauses_another_implies():
     assert not implies(("Response", ("a", "b")), ("Response", ("b", "a")))
 
 
+def test_readable_leaves_out_the_pattern_clauses_the_others_imply_together():
+    from _reference import all_traces
+
+    from bsi_sklearn import Specification
+    from bsi_sklearn.specification.implied_patterns import implied_patterns
+
+    def dropped(**kw):
+        return implied_patterns(Specification(**kw))
+
+    # two clauses together, none alone
+    assert dropped(eventuals=["a", "b"], patterns=[("CoExistence", ["a", "b"])]) == {
+        ("P", "CoExistence", ("a", "b"))}
+    assert dropped(patterns=[("Response", ["a", "b"]), ("Response", ["b", "c"]),
+                             ("Response", ["a", "c"])]) == {("P", "Response", ("a", "c"))}
+    # a contradiction is shown whole (F(b) & F(c) imply the co-existence, but not with the
+    # not-co-existence); clauses over other propositions do not take part
+    assert dropped(eventuals=["b", "c"], patterns=[("NotCoExistence", ["b", "c"]),
+                                                   ("CoExistence", ["b", "c"])]) == set()
+    assert dropped(eventuals=["a", "c"], patterns=[("CoExistence", ["a", "b"])]) == set()
+    # random specifications: what is left means the same, on every trace up to 3 steps
+    names = ["a", "b", "c"]
+    traces = list(all_traces(3, 3))
+    rng = np.random.default_rng(1)
+    pool = [t for t in TEMPLATES if len(TEMPLATES[t].slots) <= 2]
+    for _ in range(15):
+        pats = {(t, tuple(rng.choice(names, len(TEMPLATES[t].slots), replace=False)))
+                for t in rng.choice(pool, int(rng.integers(2, 6)))}
+        spec = Specification(eventuals=list(rng.choice(names, int(rng.integers(0, 3)),
+                                                       replace=False)),
+                             patterns=[(t, list(p)) for t, p in pats])
+        gone = implied_patterns(spec)
+        kept = Specification(eventuals=spec.eventuals, conditions=spec.conditions,
+                             patterns=[(t, list(p)) for t, p in spec.patterns
+                                       if ("P", t, p) not in gone])
+        assert ([spec.satisfied_by(x, names) for x in traces]
+                == [kept.satisfied_by(x, names) for x in traces])
+
+
 def test_hundreds_of_pattern_clauses_never_crash_the_exact_engine():
     # 870 global slots: the exact budget's estimate passes the floats (2**870 rows); exact
     # says so in words, auto samples

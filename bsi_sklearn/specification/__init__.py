@@ -339,7 +339,7 @@ class Specification:
         -------
         text : str
             ``to_ltl(chains=True)`` without the vacuous clauses and without the pattern
-            clauses one other clause implies (``implied_patterns``: the formula means the
+            clauses the other clauses imply (``implied_patterns``: the formula means the
             same), followed, when the formula has
             some, by ``"  [untested: ...]"`` listing them joined by ``&``. The shown formula
             and the untested one together are the full formula: ``to_ltl()`` gives it in one
