@@ -1,0 +1,288 @@
+"""Issue 28: the shared published files fitted as a user fits them, with and without patterns.
+
+    python benchmarks/bench_external_templates.py              # the recorded run
+    python benchmarks/bench_external_templates.py --every 12   # every 12-th file per folder
+
+The protocol of ``benchmarks/external.py`` without its screening: the same files
+(``../shared/benchmarks-data``), the same per-file 70 / 30 split (seeded by the file's path),
+and each setting fitted with the estimator's defaults on the training half:
+
+* ``paper``: ``BSIClassifier(random_state=s)`` on the traces as read;
+* ``paper+negations``: ``make_pipeline(NegationAugmenter(), BSIClassifier(random_state=s))``,
+  the issue's "as a user would" row (``G(!p)`` needs the negated column);
+* ``unary``: ``templates=`` the catalogue's one-proposition templates (``UNARY``: existence,
+  absence, at most once, init, universality), whose candidates grow linearly with the
+  propositions;
+* ``declare``: ``templates=`` the Declare templates of the catalogue (``DECLARE``);
+* ``catalogue``: ``templates=`` every template of the catalogue;
+* ``catalogue+ci``: the same with ``likelihood="ci", flip_prior=(1, 9)`` (the label-noise
+  model that does not reward a clause for each acceptable demonstration it keeps; issue 31).
+
+No template list was chosen on these files: ``UNARY`` is the catalogue's templates of one
+slot, ``DECLARE`` the Declare language's templates as the catalogue names them, ``catalogue``
+all of them. ``--add`` evaluates more settings into an earlier run's ``runs.csv`` (each run's
+command, date and commit listed in ``runs.txt``). Per fit: held-out accuracy
+(``predict``, the Bayes decision), the MAP's own accuracy, fit seconds (one process per fit,
+two at a time), the warnings it raised (counted, not silenced), and whether the MAP equals the
+target on every trace up to length ``L`` over the propositions either mentions (``L`` the
+longest that keeps the check under 300,000 traces; ``MAP == target``). Scarlet's accuracy comes
+from ``benchmarks/RESULTS_external.csv`` (the same splits; Scarlet ran on every 6-th file of a
+folder), so its columns compare on those files only. Intervals: Student-t 95 % over files.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import sys
+import time
+import warnings
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmarks/_checkout.py)
+
+# isort: split
+
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+from _common import machine_info, md_table  # noqa: E402
+from external import (  # noqa: E402
+    DEFAULT_DATA,
+    family_of,
+    file_seed,
+    find_trace_files,
+    quick_files,
+    scarlet_subset,
+    split_indices,
+)
+from scipy import stats  # noqa: E402
+from sklearn.pipeline import make_pipeline  # noqa: E402
+
+from bsi_sklearn import BSIClassifier  # noqa: E402
+from bsi_sklearn.data.preprocessing import NegationAugmenter  # noqa: E402
+from bsi_sklearn.io import read_trace_file  # noqa: E402
+from bsi_sklearn.ltl import parse_ltl  # noqa: E402
+from bsi_sklearn.specification.templates import TEMPLATES  # noqa: E402
+
+__all__ = ["DECLARE", "UNARY", "SETTINGS", "equal_on_short_traces", "evaluate", "summary", "main"]
+
+#: The Declare language's templates, as the catalogue names them (no Dwyer scopes).
+DECLARE = ["Existence", "Absence", "AtMostOnce", "Init", "RespondedExistence", "CoExistence",
+           "Response", "Precedence", "Succession", "AlternateResponse", "AlternatePrecedence",
+           "ChainResponse", "ChainPrecedence", "NotCoExistence", "NotSuccession", "Choice"]
+#: The catalogue's templates of one slot.
+UNARY = [name for name, t in TEMPLATES.items() if len(t.slots) == 1]
+SETTINGS = ("paper", "paper+negations", "unary", "declare", "catalogue", "catalogue+ci")
+MAX_TRACES = 300_000
+
+
+def make_estimator(setting, seed):
+    """The estimator a user writes for ``setting``."""
+    if setting == "paper":
+        return BSIClassifier(random_state=seed)
+    if setting == "paper+negations":
+        return make_pipeline(NegationAugmenter(), BSIClassifier(random_state=seed))
+    if setting in ("unary", "declare"):
+        return BSIClassifier(templates=UNARY if setting == "unary" else DECLARE,
+                             random_state=seed)
+    if setting == "catalogue+ci":
+        return BSIClassifier(templates=list(TEMPLATES), likelihood="ci", flip_prior=(1, 9),
+                             random_state=seed)
+    return BSIClassifier(templates=list(TEMPLATES), random_state=seed)
+
+
+def all_traces(n_props, length):
+    """Every trace of ``length`` steps over ``n_props`` propositions, a (2^(n T), T, n) cube."""
+    cells = n_props * length
+    bits = (np.arange(2 ** cells)[:, None] >> np.arange(cells)[None, :]) & 1
+    return bits.astype(bool).reshape(-1, length, n_props)
+
+
+def equal_on_short_traces(a, b, max_traces=MAX_TRACES):
+    """``(equal, L)``: do formulas ``a`` and ``b`` agree on every trace of 1..L steps?
+
+    The traces are over the propositions either mentions (the others cannot change either's
+    truth); ``L`` is the longest with at most ``max_traces`` traces in all (0: not checked).
+
+    Examples
+    --------
+    >>> equal_on_short_traces(parse_ltl("G(!p)"), parse_ltl("!F(p)"))
+    (True, 17)
+    """
+    names = sorted(a.atoms | b.atoms)
+    total, length = 0, 0
+    while total + 2 ** (len(names) * (length + 1)) <= max_traces:
+        length += 1
+        total += 2 ** (len(names) * length)
+    for t in range(1, length + 1):
+        cube = all_traces(len(names), t)
+        if not np.array_equal(a.evaluate(cube, names), b.evaluate(cube, names)):
+            return False, length
+    return True, length
+
+
+def _map_formula(estimator):
+    clf = estimator[-1] if hasattr(estimator, "steps") else estimator
+    # the negated columns "!p" read back as the negation of p: the same truth
+    return clf.map_specification_, parse_ltl(clf.map_specification_.to_ltl())
+
+
+def evaluate(path, data_dir, setting, seed=0):
+    """One row: ``setting`` fitted on the training half of ``path``, scored on the rest."""
+    path = Path(path)
+    rel = path.resolve().relative_to(Path(data_dir).resolve())
+    tf = read_trace_file(path)
+    s = file_seed(rel, seed)
+    train, test = split_indices(tf.y, 0.3, s)
+    X_tr, y_tr = [tf.X[i] for i in train], tf.y[train]
+    X_te, y_te = [tf.X[i] for i in test], tf.y[test]
+    est = make_estimator(setting, s)
+    t0 = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught:
+        # counted per fit (the "warnings" column), not printed hundreds of times
+        warnings.simplefilter("always")
+        est.fit(X_tr, y_tr)
+    fit_s = time.perf_counter() - t0
+    spec, formula = _map_formula(est)
+    row = {"family": family_of(path, data_dir), "file": str(rel), "setting": setting,
+           "n_props": tf.n_props, "n_train": len(train), "n_test": len(test),
+           "fit_s": fit_s, "inference": (est[-1] if hasattr(est, "steps") else est).inference_,
+           "warnings": "; ".join(sorted({w.category.__name__ for w in caught})),
+           "accuracy": float(est.score(X_te, y_te)) if len(test) else np.nan,
+           "map_accuracy": (float(np.mean(formula.evaluate(X_te) == y_te.astype(bool)))
+                            if len(test) else np.nan),
+           "map": spec.to_ltl(), "readable": spec.readable(),
+           "target": None if tf.target is None else str(tf.target)}
+    if tf.target is not None:
+        row["map_equals_target"], row["checked_length"] = equal_on_short_traces(
+            formula, tf.target)
+    return row
+
+
+def _t_interval(x):
+    x = np.asarray(x, dtype=float)
+    x = x[np.isfinite(x)]
+    if len(x) < 2:
+        return f"{x.mean():.3f}" if len(x) else "-"
+    h = stats.t.ppf(0.975, len(x) - 1) * x.std(ddof=1) / np.sqrt(len(x))
+    return f"{x.mean():.3f} [{x.mean() - h:.3f}, {x.mean() + h:.3f}]"
+
+
+def summary(df, scarlet):
+    """The Markdown tables: per setting, per family, against Scarlet, paired differences."""
+    settings = [s for s in SETTINGS if s in set(df["setting"])]
+    lines = ["## Per setting (every file)", ""]
+    rows = []
+    paper_median = df.loc[df["setting"] == "paper", "fit_s"].median()
+    for s in settings:
+        d = df[df["setting"] == s]
+        rows.append([s, len(d), _t_interval(d["accuracy"]), f"{d['map_accuracy'].mean():.3f}",
+                     f"{d['map_equals_target'].mean():.3f}", f"{d['fit_s'].median():.2f}",
+                     f"{d['fit_s'].median() / paper_median:.1f}", f"{d['fit_s'].max():.1f}",
+                     int((d["inference"] == "mcmc").sum()), int((d["warnings"] != "").sum())])
+    lines += [md_table(["setting", "files", "accuracy [95 % CI]", "MAP accuracy",
+                        "MAP == target", "median fit s", "x paper", "max fit s", "sampled",
+                        "fits with warnings"], rows), ""]
+    base = df[df["setting"] == "paper"].set_index("file")
+    rows = []
+    for s in settings[1:]:
+        d = df[df["setting"] == s].set_index("file")
+        diff = (d["accuracy"] - base["accuracy"].reindex(d.index)).dropna()
+        rows.append([f"{s} - paper", len(diff), _t_interval(diff), f"{diff.min():.3f}",
+                     int((diff < -0.01).sum())])
+    lines += ["## Paired differences in held-out accuracy (file by file)", "",
+              md_table(["difference", "files", "mean [95 % CI]", "worst", "files losing > 0.01"],
+                       rows), ""]
+    lines += ["## Per family: accuracy (MAP == target)", ""]
+    rows = []
+    for fam, g in df.groupby("family", sort=True):
+        cells = []
+        for s in settings:
+            d = g[g["setting"] == s]
+            cells.append(f"{d['accuracy'].mean():.3f} ({d['map_equals_target'].mean():.2f})")
+        rows.append([fam, len(g) // len(settings), *cells])
+    lines += [md_table(["family", "files", *settings], rows), ""]
+    sc = scarlet[scarlet["scarlet_status"].isin(["ok", "timeout"])
+                 & scarlet["scarlet_accuracy"].notna()].set_index("file")["scarlet_accuracy"]
+    rows = []
+    for s in settings:
+        d = df[(df["setting"] == s) & df["file"].isin(sc.index)].set_index("file")
+        diff = d["accuracy"] - sc.reindex(d.index)
+        rows.append([s, len(d), f"{d['accuracy'].mean():.3f}",
+                     f"{sc.reindex(d.index).mean():.3f}", _t_interval(diff)])
+    lines += ["## Against Scarlet (the files where it gave a formula within 20 s)", "",
+              md_table(["setting", "files", "BSI accuracy", "Scarlet accuracy",
+                        "BSI - Scarlet [95 % CI]"], rows), ""]
+    shown = "catalogue" if "catalogue" in settings else settings[-1]
+    lines += [f"## The most frequent MAP per target ({shown})", ""]
+    rows = []
+    cat = df[df["setting"] == shown]
+    for target, g in cat.groupby("target", sort=True):
+        top = g["readable"].value_counts()
+        rows.append([f"`{target}`", len(g), f"{g['map_equals_target'].mean():.2f}",
+                     f"`{top.index[0]}` ({top.iloc[0]})"])
+    lines += [md_table(["target", "files", "MAP == target", f"most frequent MAP ({shown})"],
+                       rows), ""]
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    """Command-line entry point."""
+    from joblib import Parallel, delayed
+    from tqdm.auto import tqdm
+
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--data", type=Path, default=DEFAULT_DATA)
+    p.add_argument("--every", type=int, default=1, help="every k-th file of each folder")
+    p.add_argument("--quick", action="store_true", help="two files per folder")
+    p.add_argument("--settings", nargs="+", default=list(SETTINGS), choices=SETTINGS)
+    p.add_argument("--n-jobs", type=int, default=2)
+    p.add_argument("--out", type=Path, default=HERE / "external_templates")
+    p.add_argument("--add", action="store_true",
+                   help="add these settings' rows to the runs.csv already in --out")
+    args = p.parse_args(argv)
+    if not args.data.is_dir():
+        print(f"skipped: {args.data} is absent (the shared benchmark files)")
+        return 0
+    files = find_trace_files(args.data)
+    files = quick_files(files) if args.quick else sorted(scarlet_subset(files, args.every))
+    tasks = list(itertools.product(files, args.settings))
+    t0 = time.time()
+    BSIClassifier(random_state=0).fit([np.eye(3, dtype=bool)] * 2, [1, 0])  # compile first
+    jobs = Parallel(n_jobs=args.n_jobs, return_as="generator")(
+        delayed(evaluate)(f, args.data, s) for f, s in tasks)
+    rows = list(tqdm(jobs, total=len(tasks), desc="fits"))
+    seconds = time.time() - t0
+    df = pd.DataFrame(rows)
+    args.out.mkdir(parents=True, exist_ok=True)
+    runs = args.out / "runs.txt"
+    if args.add and (args.out / "runs.csv").exists():
+        old = pd.read_csv(args.out / "runs.csv")
+        df = pd.concat([old[~old["setting"].isin(args.settings)], df], ignore_index=True)
+    elif runs.exists():
+        runs.unlink()
+    df.to_csv(args.out / "runs.csv", index=False)
+    scarlet = pd.read_csv(HERE / "RESULTS_external.csv")
+    info = machine_info()
+    command = "python benchmarks/bench_external_templates.py " + " ".join(argv or sys.argv[1:])
+    with runs.open("a") as f:
+        f.write(f"- `{command.strip()}`: {info['date']}, commit `{info['commit']}`, "
+                f"{seconds:.0f} s ({len(files)} files x {len(args.settings)} settings, "
+                f"{args.n_jobs} at a time; load average {info.get('load_average')} at the "
+                "end)\n")
+    text = ["# The published files as a user fits them, with and without patterns (issue 28)",
+            "", "Runs:", "", runs.read_text(),
+            f"Machine: {info['cpu']}, {info['usable_cores']} usable cores, "
+            f"{info.get('memory_gib', '?')} GiB; Python {info['python']}, numpy "
+            f"{info['numpy']}, scikit-learn {info['scikit-learn']}, numba {info['numba']}.",
+            "", "Protocol: the module docstring of `benchmarks/bench_external_templates.py`. "
+            "Per-fit rows: `benchmarks/external_templates/runs.csv`.", "",
+            summary(df, scarlet)]
+    (args.out / "README.md").write_text("\n".join(text) + "\n")
+    print("\n".join(text))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
