@@ -10,24 +10,24 @@ and each setting fitted with the estimator's defaults on the training half:
 * ``paper``: ``BSIClassifier(random_state=s)`` on the traces as read;
 * ``paper+negations``: ``make_pipeline(NegationAugmenter(), BSIClassifier(random_state=s))``,
   the issue's "as a user would" row (``G(!p)`` needs the negated column);
-* ``unary``: ``templates=`` the catalogue's one-proposition templates (``UNARY``: existence,
+* ``unary``: ``templates="unary"``, the catalogue's one-proposition templates (existence,
   absence, at most once, init, universality), whose candidates grow linearly with the
   propositions;
-* ``declare``: ``templates=`` the Declare templates of the catalogue (``DECLARE``);
-* ``catalogue``: ``templates=`` every template of the catalogue;
+* ``declare``: ``templates="declare"``, the Declare templates of the catalogue;
+* ``catalogue``: ``templates="all"``, every template of the catalogue;
 * ``catalogue+ci``: the same with ``likelihood="ci", flip_prior=(1, 9)`` (the label-noise
   model that does not reward a clause for each acceptable demonstration it keeps; issue 31).
 
-No template list was chosen on these files: ``UNARY`` is the catalogue's templates of one
-slot, ``DECLARE`` the Declare language's templates as the catalogue names them, ``catalogue``
-all of them. ``--add`` evaluates more settings into an earlier run's ``runs.csv`` (each run's
-command, date and commit listed in ``runs.txt``). Per fit: held-out accuracy
-(``predict``, the Bayes decision), the MAP's own accuracy, fit seconds (one process per fit,
-two at a time), the warnings it raised (counted, not silenced), and whether the MAP equals the
-target on every trace up to length ``L`` over the propositions either mentions (``L`` the
-longest that keeps the check under 300,000 traces; ``MAP == target``). Scarlet's accuracy comes
-from ``benchmarks/RESULTS_external.csv`` (the same splits; Scarlet ran on every 6-th file of a
-folder), so its columns compare on those files only. Intervals: Student-t 95 % over files.
+No template set was chosen on these files (``TEMPLATE_SETS``: by number of slots, by the
+Declare language, everything). ``--add`` evaluates more settings into an earlier run's
+``runs.csv`` (each run's command, date and commit listed in ``runs.txt``). Per fit: held-out
+accuracy (``predict``, the Bayes decision), the MAP's own accuracy, fit seconds (one process
+per fit, two at a time), the warnings it raised (counted, not silenced), and whether the MAP
+equals the target on every trace up to length ``L`` over the propositions either mentions
+(``L`` the longest that keeps the check under 300,000 traces; ``MAP == target``). Scarlet's
+accuracy comes from ``benchmarks/RESULTS_external.csv`` (the same splits; Scarlet ran on every
+6-th file of a folder), so its columns compare on those files only. Intervals: Student-t 95 %
+over files.
 """
 
 from __future__ import annotations
@@ -63,17 +63,12 @@ from bsi_sklearn import BSIClassifier  # noqa: E402
 from bsi_sklearn.data.preprocessing import NegationAugmenter  # noqa: E402
 from bsi_sklearn.io import read_trace_file  # noqa: E402
 from bsi_sklearn.ltl import parse_ltl  # noqa: E402
-from bsi_sklearn.specification.templates import TEMPLATES  # noqa: E402
 
-__all__ = ["DECLARE", "UNARY", "SETTINGS", "equal_on_short_traces", "evaluate", "summary", "main"]
+__all__ = ["SETTINGS", "equal_on_short_traces", "evaluate", "summary", "main"]
 
-#: The Declare language's templates, as the catalogue names them (no Dwyer scopes).
-DECLARE = ["Existence", "Absence", "AtMostOnce", "Init", "RespondedExistence", "CoExistence",
-           "Response", "Precedence", "Succession", "AlternateResponse", "AlternatePrecedence",
-           "ChainResponse", "ChainPrecedence", "NotCoExistence", "NotSuccession", "Choice"]
-#: The catalogue's templates of one slot.
-UNARY = [name for name, t in TEMPLATES.items() if len(t.slots) == 1]
 SETTINGS = ("paper", "paper+negations", "unary", "declare", "catalogue", "catalogue+ci")
+#: The template set of a setting (``TEMPLATE_SETS``).
+SET_OF = {"unary": "unary", "declare": "declare", "catalogue": "all"}
 MAX_TRACES = 300_000
 
 
@@ -83,13 +78,10 @@ def make_estimator(setting, seed):
         return BSIClassifier(random_state=seed)
     if setting == "paper+negations":
         return make_pipeline(NegationAugmenter(), BSIClassifier(random_state=seed))
-    if setting in ("unary", "declare"):
-        return BSIClassifier(templates=UNARY if setting == "unary" else DECLARE,
-                             random_state=seed)
     if setting == "catalogue+ci":
-        return BSIClassifier(templates=list(TEMPLATES), likelihood="ci", flip_prior=(1, 9),
+        return BSIClassifier(templates="all", likelihood="ci", flip_prior=(1, 9),
                              random_state=seed)
-    return BSIClassifier(templates=list(TEMPLATES), random_state=seed)
+    return BSIClassifier(templates=SET_OF[setting], random_state=seed)
 
 
 def all_traces(n_props, length):

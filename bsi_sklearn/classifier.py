@@ -32,6 +32,7 @@ from bsi_sklearn.param_validation import (
 )
 from bsi_sklearn.posterior import Posterior
 from bsi_sklearn.predictive import label_noise, misclassified, predictive_log_proba
+from bsi_sklearn.specification.templates import TEMPLATE_SETS
 
 __all__ = ["BSIClassifier"]
 
@@ -75,7 +76,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         setting without an expert's roles: vacuous clauses and chance orders then enter the
         MAP). Roles given explicitly are used as given; ``roles_`` says what was used; see
         ``docs/roles.md``.
-    templates : "paper" or list of str, default="paper"
+    templates : "paper", "unary", "declare", "all" or list of str, default="paper"
         Pattern clauses the specification may hold besides the paper's template (DESIGN
         §12): names of the catalogue (``"Response"``, ``"AtMostOnce"``, ...;
         :data:`bsi_sklearn.specification.templates.TEMPLATES`) or LTLf formulas with
@@ -83,7 +84,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         propositions that hold somewhere in the training demonstrations, instances every
         training demonstration satisfies set apart as vacuous; each instance is then an
         independent inclusion, like a ``G`` clause. ``"paper"``: the paper's template alone,
-        exactly.
+        exactly; ``"unary"``, ``"declare"``, ``"all"``: the catalogue's templates of one slot,
+        its Declare templates, all of it
+        (:data:`bsi_sklearn.specification.templates.TEMPLATE_SETS`).
     p_global : float, default=0.8
         Prior inclusion probability of each ``G`` clause.
     p_eventual : float, default=0.8
@@ -327,7 +330,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         "subtasks": "no_validation",
         "conditions": "no_validation",
         "roles": [StrOptions({"all", "infer"})],
-        "templates": [StrOptions({"paper"}), list, tuple],
+        "templates": [StrOptions({"paper", *TEMPLATE_SETS}), list, tuple],
         "p_global": [Interval(Real, 0.0, 1.0, closed="both")],
         "p_eventual": [Interval(Real, 0.0, 1.0, closed="both")],
         "p_patterns": [None, Satisfies(check_p_patterns, "a probability in (0, 1) or a mapping "

@@ -126,7 +126,13 @@ def test_candidates_leave_out_vacuous_instances_and_idle_propositions():
 def test_template_and_probability_parameters_are_checked():
     assert check_templates("paper") == ()
     assert check_templates(("Response", "G(x -> F(y))")) == ("Response", "G(x -> F(y))")
-    for bad, match in [("Response", "list of one template"), ([], "empty list"),
+    # the named sets: one-slot templates, Declare's, all; each a tuple of catalogue names
+    assert check_templates("all") == tuple(TEMPLATES)
+    assert all(len(TEMPLATES[t].slots) == 1 for t in check_templates("unary"))
+    assert {"Response", "Precedence", "ChainResponse"} <= set(check_templates("declare"))
+    assert not any(TEMPLATES[t].family == "scoped" for t in check_templates("declare"))
+    for bad, match in [("Response", "list of one template"), ("every", "'unary', 'declare'"),
+                       ([], "empty list"),
                        (["Respons"], "unknown template"),
                        (["Response", "Response"], "more than once"),
                        (["G(true)"], "no placeholder")]:
@@ -140,7 +146,7 @@ def test_template_and_probability_parameters_are_checked():
     with pytest.raises(ValueError, match="Response"):
         pattern_probabilities(("Response",), {"Response": 1.0})
     X, y = _response_data()
-    for params in [dict(templates="all"), dict(templates=["Respons"]),
+    for params in [dict(templates="everything"), dict(templates=["Respons"]),
                    dict(templates=["Response"], p_patterns=1.5),
                    dict(templates=["Response"], p_patterns=["x"])]:
         with pytest.raises(ValueError):

@@ -208,7 +208,8 @@ def add_arguments(parser):
                         help="event logs: the timestamp column (default: time:timestamp; "
                              "without one, the file's order)")
     parser.add_argument("--templates", nargs="+", metavar="TEMPLATE", default=None,
-                        help="pattern clauses beside the paper's template: catalogue names "
+                        help="pattern clauses beside the paper's template: a set (unary, "
+                             "declare, all), catalogue names "
                              "(Response, Absence, AtMostOnce, ...) or LTLf formulas with "
                              "placeholders, quoted ('G(x -> F(y))'); default: none, the "
                              "paper's template (BSIClassifier(templates=...)). On an event "
@@ -310,6 +311,15 @@ def _proposition(token, names):
     return int(token)
 
 
+def _templates(names):
+    """``--templates``: none is the paper's template, one set's name is that set."""
+    from bsi_sklearn.specification.templates import TEMPLATE_SETS
+
+    if not names:
+        return "paper"
+    return names[0] if len(names) == 1 and names[0] in TEMPLATE_SETS else names
+
+
 def _roles(args, names, path):
     """The role options resolved against one file's propositions (as estimator parameters)."""
     from bsi_sklearn.data.roles import resolve_roles
@@ -382,7 +392,7 @@ def run(args):
         clf = BSIClassifier(prior=args.prior, likelihood=args.likelihood, roles=args.roles,
                             flip_prior=flip, inference=args.inference, n_samples=args.n_samples,
                             random_state=args.seed, pos_label=pos_label,
-                            templates=args.templates or "paper",
+                            templates=_templates(args.templates),
                             **_roles(args, names, path))
         y = np.ones(len(X), dtype=int) if y is None else np.asarray(y)
         try:

@@ -15,6 +15,7 @@ from numbers import Real
 import numpy as np
 
 from bsi_sklearn.model.patterns import get_template, instantiate, pattern_truth
+from bsi_sklearn.specification.templates import TEMPLATE_SETS
 
 __all__ = ["FAMILY_P", "MAX_PATTERN_CANDIDATES", "check_templates", "check_p_patterns",
            "pattern_probabilities", "pattern_candidates"]
@@ -31,12 +32,16 @@ MAX_PATTERN_CANDIDATES = 5000
 
 
 def check_templates(templates):
-    """The templates of ``templates`` (``"paper"``: none), each checked; a tuple of names.
+    """The templates of ``templates``, each checked; a tuple of names.
+
+    ``"paper"``: none; a name of :data:`~bsi_sklearn.specification.templates.TEMPLATE_SETS`:
+    its templates.
 
     Raises
     ------
     ValueError
-        For anything but ``"paper"`` or a non-empty list of distinct template names or LTLf
+        For anything but ``"paper"``, a set's name or a non-empty list of distinct template
+        names or LTLf
         formulas with placeholders (:func:`~bsi_sklearn.model.patterns.get_template` says
         what is wrong with one).
 
@@ -46,13 +51,18 @@ def check_templates(templates):
     ('Response', 'G(x -> F(y))')
     >>> check_templates("paper")
     ()
+    >>> check_templates("unary")
+    ('Existence', 'Absence', 'AtMostOnce', 'Init', 'Universality')
     """
     if isinstance(templates, str):
         if templates == "paper":
             return ()
-        raise ValueError(f"templates must be 'paper' or a list of template names or LTLf "
-                         f"formulas, got the string {templates!r} (a list of one template is "
-                         f"[{templates!r}])")
+        if templates in TEMPLATE_SETS:
+            return TEMPLATE_SETS[templates]
+        sets = ", ".join(map(repr, TEMPLATE_SETS))
+        raise ValueError(f"templates must be 'paper', a set's name ({sets}) or a list of "
+                         f"template names or LTLf formulas, got the string {templates!r} (a "
+                         f"list of one template is [{templates!r}])")
     try:
         items = list(templates)
     except TypeError:

@@ -29,7 +29,7 @@ from bsi_sklearn.specification._atoms import ltlf_atom_problem, spot_atom
 
 __all__ = ["Template", "TEMPLATES", "FAMILIES", "MAX_SLOTS", "get_template", "instantiate",
            "instance_ltlf", "instance_text", "pattern_order", "parse_ltlf", "placeholders",
-           "OPCODES", "fill_formula"]
+           "OPCODES", "fill_formula", "TEMPLATE_SETS"]
 
 _ATOM, _TRUE, _FALSE, _NOT, _AND, _OR, _IMPLIES, _EQUIV = range(8)
 _NEXT, _WEAK_NEXT, _EVENTUALLY, _GLOBALLY, _UNTIL, _RELEASE = range(8, 14)
@@ -230,6 +230,18 @@ _DEFINITIONS = [
 
 #: Every template by name, in the order of the catalogue.
 TEMPLATES = {row[0]: Template(*row, code) for code, row in enumerate(_DEFINITIONS)}
+
+#: Named sets of catalogue templates, each in catalogue order: ``"unary"`` the templates of one
+#: slot (their instances grow linearly with the propositions), ``"declare"`` the Declare
+#: language's templates (no Dwyer scopes), ``"all"`` the whole catalogue.
+TEMPLATE_SETS = {
+    "unary": tuple(name for name, t in TEMPLATES.items() if len(t.slots) == 1),
+    "declare": ("Existence", "Absence", "AtMostOnce", "Init", "RespondedExistence",
+                "CoExistence", "Response", "Precedence", "Succession", "AlternateResponse",
+                "AlternatePrecedence", "ChainResponse", "ChainPrecedence", "NotCoExistence",
+                "NotSuccession", "Choice"),
+    "all": tuple(TEMPLATES),
+}
 
 #: The families, in catalogue order, with ``"user"`` for templates given as formulas.
 FAMILIES = tuple(dict.fromkeys(t.family for t in TEMPLATES.values())) + ("user",)

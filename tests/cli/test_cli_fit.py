@@ -277,3 +277,6 @@ def test_event_log_templates_add_pattern_clauses(tmp_path, capsys):
     assert main(args + ["--templates", "Respons"]) != 0
     err = capsys.readouterr().err
     assert "--templates: unknown template 'Respons'" in err
+    # a set's name alone is the set (Response is among Declare's)
+    assert main(args + ["--templates", "declare"]) == 0
+    assert "Response(pay, ship)" in capsys.readouterr().out
