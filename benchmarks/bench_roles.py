@@ -4,6 +4,7 @@
     python benchmarks/bench_roles.py --quick               # smoke run into a temporary folder
     python benchmarks/bench_roles.py --seeds 10 --n-jobs 2 --out /tmp/roles
     python benchmarks/bench_roles.py --external            # also the published files (long)
+    python benchmarks/bench_roles.py --templates unary --only infer/cb --out /tmp/r  # issue 28
 
 Tasks: :mod:`bsi_sklearn.datasets.errands` (errand and pick-and-place tasks drawn at random per
 seed, labelled by a rule written as plain Python, demonstrated by a stochastic agent; neither
@@ -20,6 +21,11 @@ default (``inference="auto"``, ``random_state`` = the seed, ``n_jobs=1``). A var
 option the installed classifier does not have (detected from ``BSIClassifier().get_params()``
 and ``bsi_sklearn.model.likelihood.LIKELIHOODS``) is listed as not available. Every warning a fit
 raises is recorded (never silenced) and counted per variant.
+
+``--templates SET`` adds, beside every variant fitted, its twin with ``templates=SET`` (a
+named set of the pattern catalogue, issue 28), named ``roles/likelihood+SET``: the paired
+difference against ``infer/cb`` then measures the set. ``--only NAME,...`` fits those variants
+alone (the others listed as skipped).
 """
 
 from __future__ import annotations
@@ -47,8 +53,8 @@ from bsi_sklearn import BSIClassifier  # noqa: E402
 from bsi_sklearn.datasets.errands import make_errand_demos, make_errand_task  # noqa: E402
 from bsi_sklearn.model.likelihood import LIKELIHOODS  # noqa: E402
 
-__all__ = ["Variant", "variants", "skip_variants", "flip_labels", "run_cell", "in_chains",
-           "run_benchmark", "main", "SIZES", "NOISES", "KINDS", "FLIP_PRIOR"]
+__all__ = ["Variant", "variants", "skip_variants", "with_templates", "flip_labels", "run_cell",
+           "in_chains", "run_benchmark", "main", "SIZES", "NOISES", "KINDS", "FLIP_PRIOR"]
 
 SIZES = (20, 40, 72)
 NOISES = (0.0, 0.1)
@@ -115,6 +121,17 @@ def skip_variants(vlist, names):
         raise ValueError(f"--skip: unknown variant(s) {unknown}; known: {sorted(known)}")
     return [Variant(v.roles, v.likelihood, v.params, False, "skipped (--skip)")
             if v.name in names and v.available else v for v in vlist]
+
+
+def with_templates(vlist, template_set):
+    """``vlist`` and, after each variant fitted, its twin with ``templates=template_set``."""
+    out = []
+    for v in vlist:
+        out.append(v)
+        if v.available:
+            out.append(Variant(v.roles, f"{v.likelihood}+{template_set}",
+                               dict(v.params, templates=template_set)))
+    return out
 
 
 def flip_labels(y, noise, rng):
@@ -278,6 +295,11 @@ def main(argv=None):
     parser.add_argument("--skip", default="", metavar="NAME,...",
                         help="variants not to fit, e.g. all/ci+flip (listed in the results "
                              "as skipped, with the reason)")
+    parser.add_argument("--only", default="", metavar="NAME,...",
+                        help="fit these variants alone (the others listed as skipped)")
+    parser.add_argument("--templates", default=None, metavar="SET",
+                        help="add every fitted variant's twin with templates=SET (unary, "
+                             "declare, all)")
     args = parser.parse_args(argv)
     if args.out is not None:
         out = Path(args.out)
@@ -291,7 +313,14 @@ def main(argv=None):
     n_test = 60 if args.quick else N_TEST
     t0 = time.perf_counter()
     _warm_up()
-    vlist = skip_variants(variants(args.flip_prior), [n for n in args.skip.split(",") if n])
+    vlist = variants(args.flip_prior)
+    skip = [n for n in args.skip.split(",") if n]
+    if args.only:
+        keep = set(args.only.split(","))
+        skip += [v.name for v in vlist if v.name not in keep and v.name not in skip]
+    vlist = skip_variants(vlist, skip)
+    if args.templates is not None:
+        vlist = with_templates(vlist, args.templates)
     df = run_benchmark(KINDS, seeds, sizes, NOISES, args.n_jobs, args.verbose, vlist, n_test)
     external = None
     if args.external:
