@@ -17,7 +17,9 @@ rule has a :class:`~bsi_sklearn.Specification`).
 
 ``--option repeats`` measures ``EventLogEncoder(repeats=True)`` (the ``a<=1`` columns, so that
 ``G(a<=1)`` states Declare's at-most-once) the same way, against the default encoder (its
-negations on in both fits).
+negations on in both fits). ``--option unary`` measures the classifier's
+``templates="unary"`` (issue 28: the pattern catalogue's one-slot templates beside the paper's
+template) against its default ``templates="paper"``, the default encoder in both fits.
 """
 
 from __future__ import annotations
@@ -52,14 +54,18 @@ OPTIONS = {
     "repeats": dict(encoders=({}, {"repeats": True}), names=("defaults", "with a<=1"),
                     files="repeats",
                     title="the encoder's at-most-once columns (`repeats=True`) on and off"),
+    "unary": dict(encoders=({}, {}), bsi=({}, {"templates": "unary"}),
+                  names=("paper's template", "templates='unary'"), files="templates_unary",
+                  title="the one-slot pattern templates (`templates='unary'`) on and off"),
 }
 
 
 def specs(settings, noise=0.05, option="negations"):
     """One BSI row per size, rule, seed and setting of ``option`` (a column of bools)."""
     encoders = OPTIONS[option]["encoders"]
+    bsi = OPTIONS[option].get("bsi", ({}, {}))
     return [dict(task=option, n_activities=a, n_cases=c, rule=rule, noise=noise,
-                 seed=seed, method="bsi", encoder=encoders[on], **{option: on})
+                 seed=seed, method="bsi", encoder=encoders[on], bsi=bsi[on], **{option: on})
             for a, c, seeds in settings for rule in RULES for seed in seeds
             for on in (False, True)]
 
