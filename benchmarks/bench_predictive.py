@@ -30,6 +30,12 @@ Run from the repository root (about 15 minutes on one core)::
 
     python benchmarks/bench_predictive.py             # 10 repeats, 12/36/72 missions, 0/4 %
     python benchmarks/bench_predictive.py --quick     # 2 repeats, for a smoke test
+    python benchmarks/bench_predictive.py --templates unary --out /tmp/p   # issue 28
+
+``--templates SET`` fits the default with ``templates=SET`` (a named set of the pattern
+catalogue, issue 28) in place of the CI fit, read by its default predictive, and reports its
+difference from the default fit's; it writes into ``--out`` only (the recorded results stay
+as they are).
 
 Writes ``benchmarks/RESULTS_predictive.md`` and ``benchmarks/predictive/`` (``runs.csv``: every
 row, repeat, noise, size and objective; ``summary.csv``: the table; ``reliability.csv``: the
@@ -368,6 +374,22 @@ def report(runs, table, diffs, gaps, config, seconds, command):
     return "\n".join(lines)
 
 
+def add_templates(template_set):
+    """The default fit with ``templates=template_set`` in place of the CI fit: the settings,
+    rows, pairs and figure's rows."""
+    global ROWS, FIGURE_ROWS
+    name = f"CB, templates={template_set!r}"
+    SETTINGS.pop("CI, flip_prior=(1, 9)")
+    SETTINGS[name] = ({"templates": template_set}, ("predictive, learned",))
+    ROWS = tuple(f"{s}, {r}" for s, (_, readings) in SETTINGS.items() for r in readings) \
+        + (REFERENCE,)
+    PAIRS[:] = [p for p in PAIRS if not p[1].startswith("CI")]
+    PAIRS.append((f"templates={template_set!r} - paper's template (predictive, learned)",
+                  f"{name}, predictive, learned", "CB (default), predictive, learned"))
+    FIGURE_ROWS = ("CB (default), predictive, learned", f"{name}, predictive, learned",
+                   REFERENCE)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=10)
@@ -377,6 +399,8 @@ def main(argv=None):
     parser.add_argument("--seed", type=int, default=2031,
                         help="study seed (the repository's study runs use 0)")
     parser.add_argument("--quick", action="store_true", help="2 repeats")
+    parser.add_argument("--templates", default=None, metavar="SET",
+                        help="add the default fit with templates=SET (needs --out)")
     parser.add_argument("--out", default=None, help="folder (default: benchmarks/)")
     parser.add_argument("--figures-only", action="store_true",
                         help="redraw the figures from the recorded predictive/reliability.csv "
@@ -389,6 +413,10 @@ def main(argv=None):
         return 0
     if args.quick:
         args.repeats = 2
+    if args.templates is not None:
+        if args.out is None:
+            parser.error("--templates writes into --out only")
+        add_templates(args.templates)
     config = dict(repeats=args.repeats, sizes=[int(s) for s in args.sizes.split(",")],
                   noise=[float(r) for r in args.noise.split(",")], test_size=args.test_size,
                   seed=args.seed)
