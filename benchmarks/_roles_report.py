@@ -86,7 +86,9 @@ def paired_differences(df, baseline_roles="given"):
             rows.append({"kind": kind, "n_train": n, "noise": noise, "likelihood": lik,
                          "roles": roles, "seeds": len(common), "mean": m, "low": lo,
                          "high": hi})
-    return pd.DataFrame(rows)
+    # no given-roles variant fitted (--only): no pairs, the same columns
+    return pd.DataFrame(rows, columns=["kind", "n_train", "noise", "likelihood", "roles",
+                                       "seeds", "mean", "low", "high"])
 
 
 def pooled_differences(df, reference="infer/cb"):
