@@ -129,6 +129,23 @@ def test_readable_text_with_untested_clauses_is_the_full_formula(conditions):
         np.testing.assert_array_equal(truth(whole), truth(spec.to_ltl()), err_msg=text)
 
 
+def test_readable_leaves_out_what_a_global_implies():
+    # G(w): w holds at the first step, so F(w) and every (!b U w) hold too
+    spec = Specification(globals=["a"], eventuals=["a", "b"], orders=[("a", "b"), ("b", "c")])
+    assert spec.readable() == "G(a) & F(b) & (!c U b)"
+    rng = np.random.default_rng(4)
+    dropped = 0
+    for _ in range(30):
+        base = _random_spec(rng)
+        spec = Specification(globals=[g for g in NAMES if rng.random() < 0.3],
+                             eventuals=base.eventuals, orders=base.orders,
+                             conditions=base.conditions)
+        text = spec.readable()
+        np.testing.assert_array_equal(truth(text), truth(spec.to_ltl()), err_msg=text)
+        dropped += text.count("&") < spec.to_ltl(chains=True).count("&")
+    assert dropped >= 5
+
+
 def test_readable_marks_only_the_clauses_it_has():
     spec = Specification(globals=["safe"], eventuals=["a"], orders=[("a", "b")])
     assert spec.readable() == spec.readable([("G", "other"), ("U", "b", "a")]) == str(spec)

@@ -338,7 +338,9 @@ class Specification:
         Returns
         -------
         text : str
-            ``to_ltl(chains=True)`` without the vacuous clauses and without the pattern
+            ``to_ltl(chains=True)`` without the vacuous clauses, without the eventual and
+            order clauses of a subtask that a ``G`` clause holds throughout (``G(w)`` implies
+            ``F(w)`` and ``(!b U w)``) and without the pattern
             clauses the other clauses imply (``implied_patterns``: the formula means the
             same), followed, when the formula has
             some, by ``"  [untested: ...]"`` listing them joined by ``&``. The shown formula
@@ -377,10 +379,13 @@ class Specification:
         """``(clause key, text)`` of the chain form over literals (see :meth:`readable`)."""
         negates = negation_reader(negations, "readable")
         cond = self.conditions
+        # G(w) implies F(w) and (!b U w) (and so does it under a condition): w holds at the
+        # first step
         keys = ([("G", p) for p in sorted(self.globals, key=_sort_key)]
-                + [("F", w) for w in sorted(self.eventuals, key=_sort_key)]
+                + [("F", w) for w in sorted(self.eventuals, key=_sort_key)
+                   if w not in self.globals]
                 + [("U", a, b) for a, b in sorted(self.orders - self.implied_orders(),
-                                                  key=_pair_key)])
+                                                  key=_pair_key) if a not in self.globals])
         out = [(key, render_clause(clause_form(key, cond, negates), readable_atom, _ASCII))
                for key in keys]
         implied = implied_patterns(self) if self.patterns else frozenset()
