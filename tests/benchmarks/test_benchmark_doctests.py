@@ -6,9 +6,9 @@ import importlib
 import pytest
 from _scripts import BENCH
 
-# Modules with examples; the bench_* modules have none and import heavier dependencies.
+# Modules with examples (bench_roles and bench_external_templates the only bench_* ones).
 MODULES = ["external", "external_bsi", "external_scarlet", "run", "reference.webppl",
-           "_roles_report", "bench_roles"]
+           "_roles_report", "bench_roles", "bench_external_templates"]
 FLAGS = doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS
 
 
