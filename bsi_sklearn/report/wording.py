@@ -12,7 +12,6 @@ from bsi_sklearn._literals import (
     render_clause,
 )
 from bsi_sklearn.specification import Specification
-from bsi_sklearn.specification.implied_patterns import implied_patterns
 from bsi_sklearn.specification.templates import instance_text, pattern_order
 
 __all__ = [
@@ -103,8 +102,7 @@ def unicode_ltl(specification, *, chains=False, vacuous=(), negations=None):
     spec = _check_spec(specification)
     negates = negation_reader(negations, "unicode_ltl")
     cond = spec.conditions
-    implied = ({("U", a, b) for a, b in spec.implied_orders()}
-               | (implied_patterns(spec) if spec.patterns else set())) if chains else set()
+    implied = spec.implied_clauses() if chains else frozenset()
     vacuous = set(vacuous)
     parts, apart = [], []
     for key in ordered_clauses(spec):
@@ -416,12 +414,11 @@ def describe_event_log_specification(specification, vacuous=(), *, chains=True,
 
 def _sentences(specification, sentence, chains, skip=()):
     # sentence(clause, conditions) of every clause in reading order, but those in skip and,
-    # with chains, the orders and the pattern clauses the others imply.
+    # with chains, the clauses the others imply (Specification.implied_clauses).
     spec = _check_spec(specification)
     leave = {tuple(c) for c in skip}
     if chains:
-        leave |= {("U", a, b) for a, b in spec.implied_orders()}
-        leave |= implied_patterns(spec) if spec.patterns else set()
+        leave |= spec.implied_clauses()
     return [sentence(c, spec.conditions) for c in ordered_clauses(spec) if c not in leave]
 
 

@@ -257,6 +257,32 @@ class Specification:
                 kept.add((a, c))
         return frozenset(self.orders - kept)
 
+    def implied_clauses(self):
+        """The clauses the rest of the formula implies: what the readable forms leave out.
+
+        The orders :meth:`implied_orders` gives; the eventual clause and the orders of a
+        subtask ``w`` that a clause ``G(w)`` holds throughout (``w`` holds at the first step,
+        so ``F(w)`` and ``(!b U w)`` do, under any condition); and the pattern clauses the
+        other clauses imply together
+        (:func:`~bsi_sklearn.specification.implied_patterns.implied_patterns`). Each is
+        implied by clauses that stay, so the formula without them means the same.
+
+        Returns
+        -------
+        keys : frozenset of clause keys
+
+        Examples
+        --------
+        >>> spec = Specification(globals=["a"], eventuals=["a", "b"],
+        ...                      orders=[("a", "b"), ("b", "c"), ("b", "d"), ("c", "d")])
+        >>> sorted(spec.implied_clauses())  # the orders are closed: a precedes c and d too
+        [('F', 'a'), ('U', 'a', 'b'), ('U', 'a', 'c'), ('U', 'a', 'd'), ('U', 'b', 'd')]
+        """
+        out = {("U", a, b) for a, b in self.implied_orders()}
+        out |= {("F", w) for w in self.eventuals if w in self.globals}
+        out |= {("U", a, b) for a, b in self.orders if a in self.globals}
+        return frozenset(out | (implied_patterns(self) if self.patterns else frozenset()))
+
     def clause_strings(self, latex=False, *, chains=False):
         r"""Render every clause as a string, in a stable order (G, F, U, then the patterns).
 
@@ -338,11 +364,11 @@ class Specification:
         Returns
         -------
         text : str
-            ``to_ltl(chains=True)`` without the vacuous clauses, without the eventual and
-            order clauses of a subtask that a ``G`` clause holds throughout (``G(w)`` implies
-            ``F(w)`` and ``(!b U w)``) and without the pattern
-            clauses the other clauses imply (``implied_patterns``: the formula means the
-            same), followed, when the formula has
+            ``to_ltl()`` without the vacuous clauses and without the clauses the rest
+            implies (:meth:`implied_clauses`: the orders the chain form leaves out, the
+            eventual and order clauses of a subtask a ``G`` clause holds throughout, the
+            pattern clauses the others imply; the formula means the same), followed, when the
+            formula has
             some, by ``"  [untested: ...]"`` listing them joined by ``&``. The shown formula
             and the untested one together are the full formula: ``to_ltl()`` gives it in one
             piece. A negation is written ``!p``, never ``!!p``: an order on a negated
@@ -379,16 +405,12 @@ class Specification:
         """``(clause key, text)`` of the chain form over literals (see :meth:`readable`)."""
         negates = negation_reader(negations, "readable")
         cond = self.conditions
-        # G(w) implies F(w) and (!b U w) (and so does it under a condition): w holds at the
-        # first step
+        implied = self.implied_clauses()
         keys = ([("G", p) for p in sorted(self.globals, key=_sort_key)]
-                + [("F", w) for w in sorted(self.eventuals, key=_sort_key)
-                   if w not in self.globals]
-                + [("U", a, b) for a, b in sorted(self.orders - self.implied_orders(),
-                                                  key=_pair_key) if a not in self.globals])
+                + [("F", w) for w in sorted(self.eventuals, key=_sort_key)]
+                + [("U", a, b) for a, b in sorted(self.orders, key=_pair_key)])
         out = [(key, render_clause(clause_form(key, cond, negates), readable_atom, _ASCII))
-               for key in keys]
-        implied = implied_patterns(self) if self.patterns else frozenset()
+               for key in keys if key not in implied]
         for name, props in sorted(self.patterns, key=pattern_order):
             if ("P", name, props) in implied:
                 continue
