@@ -47,6 +47,7 @@ import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmark
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 from _common import machine_info, md_table  # noqa: E402
+from _roles_report import t_interval  # noqa: E402
 from external import (  # noqa: E402
     DEFAULT_DATA,
     family_of,
@@ -56,7 +57,6 @@ from external import (  # noqa: E402
     scarlet_subset,
     split_indices,
 )
-from scipy import stats  # noqa: E402
 from sklearn.pipeline import make_pipeline  # noqa: E402
 
 from bsi_sklearn import BSIClassifier  # noqa: E402
@@ -205,12 +205,11 @@ def run_tasks(tasks, data_dir, n_jobs, timeout, verbose=True):
 
 
 def _t_interval(x):
-    x = np.asarray(x, dtype=float)
-    x = x[np.isfinite(x)]
-    if len(x) < 2:
-        return f"{x.mean():.3f}" if len(x) else "-"
-    h = stats.t.ppf(0.975, len(x) - 1) * x.std(ddof=1) / np.sqrt(len(x))
-    return f"{x.mean():.3f} [{x.mean() - h:.3f}, {x.mean() + h:.3f}]"
+    # "mean [low, high]" of _roles_report.t_interval (missing values left out)
+    mean, low, high = t_interval(x)
+    if np.isnan(mean):
+        return "-"
+    return f"{mean:.3f}" if np.isnan(low) else f"{mean:.3f} [{low:.3f}, {high:.3f}]"
 
 
 def _median_s(d):
