@@ -29,6 +29,7 @@ from bsi_sklearn.inference._chain_kernel import (
     violation_rows,
 )
 from bsi_sklearn.inference._closure import Closure, found_by_chain, found_states
+from bsi_sklearn.inference._consistent_start import consistent_start
 from bsi_sklearn.inference._local_search import beam_search, n_neighbours_max, neighbourhood
 from bsi_sklearn.inference._reach import reach
 from bsi_sklearn.inference.diagnostics import MODE_WARN, missed_mass, split_rhat
@@ -179,17 +180,25 @@ def temperature_ladder(demos, model, n_temperatures="auto"):
 def deterministic_optimum(demos, model, width=BEAM_WIDTH):
     """A cheap optimum of the posterior, found without random numbers.
 
-    Beam search (:mod:`bsi_sklearn.inference._optimum`) from the hypothesis without clauses
-    (and the first order structure of the prior's support): every step scores, exactly, every
-    hypothesis one Gibbs block away from those in the beam (one global bit; one subtask's place
-    with its eventual bit) and keeps the ``width`` best, until the beam no longer changes.
-    Returns ``(row, log posterior)`` with ``row`` laid out as the sampler's states,
-    ``[tau, w1, parent]`` (int16).
+    Beam search (:mod:`bsi_sklearn.inference._local_search`) from the hypothesis without
+    clauses (and the first order structure of the prior's support): every step scores, exactly,
+    every hypothesis one Gibbs block away from those in the beam (one global bit; one subtask's
+    place with its eventual bit) and keeps the ``width`` best, until the beam no longer
+    changes. A second beam starts from every clause the acceptable demonstrations keep
+    (:mod:`bsi_sklearn.inference._consistent_start`), which reaches the size principle's
+    optimum where single blocks from the empty hypothesis stop short; its result is taken only
+    when strictly more probable. Returns ``(row, log posterior)`` with ``row`` laid out as the
+    sampler's states, ``[tau, w1, parent]`` (int16).
     """
     n_g, n = model.n_g, model.n
     start = join_state(np.zeros(n_g), np.zeros(n), first_structure(model))
     max_steps = 4 * n_clauses(n_g, n) + 10
     row, lp = beam_search(start[None, :], demos, model, int(width), max_steps)
+    seeded = consistent_start(demos, model)
+    if not np.array_equal(seeded, start):
+        row_s, lp_s = beam_search(seeded[None, :], demos, model, int(width), max_steps)
+        if lp_s > lp:
+            row, lp = row_s, lp_s
     return row.astype(np.int16), float(lp)
 
 
