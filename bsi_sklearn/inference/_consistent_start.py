@@ -22,7 +22,7 @@ numbers.
 import numpy as np
 
 from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order
-from bsi_sklearn.model.priors import FOREST, LINEAR_CHAIN
+from bsi_sklearn.model.priors import is_forest, structures_are_sets
 from bsi_sklearn.model.state_layout import join_state
 
 __all__ = ["consistent_start"]
@@ -47,16 +47,17 @@ def consistent_start(demos, model):
     """
     n_g, n = model.n_g, model.n
     kept = demos.truth_t[:, demos.w_pos > 0].all(axis=1)
-    tau = kept[:n_g]
+    tau = kept[np.arange(n_g)]  # G(tau_j) is clause slot j
     w1 = kept[[clause_index_eventual(w, n_g) for w in range(n)]]
     before = np.zeros((n, n), dtype=bool)  # before[a, b]: every acceptable one keeps a < b
     for a in range(n):
         before[a] = kept[[clause_index_order(a, b, n_g, n) for b in range(n)]]
     np.fill_diagonal(before, False)
-    return join_state(tau, w1, _structure(before, model.prior))
+    return join_state(tau, w1, _structure(before, is_forest(model),
+                                          structures_are_sets(model)))
 
 
-def _structure(before, prior):
+def _structure(before, forest, sets):
     # Parents of an order structure of the prior whose every ancestor -> descendant pair is
     # in `before`. A subtask with more successors comes first (in a transitive relation a
     # predecessor has strictly more), so following `rank` never closes a cycle, even where
@@ -64,13 +65,13 @@ def _structure(before, prior):
     n = before.shape[0]
     order = np.lexsort((np.arange(n), -before.sum(axis=1)))
     parent = np.full(n, -1, dtype=np.int64)
-    if prior == LINEAR_CHAIN:  # one chain through every subtask: the rank's order
+    if not sets:  # Prior 1, one chain through every subtask: the rank's order
         parent[order[1:]] = order[:-1]
         return parent
     rank = np.empty(n, dtype=np.int64)
     rank[order] = np.arange(n)
     before = before & (rank[:, None] < rank[None, :])
-    if prior == FOREST:
+    if forest:
         _deepest_parents(before, order, parent, np.ones(n, dtype=bool))
         return parent
     free = np.ones(n, dtype=bool)
