@@ -3,9 +3,7 @@
 A Gibbs update weighs every neighbour of the state it moves from exactly, so a state one block
 from a visited state is as found as a visited one, once it is in the support. After every round
 of ``n_samples="auto"``, :class:`Closure` weighs the neighbours of every visited state
-(:func:`~._neighbour_weights.neighbours_within`), and the states that exchange two of its
-subtasks' places (:mod:`~._exchanges`: equally probable orders of an event log are often two
-blocks apart across a valley, one exchange apart), keeps those above the floor, and weighs in
+(:func:`~._neighbour_weights.neighbours_within`), keeps those above the floor, and weighs in
 turn the neighbours of every state it finds within ``CLOSURE_EXPAND`` of the best: a plateau
 of equally probable states (the interchangeable orders of an event log's subtasks) is found
 whole once one of its states is visited. Each found state carries the first sweep at which a
@@ -17,14 +15,10 @@ Measured: the diffuse CI posteriors of the stopping tests (3,383-4,672 states) s
 first round at TV 0.0002 or less to exact, where counting visits ran 4,000-10,000 sweeps for TV
 0.0002-0.0009; the plateau of 344 specifications of ``make_process_log(40, 1000,
 random_state=2)`` is found whole after 500 sweeps (the chains had visited 343), where visits
-ran 2,000. With the exchanges, the plateau of 11,248 specifications of ``make_process_log(40,
-286, random_state=0)`` (200 training cases) is found whole after the first round, in 22 s,
-and the fit stops there (40 s) where the chains ran all 10,000 sweeps (257 s) and listed
-10,886 of them.
+ran 2,000.
 
-Each state's neighbours are weighed once. The work is counted (clause-row operations, about
-1e10 a second on a 2-core Xeon; at most ``CLOSURE_WORK``, or ``CLOSURE_SHARE`` of the
-sampling the closure can save where that is more), and so is the memory of what is kept
+Each state's neighbours are weighed once. The work is counted (``CLOSURE_WORK``, clause-row
+operations, about 1e10 a second on a 2-core Xeon), and so is the memory of what is kept
 (``CLOSURE_BYTES``): past either the closure is given up for the rest of the fit (the visited
 states only grow) and the late mass counts visits, as before.
 """
@@ -34,31 +28,20 @@ import math
 
 import numpy as np
 
-from bsi_sklearn.inference._exchanges import ExchangeWeigher
 from bsi_sklearn.inference._neighbour_weights import NeighbourWeigher
 
-__all__ = ["Closure", "found_states", "found_by_chain", "CLOSURE_WORK", "CLOSURE_SHARE",
-           "CLOSURE_BYTES", "CLOSURE_FLOOR", "CLOSURE_EXPAND"]
+__all__ = ["Closure", "found_states", "found_by_chain", "CLOSURE_WORK", "CLOSURE_BYTES",
+           "CLOSURE_FLOOR", "CLOSURE_EXPAND"]
 
-#: The least work (:func:`~._neighbour_weights.neighbour_work`, clause-row operations) the
-#: closure may spend over a whole fit: a few seconds (the 344-state plateau above: 5.5e9,
+#: The most work (:func:`~._neighbour_weights.neighbour_work`, clause-row operations) spent on
+#: weighing neighbours over a whole fit: a few seconds (the 344-state plateau above: 5.5e9,
 #: 0.6 s).
 CLOSURE_WORK = 3e10
-#: Beyond it, the closure may spend this much work per unit of the sampling it can save
-#: (:func:`~.mcmc.sampling_count`: every sweep ``n_samples="auto"`` allows): a quarter of
-#: that sampling's time. Measured on a 2-core Xeon, the closure counts about 1e10 a second
-#: and the chains 7e8 (``make_process_log(40, 286, random_state=0)``, 200 training cases:
-#: 10,100 sweeps of 1.8e11 in 250 s; its plateau of 11,248 specifications found whole after
-#: the first round with 2.3e11 in 22 s).
-CLOSURE_SHARE = 0.25 * 1e10 / 7e8
-#: The most memory the weighed neighbours may hold, in bytes: every distinct neighbour's key
-#: once (its int16 row's bytes and ``KEY_BYTES`` of object and dictionary), and
-#: ``REF_BYTES`` for each time a weighed state lists it. The work above does not bound it on
-#: small problems, where a state is cheap to weigh: the 7-proposition file 0046 of the mixing
-#: benchmark (11 demonstrations) keeps 609,089 rows.
-CLOSURE_BYTES = 2**28
-KEY_BYTES = 96
-REF_BYTES = 16
+#: The most memory the weighed neighbours may hold, in bytes, each kept row counted as its
+#: int16 row, its bytes key and their references (``4 n_cols + 64``). The work above does not
+#: bound it on small problems, where a state is cheap to weigh: the 7-proposition file 0046 of
+#: the mixing benchmark (11 demonstrations) keeps 609,089 rows, about 90 MB by this count.
+CLOSURE_BYTES = 2**27
 #: Neighbours kept: those less than this many nats (log 1e12) below the best state found.
 CLOSURE_FLOOR = math.log(1e12)
 #: Found states whose own neighbours are weighed too: those less than this many nats (log
@@ -68,54 +51,33 @@ CLOSURE_EXPAND = math.log(1e4)
 
 
 class Closure:
-    """What the chains found, weighed once each, within ``max_work``.
-
-    By default the larger of ``CLOSURE_WORK`` and ``CLOSURE_SHARE`` times ``sampling_work``
-    (:func:`~.mcmc.sampling_count` of the sweeps the chains may still run).
+    """What the chains found, weighed once each, within ``CLOSURE_WORK``.
 
     The visited states, their neighbours, and so on through the most probable states.
     """
 
-    def __init__(self, demos, model, max_work=None, sampling_work=0.0):
+    def __init__(self, demos, model, max_work=None):
         self.demos, self.model = demos, model
-        if max_work is None:  # what the sampling it can save allows, at least CLOSURE_WORK
-            max_work = max(CLOSURE_WORK, CLOSURE_SHARE * sampling_work)
-        self.left = float(max_work)
+        self.left = float(CLOSURE_WORK if max_work is None else max_work)
         self.bytes_left = float(CLOSURE_BYTES)
         self.given_up = False
-        # a weighed state's bytes -> its neighbours' log posteriors and their bytes
+        # a weighed state's bytes -> its neighbours, their log posteriors and their bytes
         self._near = {}
         self._levels = (np.inf, np.inf)  # the floor and the expansion level of the last update
         self._weigher = None  # its scratch space, allocated at the first state weighed
-        self._exchanger = None
-        self._keys = {}  # every neighbour's bytes, once: the lists above share them
 
     def _weigh(self, row, floor):
-        # Weigh the neighbours of a state not weighed yet (one block, or an exchange of two
-        # subtasks' places); False past the budget.
+        # Weigh the neighbours of a state not weighed yet; False past the budget.
         if self._weigher is None:
             self._weigher = NeighbourWeigher(self.demos, self.model)
-            self._exchanger = ExchangeWeigher(self.demos, self.model)
         near, lps, _, done, spent = self._weigher.within(row[None, :], floor, self.left)
         self.left -= spent
-        if done and self.model.n >= 2 and self.left >= 0:
-            swapped, swapped_lps, spent = self._exchanger.within(row, floor)
-            self.left -= spent
-            near, lps = np.concatenate([near, swapped]), np.concatenate([lps, swapped_lps])
-        keys = []
-        for r in near:
-            k = r.tobytes()
-            if k not in self._keys:
-                self._keys[k] = k
-                self.bytes_left -= 2 * near.shape[1] + KEY_BYTES
-            keys.append(self._keys[k])
-        self.bytes_left -= REF_BYTES * len(near)
+        self.bytes_left -= len(near) * (4 * near.shape[1] + 64)
         if not done or self.left < 0 or self.bytes_left < 0:
             self.given_up = True
             self._near.clear()
-            self._keys.clear()
             return False
-        self._near[row.tobytes()] = (lps, keys)
+        self._near[row.tobytes()] = (near, lps, [r.tobytes() for r in near])
         return True
 
     def update(self, visited, visited_lp, first):
@@ -134,7 +96,7 @@ class Closure:
         if self.given_up:
             return None
         best = float(visited_lp.max())
-        for lps, _ in self._near.values():
+        for _, lps, _ in self._near.values():
             if len(lps):
                 best = max(best, float(lps.max()))
         floor, expand = best - CLOSURE_FLOOR, best - CLOSURE_EXPAND
@@ -159,13 +121,13 @@ class Closure:
             done.add(key)
             if key not in self._near and not self._weigh(rows_of[key], floor):
                 return None
-            lps, keys = self._near[key]
-            for lp, k in zip(lps, keys):
+            near, lps, keys = self._near[key]
+            for row, lp, k in zip(near, lps, keys):
                 if lp < floor:  # the floor rises with the best state found
                     continue
                 if t < when.get(k, np.iinfo(np.int64).max):
                     when[k] = t
-                    rows_of[k], lp_of[k] = np.frombuffer(k, dtype=np.int16), float(lp)
+                    rows_of[k], lp_of[k] = row, float(lp)
                     if lp >= expand:
                         weighed.add(k)
                     if k in weighed:
@@ -192,7 +154,7 @@ class Closure:
         floor, expand = self._levels
         out, todo = set(keys), list(keys)
         while todo:
-            lps, near = self._near[todo.pop()]
+            _, lps, near = self._near[todo.pop()]
             for lp, k in zip(lps, near):
                 if lp >= floor and k not in out:
                     out.add(k)

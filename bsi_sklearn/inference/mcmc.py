@@ -310,14 +310,9 @@ def sampling_count(truth, y01, model, *, n_chains, n_samples, burn_in, n_tempera
     demos = deduplicate_demos(truth, y01)
     n_samples = MAX_SAMPLES if n_samples == "auto" else n_samples  # at most
     rungs = len(temperature_ladder(demos, model, n_temperatures))
-    return _sweep_work(demos, model, n_chains, int(n_samples) + int(burn_in), rungs)
-
-
-def _sweep_work(demos, model, n_chains, n_sweeps, rungs):
-    # sampling_count's count: candidate evaluations x unique rows of every sweep.
     n_g, n = model.n_g, model.n
     per_sweep = (n_g + n + n * (n + 1)) * demos.truth_t.shape[1]
-    return float(n_chains) * n_sweeps * rungs * per_sweep
+    return float(n_chains) * (int(n_samples) + int(burn_in)) * rungs * per_sweep
 
 
 def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
@@ -334,8 +329,7 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
         bar = tqdm(total=len(runs) * plan[-1], desc="MCMC sweeps", unit="sweep")
     scored = {}  # the exact log posterior of every state seen, by its row's bytes
     record, done, near = [], 0, None
-    closure = Closure(demos, model, sampling_work=_sweep_work(
-        demos, model, len(runs), plan[-1] + runs[0].burn_in, len(runs[0].betas)))
+    closure = Closure(demos, model)
     # Chains are threads of this process (the kernels release the GIL), also when an outer
     # joblib backend such as dask distributes whole fits.
     with Parallel(n_jobs=n_jobs, backend="threading") as parallel:

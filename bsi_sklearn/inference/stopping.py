@@ -17,16 +17,15 @@ against; on a plateau of equally probable states (interchangeable subtasks of an
 order structure) each chain reaches nearly all of it long before it has visited every state.
 Where the closure below is computed, a chain's share is what its own visited states lead to
 through it, among everything found.
-A state is *found* when it is visited, or one block (or one exchange of two subtasks'
-places) from a found state that is visited or nearly as probable as the best
-(:mod:`bsi_sklearn.inference._closure`, which weighs them, and whose states the sampler
-reports), so the late mass counts the first sweep at which a state was found. Counting reach
-without reporting the reached states would hide the mass still being found (a walk's new
-state is always one block from its last; on a diffuse CI posterior of 4,672 states it stopped
-after one round at TV 0.013 to exact); with them reported, the diffuse CI posteriors of the
-tests stop after the first round at TV 0.0002 or less, where counting visits ran up to 10,000
-sweeps for TV 0.0002-0.0009. Past the closure's work budget the late mass counts first
-visits.
+A state is *found* when it is visited, or one block from a found state that is visited or
+nearly as probable as the best (:mod:`bsi_sklearn.inference._closure`, which weighs them, and
+whose states the sampler reports), so the late mass counts the first sweep at which a state
+was found. Counting reach without reporting the reached states would hide the mass still being
+found (a walk's new state is always one block from its last; on a diffuse CI posterior of 4,672
+states it stopped after one round at TV 0.013 to exact); with them reported, the diffuse CI
+posteriors of the tests stop after the first round at TV 0.0002 or less, where counting visits
+ran up to 10,000 sweeps for TV 0.0002-0.0009. Past the closure's work budget the late mass counts
+first visits.
 
 Every quantity is exact-scored, and the rule depends on the chains only, never on timing or
 on ``n_jobs``. A peaked posterior stops after the first round; a flat one, where the chains

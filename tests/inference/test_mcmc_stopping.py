@@ -131,7 +131,6 @@ def test_auto_past_the_closure_budget_counts_visits_and_runs_a_flat_posterior_to
     from bsi_sklearn.inference import _closure
 
     monkeypatch.setattr(_closure, "CLOSURE_WORK", 0.0)
-    monkeypatch.setattr(_closure, "CLOSURE_SHARE", 0.0)
     X, y, roles = _poi()
     kw = dict(roles, likelihood="ci", epsilon=0.3)
     exact = BSIClassifier(inference="exact", **kw).fit(X, y)
