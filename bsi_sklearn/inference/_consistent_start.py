@@ -46,7 +46,9 @@ def consistent_start(demos, model):
         clause and every order is kept).
     """
     n_g, n = model.n_g, model.n
-    kept = demos.truth_t[:, demos.w_pos > 0].all(axis=1)
+    # A reduction over the acceptable columns in place: no copy of the clause truth, which is
+    # the fit's largest array (clauses x unique demonstrations).
+    kept = np.min(demos.truth_t, axis=1, where=(demos.w_pos > 0)[None, :], initial=1) > 0
     tau = kept[np.arange(n_g)]  # G(tau_j) is clause slot j
     w1 = kept[[clause_index_eventual(w, n_g) for w in range(n)]]
     before = np.zeros((n, n), dtype=bool)  # before[a, b]: every acceptable one keeps a < b
