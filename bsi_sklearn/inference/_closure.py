@@ -24,6 +24,7 @@ states only grow) and the late mass counts visits, as before.
 """
 
 import heapq
+import itertools
 import math
 
 import numpy as np
@@ -48,6 +49,16 @@ CLOSURE_FLOOR = math.log(1e12)
 #: 1e4) below the best state found. On the mixing benchmark's slowest problems log 1e3
 #: stopped at TV 0.0016-0.0044, log 1e6 at 0.0000 but up to 4x slower; log 1e4: 0.0006-0.0011.
 CLOSURE_EXPAND = math.log(1e4)
+
+_NEVER = int(np.iinfo(np.int64).max)  # a time later than every sweep
+
+
+def row_keys(rows):
+    """Every row's bytes as int16, the key the closure holds it by (one C-level pass)."""
+    rows = np.ascontiguousarray(rows, dtype=np.int16)
+    if rows.shape[1] == 0:
+        return [b""] * len(rows)
+    return rows.view(np.dtype((np.void, 2 * rows.shape[1]))).ravel().tolist()
 
 
 class Closure:
@@ -77,7 +88,8 @@ class Closure:
             self.given_up = True
             self._near.clear()
             return False
-        self._near[row.tobytes()] = (near, lps, [r.tobytes() for r in near])
+        # Python floats and bytes: the traversals below run over them element by element
+        self._near[row.tobytes()] = (lps.tolist(), row_keys(near))
         return True
 
     def update(self, visited, visited_lp, first):
@@ -96,22 +108,18 @@ class Closure:
         if self.given_up:
             return None
         best = float(visited_lp.max())
-        for _, lps, _ in self._near.values():
-            if len(lps):
-                best = max(best, float(lps.max()))
+        for lps, _ in self._near.values():
+            if lps:
+                best = max(best, max(lps))
         floor, expand = best - CLOSURE_FLOOR, best - CLOSURE_EXPAND
         self._levels = floor, expand
         # Visited states first, then the states found within `expand`, earliest first: a
         # state's time is the least time of a weighed state it is one block from.
-        when = {}
-        rows_of, lp_of = {}, {}
-        heap = []
-        for i, row in enumerate(visited):
-            key = row.tobytes()
-            if first[i] < when.get(key, np.iinfo(np.int64).max):
-                when[key] = int(first[i])
-                rows_of[key] = row
-                heapq.heappush(heap, (int(first[i]), key))
+        when, lp_of, heap = {}, {}, []
+        for key, t in zip(row_keys(visited), first.tolist()):
+            if t < when.get(key, _NEVER):
+                when[key] = t
+                heapq.heappush(heap, (t, key))
         weighed = set(when)  # the visited states, then those found within `expand`
         done = set()
         while heap:
@@ -119,28 +127,26 @@ class Closure:
             if key in done or t > when[key]:
                 continue
             done.add(key)
-            if key not in self._near and not self._weigh(rows_of[key], floor):
+            if key not in self._near and not self._weigh(
+                    np.frombuffer(key, dtype=np.int16), floor):
                 return None
-            near, lps, keys = self._near[key]
-            for row, lp, k in zip(near, lps, keys):
+            lps, keys = self._near[key]
+            for lp, k in zip(lps, keys):
                 if lp < floor:  # the floor rises with the best state found
                     continue
-                if t < when.get(k, np.iinfo(np.int64).max):
+                if t < when.get(k, _NEVER):
                     when[k] = t
-                    rows_of[k], lp_of[k] = row, float(lp)
+                    lp_of[k] = lp
                     if lp >= expand:
                         weighed.add(k)
                     if k in weighed:
                         heapq.heappush(heap, (t, k))
                 elif k not in lp_of:
-                    lp_of[k] = float(lp)
-        found = [k for k in lp_of]
-        if not found:
-            width = visited.shape[1]
-            return (np.empty((0, width), dtype=np.int16), np.empty(0),
-                    np.empty(0, dtype=np.int64))
-        return (np.array([rows_of[k] for k in found], dtype=np.int16),
-                np.array([lp_of[k] for k in found]),
+                    lp_of[k] = lp
+        found = list(lp_of)
+        width = visited.shape[1]
+        return (np.frombuffer(b"".join(found), dtype=np.int16).reshape(len(found), width),
+                np.array([lp_of[k] for k in found], dtype=float),
                 np.array([when[k] for k in found], dtype=np.int64))
 
     def reach(self, keys):
@@ -154,7 +160,7 @@ class Closure:
         floor, expand = self._levels
         out, todo = set(keys), list(keys)
         while todo:
-            _, lps, near = self._near[todo.pop()]
+            lps, near = self._near[todo.pop()]
             for lp, k in zip(lps, near):
                 if lp >= floor and k not in out:
                     out.add(k)
@@ -172,13 +178,13 @@ def found_states(visited, visited_lp, first, near):
     """
     at, lps, when = {}, [], []
     for rows, row_lp, row_first in ((visited, visited_lp, first), near):
-        for row, lp, t in zip(rows.astype(np.int16), row_lp, row_first):
-            i = at.setdefault(row.tobytes(), len(lps))
+        for key, lp, t in zip(row_keys(rows), row_lp.tolist(), row_first.tolist()):
+            i = at.setdefault(key, len(lps))
             if i == len(lps):
-                lps.append(float(lp))
-                when.append(int(t))
-            else:
-                when[i] = min(when[i], int(t))
+                lps.append(lp)
+                when.append(t)
+            elif t < when[i]:
+                when[i] = t
     lps = np.array(lps)
     probs = np.exp(lps - lps.max())
     return probs / probs.sum(), np.array(when, dtype=np.int64), list(at)
@@ -191,9 +197,11 @@ def found_by_chain(closure, visited, per_chain, keys):
     :func:`found_states`' order. Returns index arrays into it, one per chain.
     """
     index = {k: i for i, k in enumerate(keys)}
-    mine = [row.astype(np.int16).tobytes() for row in visited]
+    mine = row_keys(visited)
     out = []
     for rows in per_chain:
-        got = closure.reach({mine[i] for i in np.unique(rows)})
-        out.append(np.array(sorted(index[k] for k in got if k in index), dtype=np.int64))
+        got = closure.reach({mine[i] for i in np.unique(rows).tolist()})
+        at = np.fromiter(map(index.get, got, itertools.repeat(-1)), dtype=np.int64,
+                         count=len(got))
+        out.append(np.sort(at[at >= 0]))
     return out

@@ -19,6 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from bsi_sklearn._unique_rows import unique_rows
 from bsi_sklearn.inference._chain_kernel import (
     ChainState,
     Demos,
@@ -93,16 +94,7 @@ def unique_states(states, counts, return_inverse=False):
         # Zero-width rows (empty template): every sample is the same hypothesis.
         out = states[:1], np.array([int(np.sum(counts))], dtype=np.int64)[: len(states[:1])]
         return (*out, np.zeros(len(states), dtype=np.int64)) if return_inverse else out
-    # Rows of small ints: shift to non-negative and pack into one integer key when they fit.
-    shifted = states.astype(np.int64) + 1
-    bits = max(int(shifted.max()).bit_length(), 1)
-    if bits * states.shape[1] <= 63:
-        weights = np.left_shift(1, bits * np.arange(states.shape[1] - 1, -1, -1))
-        keys = shifted @ weights
-        _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
-    else:
-        _, first, inverse = np.unique(states, axis=0, return_index=True, return_inverse=True)
-    inverse = inverse.ravel()
+    first, inverse = unique_rows(states)
     total = np.bincount(inverse, weights=counts, minlength=len(first))
     out = states[first], total.astype(np.int64)
     return (*out, inverse) if return_inverse else out
@@ -118,8 +110,8 @@ def deduplicate_demos(truth, y01):
         the kernel's inner loops); ``w_pos`` / ``w_neg`` (n_unique,) float64, the numbers of
         acceptable / unacceptable demonstrations behind every unique row; their sums.
     """
-    rows, inverse = np.unique(truth, axis=0, return_inverse=True)
-    inverse = inverse.ravel()
+    first, inverse = unique_rows(truth)
+    rows = truth[first]
     w_pos = np.bincount(inverse, weights=(y01 == 1).astype(float), minlength=len(rows))
     w_neg = np.bincount(inverse, weights=(y01 == 0).astype(float), minlength=len(rows))
     truth_t = np.ascontiguousarray(rows.T)
