@@ -28,6 +28,7 @@ import itertools
 import math
 
 import numpy as np
+from numba import njit
 
 from bsi_sklearn.inference._neighbour_weights import NeighbourWeigher
 
@@ -194,14 +195,54 @@ def found_by_chain(closure, visited, per_chain, keys):
     """For each chain, what its visited states lead to (:meth:`Closure.reach`).
 
     ``per_chain`` holds each chain's visited states (indices into ``visited``); ``keys`` is
-    :func:`found_states`' order. Returns index arrays into it, one per chain.
+    :func:`found_states`' order. Returns index arrays into it, one per chain, sorted.
+
+    The same traversal as :meth:`Closure.reach`, over the found states numbered by ``keys``:
+    the weighed states' neighbour lists become one array of edges (every state a chain can
+    reach is among those found, as the update traversed from every visited state), walked
+    in compiled code once per chain.
     """
     index = {k: i for i, k in enumerate(keys)}
-    mine = row_keys(visited)
-    out = []
-    for rows in per_chain:
-        got = closure.reach({mine[i] for i in np.unique(rows).tolist()})
-        at = np.fromiter(map(index.get, got, itertools.repeat(-1)), dtype=np.int64,
-                         count=len(got))
-        out.append(np.sort(at[at >= 0]))
-    return out
+    starts, targets, lps = [0] * (len(keys) + 1), [], []
+    for k, i in index.items():
+        near = closure._near.get(k)
+        if near is not None:
+            near_lps, near_keys = near
+            targets.append(np.fromiter(map(index.get, near_keys, itertools.repeat(-1)),
+                                       dtype=np.int64, count=len(near_keys)))
+            lps.append(np.asarray(near_lps, dtype=float))
+            starts[i + 1] = len(near_keys)
+    indptr = np.cumsum(np.array(starts, dtype=np.int64))
+    targets = np.concatenate(targets) if targets else np.empty(0, dtype=np.int64)
+    lps = np.concatenate(lps) if lps else np.empty(0)
+    mine = np.fromiter(map(index.__getitem__, row_keys(visited)), dtype=np.int64,
+                       count=len(visited))
+    floor, expand = closure._levels
+    return [_reach(indptr, targets, lps, mine[np.unique(rows)], float(floor), float(expand))
+            for rows in per_chain]
+
+
+@njit(cache=True, nogil=True)
+def _reach(indptr, targets, lps, sources, floor, expand):
+    # Closure.reach over numbered states: the sources, each state above the floor one block
+    # from a state walked, and on from those within expand of the best; sorted indices.
+    n = indptr.shape[0] - 1
+    mark = np.zeros(n, dtype=np.bool_)
+    stack = np.empty(n, dtype=np.int64)
+    top = 0
+    for s in sources:
+        if not mark[s]:
+            mark[s] = True
+            stack[top] = s
+            top += 1
+    while top > 0:
+        top -= 1
+        u = stack[top]
+        for e in range(indptr[u], indptr[u + 1]):
+            v = targets[e]
+            if v >= 0 and lps[e] >= floor and not mark[v]:
+                mark[v] = True
+                if lps[e] >= expand:
+                    stack[top] = v
+                    top += 1
+    return np.flatnonzero(mark)

@@ -139,3 +139,19 @@ def test_a_chain_reaches_what_its_own_states_lead_to(problem):
     own = {rows[2].tobytes()} | {r.tobytes() for r in
                                   weigh_neighbours(rows[2:3], demos, model, floor)[0]}
     assert own <= {keys[i] for i in alone}
+
+
+def test_the_compiled_traversal_is_the_closures_reach(problem):
+    # found_by_chain walks numbered states in compiled code: the same sets as Closure.reach
+    from bsi_sklearn.inference._closure import found_by_chain
+
+    model, demos, rows, lp = problem
+    rng = np.random.default_rng(0)
+    first = rng.integers(0, 50, size=len(rows))
+    closure = Closure(demos, model)
+    near = closure.update(rows, lp, first)
+    _, _, keys = found_states(rows, lp, first, near)
+    chains = [rng.choice(len(rows), size=k) for k in (1, 2, 5, len(rows))]
+    for chain, got in zip(chains, found_by_chain(closure, rows, chains, keys)):
+        expected = closure.reach({rows[i].tobytes() for i in chain})
+        assert [keys[i] for i in got] == sorted(expected, key=keys.index)
