@@ -211,10 +211,13 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
 
         - ``rhat``: split-R-hat of the chains' log posteriors (``inf`` when chains sit on
           different values, ``nan`` with fewer than 4 samples);
-        - ``missed_mass_per_chain``, ``max_missed_mass``: the mass each chain never reached
-          (visited, or weighed one Gibbs block from a state it visited), among the states the
-          chains visited (the total variation between that chain's own reweighted posterior
-          and theirs);
+        - ``missed_mass_per_chain``, ``max_missed_mass``: the mass each chain never reached,
+          as ``n_samples="auto"``'s stopping rule counts it: among the states found, those
+          its visited states do not lead to through the weighed neighbours (one Gibbs block,
+          or one exchange of two subtasks between ties of the best); past the closure's
+          budget, or with a fixed ``n_samples``, among the states the chains visited, those
+          it neither visited nor weighed one block from a state it visited (the total
+          variation between that chain's own reweighted posterior and theirs);
         - ``optimum_log_posterior``: the log posterior (unnormalised) of a deterministic
           optimum (a beam search over one-block changes), where every chain starts;
           ``best_visited_log_posterior``: the best state the chains recorded;

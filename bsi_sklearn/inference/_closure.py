@@ -30,6 +30,7 @@ import math
 import numpy as np
 from numba import njit
 
+from bsi_sklearn.inference._exchanges import ExchangeWeigher
 from bsi_sklearn.inference._neighbour_weights import NeighbourWeigher
 
 __all__ = ["Closure", "found_states", "found_by_chain", "CLOSURE_WORK", "CLOSURE_BYTES",
@@ -50,6 +51,23 @@ CLOSURE_FLOOR = math.log(1e12)
 #: 1e4) below the best state found. On the mixing benchmark's slowest problems log 1e3
 #: stopped at TV 0.0016-0.0044, log 1e6 at 0.0000 but up to 4x slower; log 1e4: 0.0006-0.0011.
 CLOSURE_EXPAND = math.log(1e4)
+#: Found states whose exchanges of two subtasks' places are weighed too (:mod:`._exchanges`):
+#: those this many nats or less below the best state found, the ties of a plateau of equally
+#: probable specifications (interchangeable subtasks of an event log's orders), which are two
+#: blocks apart across a valley and one exchange apart.
+EXCHANGE_LEVEL = 1e-9
+#: The ties' work (their neighbours and exchanges weighed) may go beyond ``CLOSURE_WORK`` up
+#: to this share of the sampling the chains may still do (:func:`~.mcmc.sampling_count`, in
+#: the closure's units: it counts about 1e10 a second on a 2-core Xeon, the chains 7e8): a
+#: plateau found whole stops the chains rounds earlier. Other states stay within
+#: ``CLOSURE_WORK``, so posteriors without ties cost what they did.
+PLATEAU_SHARE = 0.25 * 1e10 / 7e8
+#: The memory the ties' lists may hold beyond ``CLOSURE_BYTES``, in bytes: every distinct key
+#: once (its int16 row's bytes and ``KEY_BYTES`` of object and dictionary entry), and
+#: ``REF_BYTES`` per entry of a list (two list slots and a float).
+PLATEAU_BYTES = 2**27
+KEY_BYTES = 96
+REF_BYTES = 40
 
 _NEVER = int(np.iinfo(np.int64).max)  # a time later than every sweep
 
@@ -68,29 +86,83 @@ class Closure:
     The visited states, their neighbours, and so on through the most probable states.
     """
 
-    def __init__(self, demos, model, max_work=None):
+    def __init__(self, demos, model, max_work=None, sampling_work=0.0):
         self.demos, self.model = demos, model
         self.left = float(CLOSURE_WORK if max_work is None else max_work)
+        # the ties' own budget, beyond which they are charged to the one above
+        self.tied_left = PLATEAU_SHARE * float(sampling_work)
+        self.tied_bytes_left = float(PLATEAU_BYTES)
+        self._held = {}  # every neighbour's key, once: the lists share them
         self.bytes_left = float(CLOSURE_BYTES)
         self.given_up = False
         # a weighed state's bytes -> its neighbours, their log posteriors and their bytes
         self._near = {}
         self._levels = (np.inf, np.inf)  # the floor and the expansion level of the last update
         self._weigher = None  # its scratch space, allocated at the first state weighed
+        self._exchanger = None
+        self._exchanged = set()  # the weighed states whose lists hold their exchanges too
 
-    def _weigh(self, row, floor):
+    def _charge(self, spent, tied):
+        # A tie's work is charged to the ties' budget while it lasts.
+        if tied:
+            self.tied_left -= spent
+            if self.tied_left >= 0:
+                return
+            spent, self.tied_left = -self.tied_left, 0.0
+        self.left -= spent
+
+    def _weigh(self, row, floor, tied=False):
         # Weigh the neighbours of a state not weighed yet; False past the budget.
         if self._weigher is None:
             self._weigher = NeighbourWeigher(self.demos, self.model)
-        near, lps, _, done, spent = self._weigher.within(row[None, :], floor, self.left)
-        self.left -= spent
-        self.bytes_left -= len(near) * (4 * near.shape[1] + 64)
+        near, lps, _, done, spent = self._weigher.within(row[None, :], floor, np.inf)
+        self._charge(spent, tied)
+        keys = self._keys_of(near, tied)
         if not done or self.left < 0 or self.bytes_left < 0:
-            self.given_up = True
-            self._near.clear()
+            self._give_up()
             return False
         # Python floats and bytes: the traversals below run over them element by element
-        self._near[row.tobytes()] = (lps.tolist(), row_keys(near))
+        self._near[row.tobytes()] = (lps.tolist(), keys)
+        return True
+
+    def _keys_of(self, near, tied):
+        # The neighbours' keys, each distinct key held once, and their memory charged: a
+        # tie's list to the ties' memory while it lasts (what is held: the distinct keys once,
+        # and each entry's slots and float), other lists as before (a row, its key and their
+        # references per entry).
+        held = self._held
+        before = len(held)
+        keys = [held.setdefault(k, k) for k in row_keys(near)]
+        if not tied:
+            self.bytes_left -= len(near) * (4 * near.shape[1] + 64)
+            return keys
+        self.tied_bytes_left -= ((len(held) - before) * (2 * near.shape[1] + KEY_BYTES)
+                                 + len(near) * REF_BYTES)
+        if self.tied_bytes_left < 0:
+            self.bytes_left += self.tied_bytes_left
+            self.tied_bytes_left = 0.0
+        return keys
+
+    def _give_up(self):
+        self.given_up = True
+        self._near.clear()
+        self._held.clear()
+
+    def _exchange(self, key, floor):
+        # Add to a weighed state's list the states that exchange two of its subtasks' places
+        # (:mod:`._exchanges`); False past the budget.
+        if self._exchanger is None:
+            self._exchanger = ExchangeWeigher(self.demos, self.model)
+        near, lps, spent = self._exchanger.within(np.frombuffer(key, dtype=np.int16), floor)
+        self._charge(spent, True)
+        keys = self._keys_of(near, True)
+        if self.left < 0 or self.bytes_left < 0:
+            self._give_up()
+            return False
+        own_lps, own_keys = self._near[key]
+        own_lps.extend(lps.tolist())
+        own_keys.extend(keys)
+        self._exchanged.add(key)
         return True
 
     def update(self, visited, visited_lp, first):
@@ -117,10 +189,14 @@ class Closure:
         # Visited states first, then the states found within `expand`, earliest first: a
         # state's time is the least time of a weighed state it is one block from.
         when, lp_of, heap = {}, {}, []
-        for key, t in zip(row_keys(visited), first.tolist()):
+        visited_at = {}  # the log posteriors of the visited states
+        for key, t, lp in zip(row_keys(visited), first.tolist(), visited_lp.tolist()):
+            visited_at[key] = lp
             if t < when.get(key, _NEVER):
                 when[key] = t
                 heapq.heappush(heap, (t, key))
+        tied = best - EXCHANGE_LEVEL
+        exchanges = self.model.n >= 2
         weighed = set(when)  # the visited states, then those found within `expand`
         done = set()
         while heap:
@@ -128,8 +204,11 @@ class Closure:
             if key in done or t > when[key]:
                 continue
             done.add(key)
+            is_tied = exchanges and lp_of.get(key, visited_at.get(key, -np.inf)) >= tied
             if key not in self._near and not self._weigh(
-                    np.frombuffer(key, dtype=np.int16), floor):
+                    np.frombuffer(key, dtype=np.int16), floor, is_tied):
+                return None
+            if is_tied and key not in self._exchanged and not self._exchange(key, floor):
                 return None
             lps, keys = self._near[key]
             for lp, k in zip(lps, keys):

@@ -10,7 +10,8 @@ __all__ = ["split_rhat", "missed_mass", "total_variation", "disagreement_problem
 #: Split-R-hat of the chains' log posteriors above which the chains have not mixed.
 RHAT_WARN = 1.05
 #: A chain that never reached more than this much of the posterior mass the chains found
-#: (neither visited it nor weighed it one Gibbs block from a visited state): chains disagree.
+#: (neither visited it nor led to it from a visited state through weighed neighbours):
+#: chains disagree.
 MISSED_WARN = 0.05
 #: A deterministic optimum more probable than every visited state by more than this factor
 #: (log 20): the chains sit on a wrong mode, however well they agree.
@@ -153,9 +154,9 @@ def disagreement_problems(diag):
         problems.append(
             f"MCMC chains disagree: chain {chain} never reached specifications holding "
             f"{worst:.1%} of the mass the chains found (> {MISSED_WARN:.0%}; "
-            "mcmc_diagnostics_['missed_mass_per_chain']: neither visited them nor weighed "
-            "them one block from a state it visited), so the reported posterior is "
-            "unreliable.")
+            "mcmc_diagnostics_['missed_mass_per_chain']: neither visited them nor led to "
+            "them from a state it visited through weighed neighbours), so the reported "
+            "posterior is unreliable.")
     if diag["rhat"] > RHAT_WARN:  # nan (too few samples) does not warn
         problems.append(
             f"MCMC chains have not mixed: the split-R-hat of their log posteriors is "

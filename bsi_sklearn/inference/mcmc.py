@@ -310,8 +310,9 @@ def sampling_count(truth, y01, model, *, n_chains, n_samples, burn_in, n_tempera
 def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
     # Run the chains round by round (one round for a fixed n_samples) until the stopping rule
     # holds; returns their results, the unique states visited with their sample counts, the
-    # states each chain reached (indices into them), the states' exact log posteriors, and the
-    # rounds' record.
+    # mass each chain missed (as the stopping rule counts it where the closure is computed;
+    # else among the visited states, from what it reached), the states' exact log
+    # posteriors, the rounds' record and the closure's states.
     from sklearn.utils.parallel import Parallel, delayed
 
     bar = None
@@ -321,7 +322,12 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
         bar = tqdm(total=len(runs) * plan[-1], desc="MCMC sweeps", unit="sweep")
     scored = {}  # the exact log posterior of every state seen, by its row's bytes
     record, done, near = [], 0, None
-    closure = Closure(demos, model)
+    # What the chains may still do after the first round (sampling_count's count): a plateau
+    # of ties found whole by the closure saves it.
+    n_g, n = model.n_g, model.n
+    per_sweep = (n_g + n + n * (n + 1)) * demos.truth_t.shape[1]
+    closure = Closure(demos, model, sampling_work=float(sum(
+        len(run.betas) for run in runs)) * (plan[-1] - plan[0]) * per_sweep)
     # Chains are threads of this process (the kernels release the GIL), also when an outer
     # joblib backend such as dask distributes whole fits.
     with Parallel(n_jobs=n_jobs, backend="threading") as parallel:
@@ -364,15 +370,20 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
                 shares = found_by_chain(closure, visited, per_chain, keys)
             stop, detail = should_stop(shares, probs, first,
                                        np.stack([r.trace_lp for r in results]))
+            # what each chain missed, as the stopping rule counted it
+            missed = missed_mass(shares, probs)
             record.append(dict(detail, n_samples=done))
             if stop:
                 break
     if bar is not None:
         bar.close()
-    if reached is None:  # what each chain reached, for its missed mass
-        reached = reach(visited, model, per_chain)
+    if near is None:  # what each chain reached among the states visited, and missed
+        if reached is None:
+            reached = reach(visited, model, per_chain)
+        own = np.exp(visited_lp - visited_lp.max())
+        missed = missed_mass(reached, own / own.sum())
     stopping = {"rounds": record, "stopped_early": done < plan[-1]}
-    return results, visited, counts, reached, visited_lp, stopping, near
+    return results, visited, counts, missed, visited_lp, stopping, near
 
 
 def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
@@ -425,7 +436,7 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     plan = rounds() if n_samples == "auto" else [int(n_samples)]
     runs = [ChainRun(int(seed), demos, model, betas, optimum, burn_in=int(burn_in),
                      target=optimum_lp - MODE_WARN, max_extra=plan[-1]) for seed in seeds]
-    results, visited, counts, reached, visited_lp, stopping, near = _run_rounds(
+    results, visited, counts, missed, visited_lp, stopping, near = _run_rounds(
         runs, plan, demos, model, n_jobs, verbose)
     # The support: the visited states, the optimum, what the last round found one block from
     # the visited states, and the neighbourhood of the most probable.
@@ -447,10 +458,6 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     uniq, counts, scores = uniq[order], counts[order], scores[order]
     probs = np.exp(scores - scores.max())
     probs /= probs.sum()
-    # The mass each chain missed (neither visited nor weighed one block from a visited
-    # state), among the states the chains visited (own normalisation).
-    own = np.exp(visited_lp - visited_lp.max())
-    missed = missed_mass(reached, own / own.sum())
     traces = np.stack([r.trace_lp for r in results])
     moves = np.array([r.move_rate for r in results])
     best_visited = float(visited_lp.max())

@@ -1,14 +1,22 @@
 """What the chains found (``_closure``): through the most probable states, once each, in budget.
 
 The reference is a fixed-point iteration over ``weigh_neighbours`` (itself tested against
-the local search's from-scratch scores).
+the local search's from-scratch scores) and, from the ties of the best, ``exchange_neighbours``
+(tested against exchanging by hand and ``score_states``).
 """
 
 import numpy as np
 import pytest
 
 from bsi_sklearn.inference import _closure
-from bsi_sklearn.inference._closure import CLOSURE_EXPAND, CLOSURE_FLOOR, Closure, found_states
+from bsi_sklearn.inference._closure import (
+    CLOSURE_EXPAND,
+    CLOSURE_FLOOR,
+    EXCHANGE_LEVEL,
+    Closure,
+    found_states,
+)
+from bsi_sklearn.inference._exchanges import ExchangeWeigher, exchange_neighbours
 from bsi_sklearn.inference._neighbour_weights import weigh_neighbours
 from bsi_sklearn.inference.mcmc import deduplicate_demos, score_states, unique_states
 from bsi_sklearn.model import make_model
@@ -30,15 +38,19 @@ def problem():
 
 def _reference(rows, lp, first, demos, model):
     # The closure by fixed-point iteration: weigh the visited states and every found state
-    # within CLOSURE_EXPAND of the best visited one, until no state's time (the least first
-    # visit of a weighed state it is reached from) changes.
+    # within CLOSURE_EXPAND of the best visited one (and the exchanges of its ties), until no
+    # state's time (the least first visit of a weighed state it is reached from) changes.
     neighbours = {}
+    score = {r.tobytes(): float(s) for r, s in zip(rows, lp)}
+    tied = float(lp.max()) - EXCHANGE_LEVEL
 
     def near(row):
         key = row.tobytes()
         if key not in neighbours:
             got = weigh_neighbours(row[None, :], demos, model, -np.inf)
             neighbours[key] = list(zip(got[0], got[1]))
+            if score[key] >= tied:
+                neighbours[key] += list(zip(*exchange_neighbours(row, demos, model, -np.inf)))
         return neighbours[key]
 
     when = {r.tobytes(): int(f) for r, f in zip(rows, first)}
@@ -48,6 +60,7 @@ def _reference(rows, lp, first, demos, model):
         changed = False
         for key, row in list(weighed.items()):
             for nrow, s in near(row):
+                score.setdefault(nrow.tobytes(), float(s))
                 if s < floor:
                     continue
                 k = nrow.tobytes()
@@ -75,6 +88,61 @@ def test_the_closure_is_found_through_the_most_probable_states_with_first_times(
     # a lone visited state of a flat problem already reaches far beyond its neighbours
     one = Closure(demos, model).update(rows[:1], lp[:1], first[:1])
     assert len(one[0]) > len(weigh_neighbours(rows[:1], demos, model, -np.inf)[0])
+
+
+def _plateau():
+    # Every acceptable demonstration keeps 4 < 0, and 4 < b and 0 < b for b = 1, 2, 3, and
+    # nothing else: under chains, 4 -> 0 -> 1, 4 -> 0 -> 2 and 4 -> 0 -> 3 are equally
+    # probable. From one to another is two blocks (take b out, put c in: moving 0 instead
+    # loses 4 -> 0) across a valley of two orders (2 x 60 log 2 nats, below the floor). One
+    # exchange joins them.
+    n_g, n = 1, 5
+    truth = np.zeros((80, n_g + n + n * n), dtype=np.uint8)
+    y01 = (np.arange(80) < 60).astype(np.int64)
+    truth[:60, :n_g + n] = 1
+    for a, b in [(4, 0), (4, 1), (4, 2), (4, 3), (0, 1), (0, 2), (0, 3)]:
+        truth[:60, n_g + n + a * n + b] = 1
+    for a in range(n):
+        truth[:, n_g + n + a * n + a] = 1
+    model = make_model(prior="sets_of_chains", likelihood="cb", n_globals=n_g, n_subtasks=n)
+    demos = deduplicate_demos(truth, y01)
+    plateau = []
+    for b in (1, 2, 3):
+        parent = [-1] * n
+        parent[0], parent[b] = 4, 0
+        plateau.append(join_state([1], [1] * n, parent, dtype=np.int16))
+    lp = score_states(np.array(plateau, dtype=np.int64), demos, model)
+    return model, demos, plateau, lp
+
+
+def test_a_plateau_two_blocks_apart_is_found_whole_through_exchanges(monkeypatch):
+    model, demos, plateau, lp = _plateau()
+    assert lp[0] == lp[1] == lp[2]
+    first = np.zeros(1, dtype=np.int64)
+    rows, found_lp, when = Closure(demos, model).update(plateau[0][None, :], lp[:1], first)
+    got = {r.tobytes(): s for r, s in zip(rows, found_lp)}
+    assert all(got[r.tobytes()] == lp[0] for r in plateau)  # exact, as score_states
+    assert when.max() == 0
+    # without the exchanges, one block at a time, the other two are out of reach
+    monkeypatch.setattr(ExchangeWeigher, "within",
+                        lambda self, row, floor: (np.empty((0, row.shape[0]), np.int16),
+                                                  np.empty(0), 0.0))
+    rows, _, _ = Closure(demos, model).update(plateau[0][None, :], lp[:1], first)
+    assert {r.tobytes() for r in plateau[1:]} & {r.tobytes() for r in rows} == set()
+
+
+def test_ties_are_weighed_beyond_the_closure_budget_within_their_own():
+    # Work on the ties of the best is charged to their own budget first (a share of the
+    # sampling the chains may still do): with no other budget the plateau is still found
+    # whole, and without that share the closure gives up.
+    model, demos, plateau, lp = _plateau()
+    first = np.zeros(1, dtype=np.int64)
+    closure = Closure(demos, model, max_work=0.0, sampling_work=1e12)
+    rows, _, _ = closure.update(plateau[0][None, :], lp[:1], first)
+    assert {r.tobytes() for r in plateau} <= {r.tobytes() for r in rows}
+    assert 0 < closure.tied_left < _closure.PLATEAU_SHARE * 1e12
+    assert Closure(demos, model, max_work=0.0).update(plateau[0][None, :], lp[:1],
+                                                      first) is None
 
 
 def test_each_state_is_weighed_once(problem, monkeypatch):
