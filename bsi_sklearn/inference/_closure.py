@@ -100,6 +100,7 @@ class Closure:
         self.tied_left = PLATEAU_SHARE * float(sampling_work)
         self.tied_bytes_left = float(PLATEAU_BYTES)
         self._held = {}  # every neighbour's key, once: the lists share them
+        self._tie_cost = (np.inf, np.inf)  # the least work and memory a tie has taken
         self.bytes_left = float(CLOSURE_BYTES)
         self.given_up = False
         # a weighed state's bytes -> its neighbours, their log posteriors and their bytes
@@ -149,6 +150,26 @@ class Closure:
             self.bytes_left += self.tied_bytes_left
             self.tied_bytes_left = 0.0
         return keys
+
+    def _weigh_tie(self, key, floor, n_pending):
+        # Weigh a tie's neighbours (unless weighed already) and exchanges. False past the
+        # budgets, or as soon as the ties found and not weighed yet would pass them at the
+        # least work and memory a tie has cost so far (a plateau too large to list is given up
+        # at once, not after the budgets are spent).
+        work, held = self.left + self.tied_left, self.bytes_left + self.tied_bytes_left
+        if key not in self._near and not self._weigh(np.frombuffer(key, dtype=np.int16),
+                                                     floor, True):
+            return False
+        if not self._exchange(key, floor):
+            return False
+        work -= self.left + self.tied_left
+        held -= self.bytes_left + self.tied_bytes_left
+        self._tie_cost = (min(self._tie_cost[0], work), min(self._tie_cost[1], held))
+        if (n_pending * self._tie_cost[0] > self.left + self.tied_left
+                or n_pending * self._tie_cost[1] > self.bytes_left + self.tied_bytes_left):
+            self._give_up()
+            return False
+        return True
 
     def _give_up(self):
         self.given_up = True
@@ -206,16 +227,19 @@ class Closure:
         exchanges = self.model.n >= 2
         weighed = set(when)  # the visited states, then those found within `expand`
         done = set()
+        pending = set()  # ties found whose exchanges are not weighed yet
         while heap:
             t, key = heapq.heappop(heap)
             if key in done or t > when[key]:
                 continue
             done.add(key)
             is_tied = exchanges and lp_of.get(key, visited_at.get(key, -np.inf)) >= tied
-            if key not in self._near and not self._weigh(
-                    np.frombuffer(key, dtype=np.int16), floor, is_tied):
-                return None
-            if is_tied and key not in self._exchanged and not self._exchange(key, floor):
+            if is_tied and key not in self._exchanged:
+                pending.discard(key)
+                if not self._weigh_tie(key, floor, len(pending)):
+                    return None
+            elif key not in self._near and not self._weigh(
+                    np.frombuffer(key, dtype=np.int16), floor):
                 return None
             lps, keys = self._near[key]
             for lp, k in zip(lps, keys):
@@ -228,6 +252,8 @@ class Closure:
                         weighed.add(k)
                     if k in weighed:
                         heapq.heappush(heap, (t, k))
+                        if lp >= tied and exchanges and k not in self._exchanged:
+                            pending.add(k)
                 elif k not in lp_of:
                     lp_of[k] = lp
         found = list(lp_of)
