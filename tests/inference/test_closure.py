@@ -223,3 +223,22 @@ def test_the_compiled_traversal_is_the_closures_reach(problem):
     for chain, got in zip(chains, found_by_chain(closure, rows, chains, keys)):
         expected = closure.reach({rows[i].tobytes() for i in chain})
         assert [keys[i] for i in got] == sorted(expected, key=keys.index)
+
+
+def test_a_plateau_too_large_for_the_budget_is_given_up_at_once():
+    # With room for about one tie's work, the first tie's exchanges find two more ties: at
+    # the first tie's cost they would pass what is left, so the closure gives up then,
+    # without spending the rest.
+    model, demos, plateau, lp = _plateau()
+    first = np.zeros(1, dtype=np.int64)
+    probe = Closure(demos, model, max_work=0.0, sampling_work=1e12)
+    probe.update(plateau[0][None, :], lp[:1], first)
+    whole = _closure.PLATEAU_SHARE * 1e12 - probe.tied_left  # the three ties' work
+    per_tie = probe._tie_cost[0]
+    assert whole >= 3 * per_tie
+    closure = Closure(demos, model, max_work=0.0,
+                      sampling_work=1.5 * per_tie / _closure.PLATEAU_SHARE)
+    assert closure.update(plateau[0][None, :], lp[:1], first) is None
+    assert closure.given_up
+    spent = 1.5 * per_tie - closure.tied_left - closure.left
+    assert spent < 2 * per_tie < whole  # one tie weighed, not three
