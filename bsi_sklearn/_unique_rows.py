@@ -46,11 +46,10 @@ def unique_rows(a):
     if bits > 62:  # a column would not fit a word: np.unique's own sort
         _, first, inverse = np.unique(a, axis=0, return_index=True, return_inverse=True)
         return first.astype(np.int64), inverse.ravel().astype(np.int64)
-    shifted = a.astype(np.int64) - low
     per = 63 // bits
     words = []
-    for start in range(0, width, per):
-        block = shifted[:, start:start + per]
+    for start in range(0, width, per):  # a block of columns at a time: no int64 copy of `a`
+        block = a[:, start:start + per].astype(np.int64) - low
         weights = np.left_shift(np.int64(1), bits * np.arange(block.shape[1] - 1, -1, -1,
                                                                dtype=np.int64))
         words.append(block @ weights)
