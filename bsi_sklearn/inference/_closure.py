@@ -37,6 +37,7 @@ import math
 import numpy as np
 from numba import njit
 
+from bsi_sklearn._unique_rows import row_keys
 from bsi_sklearn.inference._exchanges import ExchangeWeigher
 from bsi_sklearn.inference._neighbour_weights import NeighbourWeigher
 
@@ -79,12 +80,10 @@ REF_BYTES = 40
 _NEVER = int(np.iinfo(np.int64).max)  # a time later than every sweep
 
 
-def row_keys(rows):
-    """Every row's bytes as int16, the key the closure holds it by (one C-level pass)."""
-    rows = np.ascontiguousarray(rows, dtype=np.int16)
-    if rows.shape[1] == 0:
-        return [b""] * len(rows)
-    return rows.view(np.dtype((np.void, 2 * rows.shape[1]))).ravel().tolist()
+def _draw(own, general, amount):
+    # `amount` taken from `own` while it lasts, the rest from `general`: both left after.
+    own -= amount
+    return (own, general) if own >= 0 else (0.0, general + own)
 
 
 class Closure:
@@ -113,20 +112,18 @@ class Closure:
     def _charge(self, spent, tied):
         # A tie's work is charged to the ties' budget while it lasts.
         if tied:
-            self.tied_left -= spent
-            if self.tied_left >= 0:
-                return
-            spent, self.tied_left = -self.tied_left, 0.0
-        self.left -= spent
+            self.tied_left, self.left = _draw(self.tied_left, self.left, spent)
+        else:
+            self.left -= spent
 
     def _weigh(self, row, floor, tied=False):
         # Weigh the neighbours of a state not weighed yet; False past the budget.
         if self._weigher is None:
             self._weigher = NeighbourWeigher(self.demos, self.model)
-        near, lps, _, done, spent = self._weigher.within(row[None, :], floor, np.inf)
+        near, lps, _, _, spent = self._weigher.within(row[None, :], floor)
         self._charge(spent, tied)
         keys = self._keys_of(near, tied)
-        if not done or self.left < 0 or self.bytes_left < 0:
+        if self.left < 0 or self.bytes_left < 0:
             self._give_up()
             return False
         # Python floats and bytes: the traversals below run over them element by element
@@ -144,11 +141,9 @@ class Closure:
         if not tied:
             self.bytes_left -= len(near) * (4 * near.shape[1] + 64)
             return keys
-        self.tied_bytes_left -= ((len(held) - before) * (2 * near.shape[1] + KEY_BYTES)
-                                 + len(near) * REF_BYTES)
-        if self.tied_bytes_left < 0:
-            self.bytes_left += self.tied_bytes_left
-            self.tied_bytes_left = 0.0
+        self.tied_bytes_left, self.bytes_left = _draw(
+            self.tied_bytes_left, self.bytes_left,
+            (len(held) - before) * (2 * near.shape[1] + KEY_BYTES) + len(near) * REF_BYTES)
         return keys
 
     def _weigh_tie(self, key, floor, n_pending):
@@ -262,25 +257,6 @@ class Closure:
                 np.array([lp_of[k] for k in found], dtype=float),
                 np.array([when[k] for k in found], dtype=np.int64))
 
-    def reach(self, keys):
-        """What the states ``keys`` (bytes of visited rows) lead to, as the last update found.
-
-        The same traversal as :meth:`update` from these states alone (one chain's): the
-        states themselves, and the states above the floor one block from them or from a state
-        so found within ``CLOSURE_EXPAND`` of the best. Call after :meth:`update` (it weighed
-        every state this traverses); returns a set of bytes.
-        """
-        floor, expand = self._levels
-        out, todo = set(keys), list(keys)
-        while todo:
-            lps, near = self._near[todo.pop()]
-            for lp, k in zip(lps, near):
-                if lp >= floor and k not in out:
-                    out.add(k)
-                    if lp >= expand:
-                        todo.append(k)
-        return out
-
 
 def found_states(visited, visited_lp, first, near):
     """Every state found, its probability among them, the first sweep it was found at, its key.
@@ -304,15 +280,18 @@ def found_states(visited, visited_lp, first, near):
 
 
 def found_by_chain(closure, visited, per_chain, keys):
-    """For each chain, what its visited states lead to (:meth:`Closure.reach`).
+    """For each chain, what its visited states lead to, as the last update found.
 
     ``per_chain`` holds each chain's visited states (indices into ``visited``); ``keys`` is
     :func:`found_states`' order. Returns index arrays into it, one per chain, sorted.
 
-    The same traversal as :meth:`Closure.reach`, over the found states numbered by ``keys``:
-    the weighed states' neighbour lists become one array of edges (every state a chain can
-    reach is among those found, as the update traversed from every visited state), walked
-    in compiled code once per chain.
+    The same traversal as :meth:`Closure.update` from one chain's visited states: the states
+    themselves, and the states above the floor one block (or one exchange, from a tie) from
+    them or from a state so found within ``CLOSURE_EXPAND`` of the best. Call after the
+    update (it weighed every state this traverses). The found states are numbered by
+    ``keys`` and the weighed states' neighbour lists become one array of edges (every state a
+    chain can reach is among those found, as the update traversed from every visited
+    state), walked in compiled code once per chain.
     """
     index = {k: i for i, k in enumerate(keys)}
     starts, targets, lps = [0] * (len(keys) + 1), [], []
@@ -336,8 +315,9 @@ def found_by_chain(closure, visited, per_chain, keys):
 
 @njit(cache=True, nogil=True)
 def _reach(indptr, targets, lps, sources, floor, expand):
-    # Closure.reach over numbered states: the sources, each state above the floor one block
-    # from a state walked, and on from those within expand of the best; sorted indices.
+    # found_by_chain's traversal over numbered states: the sources, each state above the
+    # floor one block from a state walked, and on from those within expand of the best;
+    # sorted indices.
     n = indptr.shape[0] - 1
     mark = np.zeros(n, dtype=np.bool_)
     stack = np.empty(n, dtype=np.int64)

@@ -23,6 +23,7 @@ import math
 import numpy as np
 from numba import njit
 
+from bsi_sklearn._unique_rows import row_keys
 from bsi_sklearn.inference._chain_kernel import fill_viol
 from bsi_sklearn.inference._gibbs_moves import add_pair, sat_counts
 from bsi_sklearn.model.clauses import clause_index_order
@@ -45,7 +46,7 @@ class ExchangeWeigher:
         self.demos, self.model = demos, model
         n, d = model.n, demos.truth_t.shape[1]
         self.viol = np.zeros((2, d), dtype=np.int32)
-        self.parents = np.empty((3, n), dtype=np.int64)
+        self.parents = np.empty((2, n), dtype=np.int64)  # the row's and the exchanged
         n_cols = state_width(model.n_g, n)
         self.out = np.empty((max(1, n_exchanges(n)), n_cols), dtype=np.int64)
         self.out_lp = np.empty(self.out.shape[0])
@@ -63,8 +64,7 @@ class ExchangeWeigher:
         # dozen rows per call, where a sort's fixed cost would dominate.
         rows = self.out[:m].astype(np.int16)
         first, seen = [], set()
-        for i, key in enumerate(rows.view(np.dtype((np.void, 2 * rows.shape[1]))).ravel()
-                                .tolist() if m else []):
+        for i, key in enumerate(row_keys(rows)):
             if key not in seen:
                 seen.add(key)
                 first.append(i)

@@ -302,9 +302,20 @@ def sampling_count(truth, y01, model, *, n_chains, n_samples, burn_in, n_tempera
     demos = deduplicate_demos(truth, y01)
     n_samples = MAX_SAMPLES if n_samples == "auto" else n_samples  # at most
     rungs = len(temperature_ladder(demos, model, n_temperatures))
+    return float(n_chains) * (int(n_samples) + int(burn_in)) * rungs * _sweep_work(demos, model)
+
+
+def _sweep_work(demos, model):
+    # One sweep of one replica, as sampling_count counts it: every candidate over every row.
     n_g, n = model.n_g, model.n
-    per_sweep = (n_g + n + n * (n + 1)) * demos.truth_t.shape[1]
-    return float(n_chains) * (int(n_samples) + int(burn_in)) * rungs * per_sweep
+    return (n_g + n + n * (n + 1)) * demos.truth_t.shape[1]
+
+
+def _visited_shares(visited, visited_lp, model, per_chain):
+    # Without the closure: what each chain reached among the visited states (indices into
+    # them), and their exact posterior restricted to them.
+    probs = np.exp(visited_lp - visited_lp.max())
+    return reach(visited, model, per_chain), probs / probs.sum()
 
 
 def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
@@ -324,10 +335,8 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
     record, done, near = [], 0, None
     # What the chains may still do after the first round (sampling_count's count): a plateau
     # of ties found whole by the closure saves it.
-    n_g, n = model.n_g, model.n
-    per_sweep = (n_g + n + n * (n + 1)) * demos.truth_t.shape[1]
     closure = Closure(demos, model, sampling_work=float(sum(
-        len(run.betas) for run in runs)) * (plan[-1] - plan[0]) * per_sweep)
+        len(run.betas) for run in runs)) * (plan[-1] - plan[0]) * _sweep_work(demos, model))
     # Chains are threads of this process (the kernels release the GIL), also when an outer
     # joblib backend such as dask distributes whole fits.
     with Parallel(n_jobs=n_jobs, backend="threading") as parallel:
@@ -347,7 +356,7 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             visited_lp = np.array([scored[row.tobytes()] for row in visited])
             ends = np.cumsum([len(r.states) for r in results])
             per_chain = np.split(row_state, ends[:-1])
-            reached = None
+            shares = None
             if len(plan) == 1:
                 break
             # They stopped finding mass when the states first found late hold little: found
@@ -362,26 +371,20 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             # visited states lead to, or (past the closure's budget) what it reached, visited
             # or weighed one block away (:mod:`._reach`).
             if near is None:
-                reached = reach(visited, model, per_chain)
-                probs = np.exp(visited_lp - visited_lp.max())
-                shares, probs = reached, probs / probs.sum()
+                shares, probs = _visited_shares(visited, visited_lp, model, per_chain)
             else:
                 probs, first, keys = found_states(visited, visited_lp, first, near)
                 shares = found_by_chain(closure, visited, per_chain, keys)
             stop, detail = should_stop(shares, probs, first,
                                        np.stack([r.trace_lp for r in results]))
-            # what each chain missed, as the stopping rule counted it
-            missed = missed_mass(shares, probs)
             record.append(dict(detail, n_samples=done))
             if stop:
                 break
     if bar is not None:
         bar.close()
-    if near is None:  # what each chain reached among the states visited, and missed
-        if reached is None:
-            reached = reach(visited, model, per_chain)
-        own = np.exp(visited_lp - visited_lp.max())
-        missed = missed_mass(reached, own / own.sum())
+    if shares is None:  # one round only: the chains' shares were not counted
+        shares, probs = _visited_shares(visited, visited_lp, model, per_chain)
+    missed = missed_mass(shares, probs)  # as the stopping rule counted it
     stopping = {"rounds": record, "stopped_early": done < plan[-1]}
     return results, visited, counts, missed, visited_lp, stopping, near
 
