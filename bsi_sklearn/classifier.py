@@ -145,9 +145,12 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         and adjacent rungs swap; only beta = 1 is recorded. ``"auto"``: beta halves from rung
         to rung down to ``1 / L``, ``L = max(|log eps|, n_pos log 2)`` (the likelihood's step
         for one demonstration or, CB, one conjunct; ``n_pos`` acceptable demonstrations), so
-        ``1 + ceil(log2 L)`` rungs (8 for 72 demonstrations of the paper's LFE template). An
-        integer sets the number of rungs between 1 and ``1 / L``; 1 turns tempering off.
-        Time grows linearly with it.
+        ``1 + ceil(log2 L)`` rungs (8 for 72 demonstrations of the paper's LFE template),
+        and the burn-in (at least 20 sweeps) is a pilot on that ladder after which the chains
+        keep its two ends and only as many rungs as the measured swap rejections call for
+        (about ``2 Lambda``, ``Lambda`` their sum; 4 to 8 on the LFE template; see Notes). An
+        integer sets the number of rungs between 1 and ``1 / L``, not adapted; 1 turns
+        tempering off. Time grows linearly with the rungs that move.
     max_exact_hypotheses : int or None, default=None
         Largest support enumerated exactly; ``None``: no cap (``"auto"`` decides by the work
         alone). Exact inference sums interchangeable parts of the hypotheses and skips, with a
@@ -222,8 +225,12 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
           optimum (a beam search over one-block changes), where every chain starts;
           ``best_visited_log_posterior``: the best state the chains recorded;
           ``optimum_gap``: the first less the second;
-        - ``betas``: the tempering ladder; ``swap_rate`` (chains x rung pairs): accepted
-          swaps; ``burn_in_per_chain``: sweeps each chain discarded;
+        - ``betas``: the tempering ladder the chains recorded on; ``ladder``: with
+          ``n_temperatures="auto"``, the pilot's ``default_betas``, ``pilot_rejection`` (mean
+          rejection probability of each pair's swaps over the pilot's second half, the
+          chains pooled) and ``barrier`` (their sum), else ``None``; ``swap_rate`` (chains x
+          rung pairs): accepted swaps after the pilot; ``burn_in_per_chain``: sweeps each
+          chain discarded, the pilot's included;
         - ``acceptance_rate`` (and ``_per_chain``): fraction of the beta = 1 replica's block
           updates that changed its state; ``n_updates``: block updates of all replicas;
         - ``n_visited``: states the chains recorded; ``n_added``: states of ``posterior_``
@@ -244,7 +251,13 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     posterior than sample frequencies (kept in ``mcmc_diagnostics_``). Every chain runs a
     ladder of tempered replicas (``n_temperatures``) from the deterministic optimum (a beam
     search's best basin, which single-coordinate moves often miss on large problems) for
-    ``burn_in`` sweeps, and longer while it is 20 times less probable than the optimum.
+    ``burn_in`` sweeps, and longer while it is 20 times less probable than the optimum. The
+    burn-in runs on the default ladder and measures how often each pair of adjacent rungs
+    refuses a swap; the chains then go on with the same coldest and hottest rungs and the
+    fewest rungs in between that keep about half the swaps accepted, placed at equal steps of
+    the summed rejections (the schedule of non-reversible parallel tempering, Syed et al.
+    2022), one ladder for every chain. Rungs whose replicas sit in the same state cost almost
+    nothing, so the time saved is less than the rungs shed.
     ``n_samples="auto"`` records 500, 1,000, 2,000, ... up to 10,000 sweeps, until the chains
     agree and stop finding mass (:mod:`bsi_sklearn.inference.stopping`). The support is what
     the chains recorded, the optimum, and the one-block neighbours of the states holding 99%

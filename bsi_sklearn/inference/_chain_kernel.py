@@ -384,6 +384,7 @@ class ChainLoop(NamedTuple):
 
     slot: np.ndarray       # (R,) int64: slot[k] is the replica on rung k
     swaps: np.ndarray      # (R - 1,) int64: accepted swaps between rungs k and k + 1
+    accept: np.ndarray     # (R - 1,): their acceptance probabilities, summed over the tries
     counters: np.ndarray   # int64: sweeps, burned (-1: burning), upos, moved, updates, started
     n_conj: np.ndarray     # (R,) int64: every replica's number of conjuncts
     lp_sub: np.ndarray     # (R,): log prior of its subsets
@@ -394,6 +395,7 @@ class ChainLoop(NamedTuple):
 def make_loop(n_rungs):
     """A chain's :class:`ChainLoop` before its first sweep."""
     return ChainLoop(np.arange(n_rungs), np.zeros(max(n_rungs - 1, 0), dtype=np.int64),
+                     np.zeros(max(n_rungs - 1, 0)),
                      np.array([0, -1, 0, 0, 0, 0], dtype=np.int64),
                      np.zeros(n_rungs, dtype=np.int64), np.zeros(n_rungs),
                      np.zeros(n_rungs), np.zeros(n_rungs))
@@ -476,6 +478,8 @@ def chain_kernel(state, demos, model, bufs, betas, rng, loop, n_samples, burn_in
         for t in range(sweep & 1, n_rungs - 1, 2):
             i, j = slot[t], slot[t + 1]
             log_a = (betas[t] - betas[t + 1]) * (ll[j] - ll[i])
+            # Its probability too, for the ladder's pilot (_ladder.pilot_rejection).
+            loop.accept[t] += 1.0 if log_a >= 0.0 else math.exp(log_a)
             if log_a >= 0.0 or ubuf[upos] < math.exp(log_a):
                 # Replicas in the same state (the cold rungs of a peaked posterior) keep
                 # their rungs: exchanging them changes nothing but would make their kept

@@ -31,12 +31,18 @@ from bsi_sklearn.inference._chain_kernel import (
 )
 from bsi_sklearn.inference._closure import Closure, found_by_chain, found_states
 from bsi_sklearn.inference._consistent_start import consistent_start
+from bsi_sklearn.inference._ladder import (
+    PILOT_MIN,
+    adapted_ladder,
+    pilot_rejection,
+    swap_tries,
+    temperature_ladder,
+)
 from bsi_sklearn.inference._local_search import beam_search, n_neighbours_max, neighbourhood
 from bsi_sklearn.inference._reach import reach
 from bsi_sklearn.inference.diagnostics import MODE_WARN, missed_mass, split_rhat
 from bsi_sklearn.inference.stopping import MAX_SAMPLES, rounds, should_stop
 from bsi_sklearn.model.clauses import n_clauses, pack_rows
-from bsi_sklearn.model.likelihood import step_scale
 from bsi_sklearn.model.priors import draw_hypothesis, first_structure
 from bsi_sklearn.model.state_layout import join_state, split_state, split_states
 
@@ -44,8 +50,6 @@ __all__ = ["Demos", "ChainResult", "MCMCResult", "ChainRun", "run_chain", "dedup
            "score_states", "unique_states", "temperature_ladder", "deterministic_optimum",
            "sampling_count", "sample_posterior"]
 
-#: Ratio of adjacent inverse temperatures of the default ladder.
-LADDER_RATIO = 0.5
 #: Hypotheses the beam search of :func:`deterministic_optimum` keeps at every step.
 BEAM_WIDTH = 8
 #: The support is completed with the neighbours of its most probable states holding this much
@@ -134,41 +138,6 @@ def score_states(states, demos, model):
     return score_rows(np.ascontiguousarray(states), demos, model)
 
 
-def temperature_ladder(demos, model, n_temperatures="auto"):
-    """Inverse temperatures of a chain's replicas, ``1`` first, geometric.
-
-    The likelihood moves in steps of two sizes: a demonstration that changes side costs or
-    gains about ``|log eps|``, and (CB likelihood) a conjunct more or less changes every
-    satisfied acceptable demonstration by ``log 2``. With ``L = max(|log eps|, n_pos log 2)``
-    (``n_pos``: acceptable demonstrations; the second term for CB only), the hottest replica
-    has ``beta = 1 / L``, where one such step costs at most about one nat, so that it moves
-    nearly as freely as the prior; the rungs halve beta (``LADDER_RATIO``), which gives
-    ``"auto"`` ``1 + ceil(log2 L)`` rungs (one when ``L <= 1``). The other likelihoods'
-    steps are in :func:`bsi_sklearn.model.likelihood.step_scale`. An integer sets the number
-    of rungs (1: no tempering), spread geometrically between 1 and ``1 / L``.
-
-    Examples
-    --------
-    >>> from bsi_sklearn.model import make_model
-    >>> import numpy as np
-    >>> m = make_model(prior="sets_of_chains", likelihood="cb", n_globals=2, n_subtasks=2)
-    >>> d = deduplicate_demos(np.eye(3, 8, dtype=np.uint8), np.ones(3))
-    >>> temperature_ladder(d, m).round(4).tolist()   # |log eps| = 4 log(2) 5 = 13.9
-    [1.0, 0.5, 0.25, 0.125, 0.0721]
-    >>> temperature_ladder(d, m, 1).tolist()
-    [1.0]
-    """
-    scale = step_scale(model.likelihood, model.log_eps, demos.n_pos, demos.n_neg,
-                       model.flip_a, model.flip_b)
-    if n_temperatures == "auto":
-        n_rungs = 1 if scale <= 1.0 else 1 + math.ceil(math.log(scale) / -math.log(LADDER_RATIO))
-        return np.maximum(LADDER_RATIO ** np.arange(n_rungs), 1.0 / scale)
-    n_rungs = int(n_temperatures)
-    if n_rungs == 1 or scale <= 1.0:
-        return np.ones(n_rungs)
-    return np.exp(-np.log(scale) * np.arange(n_rungs) / (n_rungs - 1))
-
-
 def deterministic_optimum(demos, model, width=BEAM_WIDTH):
     """A cheap optimum of the posterior, found without random numbers.
 
@@ -208,10 +177,13 @@ class ChainRun:
                       else np.ascontiguousarray(betas, dtype=np.float64))
         self.demos, self.model = demos, model
         self.burn_in, self.target, self.max_extra = int(burn_in), float(target), int(max_extra)
-        self.rng = np.random.default_rng(seed)
+        self.rng = np.random.default_rng(seed)  # a Generator is taken as it is
+        self.pilot_sweeps = self.pilot_updates = 0  # what a pilot did before (ladder_from)
         n_g, n, n_rungs = model.n_g, model.n, len(self.betas)
         if start is None:
             draws = [draw_hypothesis(model, self.rng) for _ in range(n_rungs)]
+        elif isinstance(start, ChainState):  # one hypothesis per rung
+            draws = [(start.tau[r], start.w1[r], start.parent[r]) for r in range(n_rungs)]
         else:
             start = np.asarray(start, dtype=np.int64)
             draws = [split_state(start, n_g, n)] * n_rungs
@@ -222,6 +194,21 @@ class ChainRun:
         self.bufs = make_buffers(n_g, n, demos.truth_t.shape[1], n_rungs)
         self.loop = make_loop(n_rungs)
         self.states, self.counts, self.traces = [], [], []
+
+    def ladder_from(self, betas, **params):
+        """A chain on the ladder ``betas`` (``params``: ``__init__``'s) going on from this one.
+
+        Each rung starts from this pilot's replica on the nearest rung (in log beta), with its
+        generator; the pilot's sweeps count as burned, its block updates as work.
+        """
+        sweep, _, _, _, updates, _ = self.loop.counters.tolist()
+        old = np.log(self.betas)
+        replicas = self.loop.slot[[int(np.argmin(np.abs(old - b))) for b in np.log(betas)]]
+        start = ChainState(*(np.ascontiguousarray(a[replicas]) for a in self.state))
+        run = ChainRun(self.rng, self.demos, self.model, betas, start, **params)
+        run.pilot_sweeps = self.pilot_sweeps + int(sweep)
+        run.pilot_updates = self.pilot_updates + int(updates) * len(self.betas)
+        return run
 
     def advance(self, n_samples):
         """Record ``n_samples`` more sweeps (after the burn-in, on the first call)."""
@@ -236,12 +223,12 @@ class ChainRun:
     def result(self):
         """The chain's :class:`ChainResult` so far."""
         sweep, burned, _, moved, updates, _ = self.loop.counters.tolist()
-        # Pair k proposes a swap after the sweeps of k's parity.
-        tries = (sweep + 1 - np.arange(len(self.loop.swaps)) % 2) // 2
+        tries = swap_tries(sweep, len(self.loop.swaps))
         return ChainResult(np.concatenate(self.states), np.concatenate(self.counts),
                            np.concatenate(self.traces), moved / max(updates, 1),
-                           int(updates) * len(self.betas),
-                           self.loop.swaps / np.maximum(tries, 1), burned)
+                           int(updates) * len(self.betas) + self.pilot_updates,
+                           self.loop.swaps / np.maximum(tries, 1),
+                           burned + self.pilot_sweeps)
 
 
 def run_chain(seed, demos, model, n_samples, burn_in, betas=None, start=None, *,
@@ -285,13 +272,16 @@ def _complete(uniq, scores, demos, model):
 
 
 def sampling_count(truth, y01, model, *, n_chains, n_samples, burn_in, n_temperatures="auto"):
-    """How much work :func:`sample_posterior` does at least: candidate evaluations x rows.
+    """How much work :func:`sample_posterior` may do: candidate evaluations x rows.
 
     Every sweep of every replica of every chain weighs the ``n_g + n`` inclusion bits and, for
     each of the ``n`` subtasks, its ``n + 1`` places (:mod:`bsi_sklearn.inference._gibbs_moves`),
     each candidate over every unique demonstration row; ``burn_in + n_samples`` sweeps at least
     (a chain that has not reached the optimum's neighbourhood runs longer; ``"auto"`` counts its
-    most, 10,000, where it may stop sooner). A count of the data
+    most, 10,000, where it may stop sooner), on the default ladder's rungs (after the pilot,
+    the adapted ladder has as many or fewer, and the replicas that do not move cost less than
+    counted: the sampling this count stands for is what it costs before adaptation, a bound
+    that does not depend on a pilot's draws). A count of the data
     and the parameters only, never of timing: ``inference="auto"`` compares it with the exact
     engine's work count (``BSIClassifier``).
 
@@ -397,12 +387,13 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     (:func:`deterministic_optimum`): a beam search finds the best basin that single-coordinate
     moves from the hypothesis without clauses often cannot reach on large problems, and the
     hot replicas leave it at once. Burn-in lasts ``burn_in`` sweeps and then, for at most
-    ``n_samples`` more, until the chain's log posterior is within ``log 20`` of the optimum's.
-    The reported posterior is the exact posterior restricted to the states the chains
-    recorded, the optimum, the neighbours of the recorded states that the stopping rule
-    counted as found (:mod:`bsi_sklearn.inference._closure`; ``n_samples="auto"``), and the
-    one-block neighbours of the most probable of them (where the posterior is flat, states
-    each too improbable to be visited add up), renormalised.
+    ``n_samples`` more, until the chain's log posterior is within ``log 20`` of the optimum's
+    (the first ``burn_in`` on the default ladder: a pilot that adapts it). The reported
+    posterior is the exact posterior restricted to the states the chains recorded, the
+    optimum, the neighbours of the recorded states that the stopping rule counted as found
+    (:mod:`bsi_sklearn.inference._closure`; ``n_samples="auto"``), and the one-block
+    neighbours of the most probable of them (where the posterior is flat, states each too
+    improbable to be visited add up), renormalised.
 
     Parameters
     ----------
@@ -419,7 +410,9 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     burn_in : int, default=100
         Sweeps discarded first (and the extension).
     n_temperatures : "auto" or int, default="auto"
-        Rungs of every chain's ladder (:func:`temperature_ladder`).
+        Rungs of every chain's ladder (:func:`temperature_ladder`); ``"auto"`` with a
+        burn-in of at least ``PILOT_MIN`` sweeps: the burn-in is a pilot on the default
+        ladder, which is then adapted (:func:`~._ladder.adapted_ladder`).
     n_jobs : int, default=None
         Chains run in threads of this process (the kernels release the GIL).
     verbose : int, default=0
@@ -437,8 +430,19 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     betas = temperature_ladder(demos, model, n_temperatures)
     optimum, optimum_lp = deterministic_optimum(demos, model)
     plan = rounds() if n_samples == "auto" else [int(n_samples)]
-    runs = [ChainRun(int(seed), demos, model, betas, optimum, burn_in=int(burn_in),
-                     target=optimum_lp - MODE_WARN, max_extra=plan[-1]) for seed in seeds]
+    chain = dict(target=optimum_lp - MODE_WARN, max_extra=plan[-1])
+    ladder = None
+    if n_temperatures == "auto" and len(betas) > 2 and int(burn_in) >= PILOT_MIN:
+        # The burn-in is the pilot: it runs on the default ladder, which is then adapted.
+        pilots = [ChainRun(int(seed), demos, model, betas, optimum) for seed in seeds]
+        rejection = pilot_rejection(pilots, int(burn_in), n_jobs)
+        ladder = {"default_betas": betas, "pilot_rejection": rejection,
+                  "barrier": float(rejection.sum())}
+        betas = adapted_ladder(betas, rejection)
+        runs = [p.ladder_from(betas, burn_in=0, **chain) for p in pilots]
+    else:
+        runs = [ChainRun(int(seed), demos, model, betas, optimum, burn_in=int(burn_in),
+                         **chain) for seed in seeds]
     results, visited, counts, missed, visited_lp, stopping, near = _run_rounds(
         runs, plan, demos, model, n_jobs, verbose)
     # The support: the visited states, the optimum, what the last round found one block from
@@ -474,6 +478,7 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         "acceptance_rate": float(moves.mean()),
         "acceptance_rate_per_chain": moves,
         "betas": betas,
+        "ladder": ladder,
         "swap_rate": np.stack([r.swap_rate for r in results]),
         "burn_in_per_chain": np.array([r.n_burned for r in results]),
         "n_updates": int(sum(r.n_updates for r in results)),
