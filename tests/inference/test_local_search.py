@@ -7,6 +7,7 @@ from numba import njit
 from bsi_sklearn.inference._chain_kernel import fill_viol
 from bsi_sklearn.inference._gibbs_moves import add_pair
 from bsi_sklearn.inference._local_search import (
+    _load,
     _n_bits,
     _neighbours,
     _score,
@@ -36,18 +37,25 @@ def _problem(prior, likelihood, n, seed, n_g=6):
 
 
 @njit
-def _flip_scores(rows, demos, model, scratch, work, pool, viol):
-    # Per row, every bit flip scored both ways: (from the row's counts, from scratch).
+def _flip_scores(rows, demos, model, scratch, other, work, pool, viol):
+    # Per row, every bit flip scored both ways: (from the row's counts and the row loaded in
+    # `scratch`, from scratch on the flipped row written out by _neighbours).
     n_bits = _n_bits(model)
     out = np.empty((rows.shape[0], n_bits, 2))
+    kept = True  # the loaded row is left as it was
     for i in range(rows.shape[0]):
         _neighbours(rows[i], model, pool, 0, work)
         tau, w1, parent = split_state(rows[i], model.n_g, model.n)
         n_conj = fill_viol(viol, tau.copy(), w1.copy(), parent.copy(), demos.truth_t, model)
+        _load(rows[i], model, scratch)
         for j in range(n_bits):
-            out[i, j, 0] = _score_flip(pool[j], j, viol, n_conj, demos, model, scratch)
-            out[i, j, 1] = _score(pool[j], demos, model, scratch)
-    return out
+            out[i, j, 0] = _score_flip(j, viol, n_conj, demos, model, scratch)
+            out[i, j, 1] = _score(pool[j], demos, model, other)
+        for j in range(model.n_g):
+            kept = kept and scratch.tau[j] == tau[j]
+        for w in range(model.n):
+            kept = kept and scratch.w1[w] == w1[w] and scratch.parent[w] == parent[w]
+    return out, kept
 
 
 @pytest.mark.parametrize("prior", PRIORS)
@@ -55,12 +63,13 @@ def _flip_scores(rows, demos, model, scratch, work, pool, viol):
 @pytest.mark.parametrize("n", [0, 1, 4])
 def test_flip_scores_are_the_scores_bit_for_bit(prior, likelihood, n):
     model, demos, rows, pool = _problem(prior, likelihood, n, n)
-    got = _flip_scores(rows, demos, model, _scratch(demos, model),
-                       np.empty((3, n), dtype=np.int64), pool,
-                       np.zeros(demos.truth_t.shape[1], dtype=np.int32))
+    got, kept = _flip_scores(rows, demos, model, _scratch(demos, model), _scratch(demos, model),
+                             np.empty((3, n), dtype=np.int64), pool,
+                             np.zeros(demos.truth_t.shape[1], dtype=np.int32))
     finite = np.isfinite(got[..., 1])
     assert finite.sum() > 10
     np.testing.assert_array_equal(got[..., 0], got[..., 1])  # equal, not close
+    assert kept
 
 
 @njit
