@@ -478,9 +478,11 @@ def chain_kernel(state, demos, model, bufs, betas, rng, loop, n_samples, burn_in
         for t in range(sweep & 1, n_rungs - 1, 2):
             i, j = slot[t], slot[t + 1]
             log_a = (betas[t] - betas[t + 1]) * (ll[j] - ll[i])
-            # Its probability too, for the ladder's pilot (_ladder.pilot_rejection).
-            loop.accept[t] += 1.0 if log_a >= 0.0 else math.exp(log_a)
-            if log_a >= 0.0 or ubuf[upos] < math.exp(log_a):
+            # Its probability is summed too, for the ladder's pilot (_ladder.pilot_rejection);
+            # a uniform is below 1, so the draw is the same as accepting when log_a >= 0.
+            p_a = 1.0 if log_a >= 0.0 else math.exp(log_a)
+            loop.accept[t] += p_a
+            if ubuf[upos] < p_a:
                 # Replicas in the same state (the cold rungs of a peaked posterior) keep
                 # their rungs: exchanging them changes nothing but would make their kept
                 # move weights (_sweep) useless.
