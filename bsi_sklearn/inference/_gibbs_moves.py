@@ -31,7 +31,8 @@ from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order,
 from bsi_sklearn.model.likelihood import log_likelihood, log_likelihood_cb
 from bsi_sklearn.model.priors import log_inclusion
 
-__all__ = ["add_pair", "draw", "sat_counts", "zero_mask", "bit_sums", "flip_move",
+__all__ = ["add_pair", "draw", "sat_counts", "zero_mask", "weighted_popcount", "bit_sums",
+           "flip_move",
            "flip_sums", "chain_move", "chain_candidates", "chain_apply", "forest_move",
            "forest_candidates", "forest_apply"]
 
@@ -91,7 +92,7 @@ def zero_mask(viol, zmask):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _weighted(word, planes, w):
+def weighted_popcount(word, planes, w):
     # The weight of the rows of one word: bit-plane k of the weights counts 2**k.
     total = 0
     for k in range(planes.shape[0]):
@@ -116,10 +117,10 @@ def bit_sums(a, ia, b, ib, c, ic, demos):
         if out == 0:
             continue
         inn = out & c[ic, w]
-        ps_out += _weighted(out, demos.pos_planes, w)
-        ns_out += _weighted(out, demos.neg_planes, w)
-        ps_in += _weighted(inn, demos.pos_planes, w)
-        ns_in += _weighted(inn, demos.neg_planes, w)
+        ps_out += weighted_popcount(out, demos.pos_planes, w)
+        ns_out += weighted_popcount(out, demos.neg_planes, w)
+        ps_in += weighted_popcount(inn, demos.pos_planes, w)
+        ns_in += weighted_popcount(inn, demos.neg_planes, w)
     return float(ps_out), float(ns_out), float(ps_in), float(ns_in)
 
 

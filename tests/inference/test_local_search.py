@@ -5,11 +5,13 @@ import pytest
 from numba import njit
 
 from bsi_sklearn.inference._chain_kernel import fill_viol
-from bsi_sklearn.inference._gibbs_moves import add_pair
 from bsi_sklearn.inference._local_search import (
+    N_MOVE,
     _load,
+    _moves,
     _n_bits,
     _neighbours,
+    _prepare_moves,
     _score,
     _score_flip,
     _score_moved,
@@ -36,15 +38,19 @@ def _problem(prior, likelihood, n, seed, n_g=6):
     return model, demos, rows, pool
 
 
+def _move_buffer(model):
+    return np.empty((n_neighbours_max(model.n_g, model.n), N_MOVE), dtype=np.int64)
+
+
 @njit
-def _flip_scores(rows, demos, model, scratch, other, work, pool, viol):
+def _flip_scores(rows, demos, model, scratch, other, work, pool, moves, viol):
     # Per row, every bit flip scored both ways: (from the row's counts and the row loaded in
     # `scratch`, from scratch on the flipped row written out by _neighbours).
     n_bits = _n_bits(model)
     out = np.empty((rows.shape[0], n_bits, 2))
     kept = True  # the loaded row is left as it was
     for i in range(rows.shape[0]):
-        _neighbours(rows[i], model, pool, 0, work)
+        _neighbours(rows[i], model, pool, 0, work, moves)
         tau, w1, parent = split_state(rows[i], model.n_g, model.n)
         n_conj = fill_viol(viol, tau.copy(), w1.copy(), parent.copy(), demos.truth_t, model)
         _load(rows[i], model, scratch)
@@ -64,7 +70,7 @@ def _flip_scores(rows, demos, model, scratch, other, work, pool, viol):
 def test_flip_scores_are_the_scores_bit_for_bit(prior, likelihood, n):
     model, demos, rows, pool = _problem(prior, likelihood, n, n)
     got, kept = _flip_scores(rows, demos, model, _scratch(demos, model), _scratch(demos, model),
-                             np.empty((3, n), dtype=np.int64), pool,
+                             np.empty((3, n), dtype=np.int64), pool, _move_buffer(model),
                              np.zeros(demos.truth_t.shape[1], dtype=np.int32))
     finite = np.isfinite(got[..., 1])
     assert finite.sum() > 10
@@ -73,24 +79,25 @@ def test_flip_scores_are_the_scores_bit_for_bit(prior, likelihood, n):
 
 
 @njit
-def _move_scores(rows, demos, model, scratch, work, pool, counts):
-    # Per row, every structure move scored both ways: (from the global counts, from scratch).
+def _move_scores(rows, demos, model, scratch, work, pool, moves, buf, viol):
+    # Per row, every structure move scored both ways: (from the row's counts less the moved
+    # subtask's clauses, as bitsets; from scratch on the row _neighbours writes out).
     n_bits = _n_bits(model)
     out = np.empty((rows.shape[0], pool.shape[0], 2))
     out[:] = np.nan
     for i in range(rows.shape[0]):
-        k = _neighbours(rows[i], model, pool, 0, work)
-        tau, _, _ = split_state(rows[i], model.n_g, model.n)
-        viol_g = counts[1]
-        viol_g[:] = 0
-        n_g_conj = 0
-        for j in range(model.n_g):
-            if tau[j]:
-                add_pair(viol_g, demos.truth_t, j, np.int64(1))
-                n_g_conj += 1
+        k = _neighbours(rows[i], model, pool, 0, work, moves)
+        tau, w1, parent = split_state(rows[i], model.n_g, model.n)
+        n_conj = fill_viol(viol, tau.copy(), w1.copy(), parent.copy(), demos.truth_t, model)
         lp_g = log_prior_globals(tau, model)
+        v = -1
+        n_conj_rest = 0
         for j in range(n_bits, k):
-            out[i, j, 0] = _score_moved(pool[j], lp_g, viol_g, n_g_conj, demos, model, scratch)
+            if moves[j, 1] != v:
+                v = moves[j, 1]
+                n_conj_rest = _prepare_moves(rows[i], v, viol, n_conj, demos, model, buf)
+            out[i, j, 0] = _score_moved(rows[i], moves[j], lp_g, n_conj_rest, demos, model,
+                                        scratch, buf)
             out[i, j, 1] = _score(pool[j], demos, model, scratch)
     return out
 
@@ -101,8 +108,8 @@ def test_structure_move_scores_are_the_scores_bit_for_bit(prior, likelihood):
     n = 4
     model, demos, rows, pool = _problem(prior, likelihood, n, 5)
     got = _move_scores(rows, demos, model, _scratch(demos, model),
-                       np.empty((3, n), dtype=np.int64), pool,
-                       np.zeros((2, demos.truth_t.shape[1]), dtype=np.int32))
+                       np.empty((3, n), dtype=np.int64), pool, _move_buffer(model),
+                       _moves(demos, model), np.zeros(demos.truth_t.shape[1], dtype=np.int32))
     done = ~np.isnan(got[..., 1])
     assert np.isfinite(got[..., 1][done]).sum() > 50
     np.testing.assert_array_equal(got[..., 0][done], got[..., 1][done])
