@@ -30,8 +30,8 @@ from bsi_sklearn.inference._gibbs_moves import (
     draw,
     flip_move,
     forest_move,
-    sat_counts,
 )
+from bsi_sklearn.inference._row_counts import flip_masks, sat_counts
 from bsi_sklearn.model import Model
 from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order
 from bsi_sklearn.model.likelihood import cb_rejected, log_likelihood
@@ -93,6 +93,7 @@ class ChainBuffers(NamedTuple):
     size: np.ndarray      # (n,) subtree sizes (Prior 3)
     old_parent: np.ndarray
     zmask: np.ndarray     # (1, W) uint64: the rows a structure move weighs its candidates over
+    fmask: np.ndarray     # (2, W) uint64: the rows violating no clause / one (flip_masks)
     suf: np.ndarray       # (n + 1, W) uint64: zmask AND a chain's suffix of (v -> u) clauses
     acc: np.ndarray       # (1, W) uint64: a running AND
     ones: np.ndarray      # (1, W) uint64: every bit set
@@ -121,6 +122,7 @@ def make_buffers(n_g, n, n_rows, n_rungs):
         child=np.empty(n, dtype=np.int64), in_s=np.zeros(n, dtype=np.int64),
         size=np.empty(n, dtype=np.int64), old_parent=np.empty(n, dtype=np.int64),
         zmask=np.zeros((1, n_words), dtype=np.uint64),
+        fmask=np.zeros((2, n_words), dtype=np.uint64),
         suf=np.zeros((n + 1, n_words), dtype=np.uint64),
         acc=np.zeros((1, n_words), dtype=np.uint64),
         ones=np.full((1, n_words), np.iinfo(np.uint64).max, dtype=np.uint64),
@@ -173,7 +175,8 @@ def _unmanaged_bundles(state, demos, model, bufs):
                         _unmanaged(bufs.cand_head), _unmanaged(bufs.cand_pos),
                         _unmanaged(bufs.cand_ew), _unmanaged(bufs.child), _unmanaged(bufs.in_s),
                         _unmanaged(bufs.size), _unmanaged(bufs.old_parent),
-                        _unmanaged(bufs.zmask), _unmanaged(bufs.suf), _unmanaged(bufs.acc),
+                        _unmanaged(bufs.zmask), _unmanaged(bufs.fmask), _unmanaged(bufs.suf),
+                        _unmanaged(bufs.acc),
                         _unmanaged(bufs.ones), _unmanaged(bufs.anc), _unmanaged(bufs.members),
                         _unmanaged(bufs.lw_cache), _unmanaged(bufs.cache_k),
                         _unmanaged(bufs.cache_j), _unmanaged(bufs.cache_ver),
@@ -274,10 +277,12 @@ def _sweep(r, beta, state, demos, model, bufs, cache, u0):
     le_in, le_out = log_inclusion(model.p_eventual)
     upos = u0
     moved = 0
+    fmask = bufs.fmask
+    flip_masks(viol, fmask)
     for j in range(n_g):
         lg_in, lg_out = global_inclusion(j, model)
-        new, ll[r], used = flip_move(j, tau[j], lg_in, lg_out, viol, n_conj[r], demos, model,
-                                     ubuf[upos], beta)
+        new, ll[r], used = flip_move(j, tau[j], lg_in, lg_out, viol, fmask, n_conj[r], demos,
+                                     model, ubuf[upos], beta)
         upos += used
         if new != tau[j]:
             n_conj[r] += 1 if new else -1
@@ -288,7 +293,8 @@ def _sweep(r, beta, state, demos, model, bufs, cache, u0):
     if n <= 1:
         for w in range(n):
             new, ll[r], used = flip_move(clause_index_eventual(w, n_g), w1[w], le_in, le_out,
-                                         viol, n_conj[r], demos, model, ubuf[upos], beta)
+                                         viol, fmask, n_conj[r], demos, model, ubuf[upos],
+                                         beta)
             upos += used
             if new != w1[w]:
                 n_conj[r] += 1 if new else -1

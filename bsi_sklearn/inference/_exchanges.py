@@ -25,7 +25,8 @@ from numba import njit
 
 from bsi_sklearn._unique_rows import row_keys
 from bsi_sklearn.inference._chain_kernel import fill_viol
-from bsi_sklearn.inference._gibbs_moves import add_pair, sat_counts
+from bsi_sklearn.inference._gibbs_moves import add_pair
+from bsi_sklearn.inference._row_counts import sat_counts
 from bsi_sklearn.model.clauses import clause_index_order
 from bsi_sklearn.model.likelihood import log_likelihood
 from bsi_sklearn.model.priors import log_prior

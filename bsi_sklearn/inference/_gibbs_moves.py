@@ -27,101 +27,13 @@ import math
 import numpy as np
 from numba import njit
 
-from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order, popcount
+from bsi_sklearn.inference._row_counts import bit_sums, flip_masks, mask_sums, zero_mask
+from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order
 from bsi_sklearn.model.likelihood import log_likelihood, log_likelihood_cb
 from bsi_sklearn.model.priors import log_inclusion
 
-__all__ = ["add_pair", "draw", "sat_counts", "zero_mask", "weighted_popcount", "bit_sums",
-           "flip_move",
-           "flip_sums", "chain_move", "chain_candidates", "chain_apply", "forest_move",
-           "forest_candidates", "forest_apply"]
-
-
-# The weights are whole numbers (demonstration counts), so their sums are exact in any order:
-# letting LLVM reassociate them (SIMD reductions) cannot change a result.
-_SUMS = {"reassoc"}
-
-
-@njit(cache=True, nogil=True, fastmath=_SUMS)
-def sat_counts(viol, w_pos, w_neg):
-    """Weighted numbers of acceptable / unacceptable rows that violate no clause."""
-    ps = 0.0
-    ns = 0.0
-    for d in range(viol.shape[0]):
-        ok = viol[d] == 0
-        ps += w_pos[d] if ok else 0.0
-        ns += w_neg[d] if ok else 0.0
-    return ps, ns
-
-
-@njit(cache=True, nogil=True, fastmath=_SUMS)
-def flip_sums(viol, truth_t, c, inc, w_pos, w_neg):
-    """Weighted satisfied counts without / with clause ``c`` (its bit is now ``inc``)."""
-    # Weighted counts of demonstrations satisfying the hypothesis without / with clause c.
-    ps_out = 0.0
-    ns_out = 0.0
-    ps_in = 0.0
-    ns_in = 0.0
-    for d in range(viol.shape[0]):
-        t = truth_t[c, d]
-        ok = viol[d] - (inc if t == 0 else 0) == 0
-        both = ok and t != 0
-        ps_out += w_pos[d] if ok else 0.0
-        ns_out += w_neg[d] if ok else 0.0
-        ps_in += w_pos[d] if both else 0.0
-        ns_in += w_neg[d] if both else 0.0
-    return ps_out, ns_out, ps_in, ns_in
-
-
-@njit(cache=True, nogil=True, inline="always")
-def zero_mask(viol, zmask):
-    """The rows that violate no clause, as a bitset into ``zmask[0]``.
-
-    A structure move only adds clauses to the hypothesis left once its subtask is taken out,
-    so only these rows can satisfy a candidate: the candidates are weighed over them alone,
-    as bitsets (``Demos.bits``) and weighted popcounts (``Demos.pos_planes``, ``neg_planes``).
-    """
-    # A word at a time, without branches (the rows past the last are never set).
-    n_rows = viol.shape[0]
-    for w in range(zmask.shape[1]):
-        word = np.uint64(0)
-        base = w << 6
-        for b in range(min(64, n_rows - base)):
-            word |= np.uint64(viol[base + b] == 0) << np.uint64(b)
-        zmask[0, w] = word
-
-
-@njit(cache=True, nogil=True, inline="always")
-def weighted_popcount(word, planes, w):
-    # The weight of the rows of one word: bit-plane k of the weights counts 2**k.
-    total = 0
-    for k in range(planes.shape[0]):
-        total += popcount(word & planes[k, w]) << k
-    return total
-
-
-@njit(cache=True, nogil=True, inline="always")
-def bit_sums(a, ia, b, ib, c, ic, demos):
-    """:func:`flip_sums`' four sums (bit out) over ``a[ia] & b[ib]``, its clause ``c[ic]``.
-
-    Weighted counts of the acceptable / unacceptable rows in ``a[ia] & b[ib]``, then in
-    ``a[ia] & b[ib] & c[ic]``; whole numbers, so equal to the row-by-row sums. Rows of 2-D
-    arrays, never slices: a view passed to a call costs reference counting (``_unmanaged``).
-    """
-    ps_out = 0
-    ns_out = 0
-    ps_in = 0
-    ns_in = 0
-    for w in range(a.shape[1]):
-        out = a[ia, w] & b[ib, w]
-        if out == 0:
-            continue
-        inn = out & c[ic, w]
-        ps_out += weighted_popcount(out, demos.pos_planes, w)
-        ns_out += weighted_popcount(out, demos.neg_planes, w)
-        ps_in += weighted_popcount(inn, demos.pos_planes, w)
-        ns_in += weighted_popcount(inn, demos.neg_planes, w)
-    return float(ps_out), float(ns_out), float(ps_in), float(ns_in)
+__all__ = ["add_pair", "draw", "flip_move", "chain_move", "chain_candidates", "chain_apply",
+           "forest_move", "forest_candidates", "forest_apply"]
 
 
 @njit(cache=True, nogil=True)
@@ -161,13 +73,16 @@ def add_pair(viol, truth_t, c, sign):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u, beta):
-    """Gibbs update of inclusion bit ``c``: ``(new bit, log-likelihood, uniform used)``."""
+def flip_move(c, inc, lp_in, lp_out, viol, masks, n_conj, demos, model, u, beta):
+    """Gibbs update of inclusion bit ``c``: ``(new bit, log-likelihood, uniform used)``.
+
+    ``masks``: :func:`flip_masks` of ``viol``, kept up to date here.
+    """
     # Gibbs update of one inclusion bit at inverse temperature beta: returns the new bit, the
     # new (untempered) log-likelihood and whether the uniform u was used (only when both
     # outcomes are possible).
     truth_t = demos.truth_t
-    ps_out, ns_out, ps_in, ns_in = flip_sums(viol, truth_t, c, inc, demos.w_pos, demos.w_neg)
+    ps_out, ns_out, ps_in, ns_in = mask_sums(masks, c, inc, demos)
     n_out = n_conj - inc
     ll_out = log_likelihood(ps_out, ns_out, demos.n_pos, demos.n_neg, n_out, model.log_eps,
                             model.likelihood, model.flip_a, model.flip_b)
@@ -188,6 +103,7 @@ def flip_move(c, inc, lp_in, lp_out, viol, n_conj, demos, model, u, beta):
         used = 1
     if new != inc:
         add_pair(viol, truth_t, c, np.int64(1 if new else -1))
+        flip_masks(viol, masks)
     return new, (ll_in if new else ll_out), used
 
 

@@ -22,13 +22,8 @@ from numba import njit
 
 from bsi_sklearn._jit import helper
 from bsi_sklearn.inference._chain_kernel import add_structure_viol, fill_viol
-from bsi_sklearn.inference._gibbs_moves import (
-    add_pair,
-    flip_sums,
-    sat_counts,
-    weighted_popcount,
-    zero_mask,
-)
+from bsi_sklearn.inference._gibbs_moves import add_pair
+from bsi_sklearn.inference._row_counts import flip_sums, sat_counts, weighted_popcount, zero_mask
 from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order
 from bsi_sklearn.model.likelihood import log_likelihood
 from bsi_sklearn.model.priors import (

@@ -7,7 +7,7 @@ clauses, about 10^10 operations per hypothesis over 700 demonstrations. A Gibbs 
 weighs the same neighbours incrementally: a bit's two values from the demonstrations' counts
 of violated clauses, a subtask's places from bitsets over the demonstrations that violate
 nothing else (:mod:`bsi_sklearn.inference._gibbs_moves`). :func:`weigh_neighbours` runs
-those moves' candidate code (:func:`~._gibbs_moves.flip_sums`,
+those moves' candidate code (:func:`~._row_counts.flip_sums`,
 :func:`~._gibbs_moves.chain_candidates`, :func:`~._gibbs_moves.forest_candidates`) at
 ``beta = 1`` on every block of every given hypothesis, keeps the neighbours it weighs within
 a margin of the floor, and scores those again from scratch, so the scores it returns are the
@@ -22,12 +22,9 @@ from numba import njit
 
 from bsi_sklearn._jit import helper
 from bsi_sklearn.inference._chain_kernel import fill_viol, make_buffers
-from bsi_sklearn.inference._gibbs_moves import (
-    chain_candidates,
-    flip_sums,
-    forest_candidates,
-)
+from bsi_sklearn.inference._gibbs_moves import chain_candidates, forest_candidates
 from bsi_sklearn.inference._local_search import _score, _scratch, n_neighbours_max
+from bsi_sklearn.inference._row_counts import flip_sums
 from bsi_sklearn.model.clauses import clause_index_eventual
 from bsi_sklearn.model.likelihood import log_likelihood
 from bsi_sklearn.model.priors import (
