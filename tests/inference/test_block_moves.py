@@ -1,23 +1,23 @@
-"""The beam search's neighbours scored from the beam row's counts, against scoring from scratch."""
+"""One-block moves scored from the row's counts (as the beam search does), against _score."""
 
 import numpy as np
 import pytest
 from numba import njit
 
-from bsi_sklearn.inference._chain_kernel import fill_viol
-from bsi_sklearn.inference._local_search import (
+from bsi_sklearn.inference._block_moves import (
     N_MOVE,
-    _load,
-    _moves,
-    _n_bits,
-    _neighbours,
-    _prepare_moves,
-    _score,
-    _score_flip,
-    _score_moved,
-    _scratch,
+    flip_scratch,
+    move_scratch,
+    n_flip_bits,
     n_neighbours_max,
+    neighbours,
+    prepare_flips,
+    prepare_moves,
+    score_flip,
+    score_moved,
 )
+from bsi_sklearn.inference._chain_kernel import fill_viol
+from bsi_sklearn.inference._local_search import _load, _score, _scratch
 from bsi_sklearn.inference.mcmc import deduplicate_demos
 from bsi_sklearn.model import make_model
 from bsi_sklearn.model.likelihood import LIKELIHOODS
@@ -43,19 +43,20 @@ def _move_buffer(model):
 
 
 @njit
-def _flip_scores(rows, demos, model, scratch, other, work, pool, moves, viol):
+def _flip_scores(rows, demos, model, scratch, other, work, pool, moves, viol, flips):
     # Per row, every bit flip scored both ways: (from the row's counts and the row loaded in
-    # `scratch`, from scratch on the flipped row written out by _neighbours).
-    n_bits = _n_bits(model)
+    # `scratch`, from scratch on the flipped row written out by neighbours).
+    n_bits = n_flip_bits(model)
     out = np.empty((rows.shape[0], n_bits, 2))
     kept = True  # the loaded row is left as it was
     for i in range(rows.shape[0]):
-        _neighbours(rows[i], model, pool, 0, work, moves)
+        neighbours(rows[i], model, pool, 0, work, moves)
         tau, w1, parent = split_state(rows[i], model.n_g, model.n)
         n_conj = fill_viol(viol, tau.copy(), w1.copy(), parent.copy(), demos.truth_t, model)
         _load(rows[i], model, scratch)
+        prepare_flips(viol, model, scratch, flips)
         for j in range(n_bits):
-            out[i, j, 0] = _score_flip(j, viol, n_conj, demos, model, scratch)
+            out[i, j, 0] = score_flip(j, n_conj, demos, model, scratch, flips)
             out[i, j, 1] = _score(pool[j], demos, model, other)
         for j in range(model.n_g):
             kept = kept and scratch.tau[j] == tau[j]
@@ -71,7 +72,8 @@ def test_flip_scores_are_the_scores_bit_for_bit(prior, likelihood, n):
     model, demos, rows, pool = _problem(prior, likelihood, n, n)
     got, kept = _flip_scores(rows, demos, model, _scratch(demos, model), _scratch(demos, model),
                              np.empty((3, n), dtype=np.int64), pool, _move_buffer(model),
-                             np.zeros(demos.truth_t.shape[1], dtype=np.int32))
+                             np.zeros(demos.truth_t.shape[1], dtype=np.int32),
+                             flip_scratch(demos, model))
     finite = np.isfinite(got[..., 1])
     assert finite.sum() > 10
     np.testing.assert_array_equal(got[..., 0], got[..., 1])  # equal, not close
@@ -81,12 +83,12 @@ def test_flip_scores_are_the_scores_bit_for_bit(prior, likelihood, n):
 @njit
 def _move_scores(rows, demos, model, scratch, work, pool, moves, buf, viol):
     # Per row, every structure move scored both ways: (from the row's counts less the moved
-    # subtask's clauses, as bitsets; from scratch on the row _neighbours writes out).
-    n_bits = _n_bits(model)
+    # subtask's clauses, as bitsets; from scratch on the row neighbours writes out).
+    n_bits = n_flip_bits(model)
     out = np.empty((rows.shape[0], pool.shape[0], 2))
     out[:] = np.nan
     for i in range(rows.shape[0]):
-        k = _neighbours(rows[i], model, pool, 0, work, moves)
+        k = neighbours(rows[i], model, pool, 0, work, moves)
         tau, w1, parent = split_state(rows[i], model.n_g, model.n)
         n_conj = fill_viol(viol, tau.copy(), w1.copy(), parent.copy(), demos.truth_t, model)
         lp_g = log_prior_globals(tau, model)
@@ -95,8 +97,8 @@ def _move_scores(rows, demos, model, scratch, work, pool, moves, buf, viol):
         for j in range(n_bits, k):
             if moves[j, 1] != v:
                 v = moves[j, 1]
-                n_conj_rest = _prepare_moves(rows[i], v, viol, n_conj, demos, model, buf)
-            out[i, j, 0] = _score_moved(rows[i], moves[j], lp_g, n_conj_rest, demos, model,
+                n_conj_rest = prepare_moves(rows[i], v, viol, n_conj, demos, model, buf)
+            out[i, j, 0] = score_moved(rows[i], moves[j], lp_g, n_conj_rest, demos, model,
                                         scratch, buf)
             out[i, j, 1] = _score(pool[j], demos, model, scratch)
     return out
@@ -109,7 +111,8 @@ def test_structure_move_scores_are_the_scores_bit_for_bit(prior, likelihood):
     model, demos, rows, pool = _problem(prior, likelihood, n, 5)
     got = _move_scores(rows, demos, model, _scratch(demos, model),
                        np.empty((3, n), dtype=np.int64), pool, _move_buffer(model),
-                       _moves(demos, model), np.zeros(demos.truth_t.shape[1], dtype=np.int32))
+                       move_scratch(demos, model),
+                       np.zeros(demos.truth_t.shape[1], dtype=np.int32))
     done = ~np.isnan(got[..., 1])
     assert np.isfinite(got[..., 1][done]).sum() > 50
     np.testing.assert_array_equal(got[..., 0][done], got[..., 1][done])
