@@ -54,7 +54,7 @@ class FlipScratch(NamedTuple):
 
 def flip_scratch(demos, model):
     return FlipScratch(np.zeros((2, demos.bits.shape[1]), dtype=np.uint64),
-                  np.zeros(model.pat_in.shape[0] + 1), np.zeros(4))
+                       np.zeros(model.pat_in.shape[0] + 1), np.zeros(4))
 
 
 @helper
@@ -101,7 +101,7 @@ def score_flip(b, n_conj, demos, model, scratch, flips):
         else:  # a pattern clause: its term changed, the ones after it summed again
             i = b - n_gp
             g = patterns_from(flips.prefix[i] + (model.pat_out[i] if inc else model.pat_in[i]),
-                               scratch.tau, i + 1, model)
+                              scratch.tau, i + 1, model)
         lp = g + flips.parts[0] + flips.parts[1]
         c = b
     else:  # an eventual bit (no orders): log_prior over the arrays, the bit flipped and back
@@ -131,8 +131,9 @@ class MoveScratch(NamedTuple):
 def move_scratch(demos, model):
     n_words = demos.bits.shape[1]
     return MoveScratch(np.zeros(demos.truth_t.shape[1], dtype=np.int32),
-                  np.zeros((1, n_words), dtype=np.uint64), np.zeros((1, n_words), dtype=np.uint64),
-                  np.zeros((3, model.n), dtype=np.int64))
+                       np.zeros((1, n_words), dtype=np.uint64),
+                       np.zeros((1, n_words), dtype=np.uint64),
+                       np.zeros((3, model.n), dtype=np.int64))
 
 
 # A move is four numbers (b, v, u, g): b >= 0 flips inclusion bit b; otherwise subtask v

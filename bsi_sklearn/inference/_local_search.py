@@ -202,7 +202,7 @@ def _beam_search(start, demos, model, width, max_steps, scratch, work, bufs, cou
                     v = pool[j, 1]
                     n_conj_rest = prepare_moves(beam[i], v, viol, n_conj, demos, model, moves)
                 pool_lp[j] = score_moved(beam[i], pool[j], lp_g, n_conj_rest, demos, model,
-                                          scratch, moves)
+                                         scratch, moves)
             m = k
         # The best `width` distinct rows, in decreasing order (the first of ties).
         taken[:m] = False

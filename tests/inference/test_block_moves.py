@@ -99,7 +99,7 @@ def _move_scores(rows, demos, model, scratch, work, pool, moves, buf, viol):
                 v = moves[j, 1]
                 n_conj_rest = prepare_moves(rows[i], v, viol, n_conj, demos, model, buf)
             out[i, j, 0] = score_moved(rows[i], moves[j], lp_g, n_conj_rest, demos, model,
-                                        scratch, buf)
+                                       scratch, buf)
             out[i, j, 1] = _score(pool[j], demos, model, scratch)
     return out
 
