@@ -37,7 +37,7 @@ from bsi_sklearn.inference._block_moves import (
     score_moved,
     write_move,
 )
-from bsi_sklearn.inference._chain_kernel import add_structure_viol, fill_viol
+from bsi_sklearn.inference._chain_kernel import fill_viol
 from bsi_sklearn.inference._row_counts import sat_counts
 from bsi_sklearn.model.likelihood import log_likelihood
 from bsi_sklearn.model.priors import log_prior, log_prior_globals
@@ -149,19 +149,17 @@ def beam_search(start, demos, model, width, max_steps):
                  np.empty((width, n_cols), dtype=np.int64), np.empty(width),
                  np.empty((1, n_cols), dtype=np.int64))
     lp = _beam_search(start, demos, model, int(width), int(max_steps), _scratch(demos, model),
-                      np.empty((3, model.n), dtype=np.int64), bufs,
-                      np.zeros((2, demos.truth_t.shape[1]), dtype=np.int32),
-                      move_scratch(demos, model), flip_scratch(demos, model))
+                      bufs, move_scratch(demos, model), flip_scratch(demos, model))
     return bufs.beam[0].copy(), lp
 
 
 @njit(cache=True, nogil=True)
-def _beam_search(start, demos, model, width, max_steps, scratch, work, bufs, counts, moves,
-                 flips):
+def _beam_search(start, demos, model, width, max_steps, scratch, bufs, moves, flips):
     n_g, n = model.n_g, model.n
     n_cols = state_width(n_g, n)
     n_bits = n_flip_bits(model)
     pool, source, pool_lp, taken, beam, beam_lp, nxt, nxt_lp, row = bufs
+    work, viol = moves.work, scratch.viol  # (detach's structure; the beam row's counts)
     n_beam = min(width, start.shape[0])
     for i in range(n_beam):
         put_row(beam, i, start[i], n_cols)
@@ -182,19 +180,13 @@ def _beam_search(start, demos, model, width, max_steps, scratch, work, bufs, cou
             # O(D x conjuncts)).
             # The structure moves of each subtask from those counts less the subtask's
             # clauses, as bitsets (prepare_moves, score_moved).
-            b_tau, b_w1, b_parent = split_state(beam[i], n_g, n)
-            viol, viol_g = counts[0], counts[1]
-            scratch.w1[:] = 0
-            scratch.parent[:] = -1
-            n_g_conj = fill_viol(viol_g, b_tau, scratch.w1, scratch.parent, demos.truth_t,
-                                 model)
-            viol[:] = viol_g
-            n_conj = n_g_conj + add_structure_viol(viol, b_w1, b_parent, demos.truth_t, model)
             _load(beam[i], model, scratch)
+            n_conj = fill_viol(viol, scratch.tau, scratch.w1, scratch.parent, demos.truth_t,
+                               model)
             prepare_flips(viol, model, scratch, flips)
             for j in range(m, m + n_bits):
                 pool_lp[j] = score_flip(j - m, n_conj, demos, model, scratch, flips)
-            lp_g = log_prior_globals(b_tau, model)
+            lp_g = log_prior_globals(scratch.tau, model)
             v = -1
             n_conj_rest = 0
             for j in range(m + n_bits, k):
