@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["Config", "Section", "time_call", "machine_info", "md_table", "fmt_s", "fmt_n",
-           "save_figure", "repo_root", "target", "problem_roles"]
+           "save_figure", "repo_root", "target", "problem_roles", "parse_param"]
 
 
 def repo_root():
@@ -196,3 +196,23 @@ def problem_roles(roles):
     """``BSIClassifier`` keyword arguments for a roles dict."""
     return dict(global_candidates=roles["global_candidates"], subtasks=roles["subtasks"],
                 conditions=roles["conditions"])
+
+
+def parse_param(text):
+    """``NAME=VALUE`` (a Python literal) as a ``(name, value)`` pair: a command line's
+    classifier parameter.
+
+    >>> parse_param("p_global=0.5")
+    ('p_global', 0.5)
+    """
+    import argparse
+    import ast
+
+    name, sep, value = text.partition("=")
+    if not sep or not name.isidentifier():
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
+    try:
+        return name, ast.literal_eval(value)
+    except (ValueError, SyntaxError):
+        raise argparse.ArgumentTypeError(f"{text!r}: VALUE must be a Python literal "
+                                         "(quote strings: likelihood=\"'ci'\")") from None

@@ -40,7 +40,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
-from _common import machine_info, md_table  # noqa: E402
+from _common import machine_info, md_table, parse_param  # noqa: E402
 from _event_log_rows import FRESH_CASES, LABELS, METHODS, SCARLET_DIR_ENV, run_row  # noqa: E402
 from external_scarlet import DEFAULT_SCARLET_DIR, ensure_scarlet  # noqa: E402
 
@@ -139,12 +139,13 @@ def scaling_specs(quick=False, noise=0.05, seed=0):
                  seed=seed, method="bsi") for a, c in dict.fromkeys(pairs)]
 
 
-def target_specs(seeds, noise=0.05):
-    """BSI's default fit on the target size's logs, one per seed: both rule families, and
-    the template family's log of acceptable cases only (the positive-only mode)."""
+def target_specs(seeds, noise=0.05, bsi=None):
+    """BSI's default fit (``bsi``: parameters beside the defaults) on the target size's logs,
+    one per seed: both rule families, and the template family's log of acceptable cases only
+    (the positive-only mode)."""
     a, c = TARGET_SIZE
     return [dict(task="target", n_activities=a, n_cases=c, rule=rule, noise=noise, seed=s,
-                 method="bsi", positive_only=positive)
+                 method="bsi", positive_only=positive, **({"bsi": dict(bsi)} if bsi else {}))
             for s in seeds for rule, positive in [(r, False) for r in RULES]
             + [("template", True)]]
 
@@ -289,9 +290,10 @@ def write_target(df, out, command, seconds):
                         _fmt(t.max(), 1),
                         _fmt(pd.to_numeric(part["peak_rss_mib"], errors="coerce").max(), 0)])
     a, c = TARGET_SIZE
+    params = df["hyper"].dropna().iloc[0] if df["hyper"].notna().any() else "defaults"
     text = [f"# Issue 27's time target over log seeds: {a} activities x {c:,} cases", "",
             *_header(command, seconds),
-            f"Each row: `BSIClassifier(random_state=0)` defaults on `make_process_log({a}, {c}, "
+            f"Each row: `BSIClassifier` ({params}) on `make_process_log({a}, {c}, "
             "rule, noise=0.05, random_state=seed)` (positive-only: `positive_only=True`, "
             "every case labelled acceptable, the fit on positives only; accuracy against the "
             "clean labels), 70 % of the cases, in its own process; "
@@ -453,6 +455,10 @@ def main(argv=None):
                              "regression")
     parser.add_argument("--likelihood", choices=["cb", "ci", "calibrated"], default=None,
                         help="with --recovery-seeds: BSI's likelihood (default: its default)")
+    parser.add_argument("--bsi", action="append", type=parse_param, default=[],
+                        metavar="NAME=VALUE",
+                        help="with --recovery-seeds or --target-seeds: one more BSIClassifier "
+                             "parameter (a Python literal, e.g. p_global=0.5); repeatable")
     parser.add_argument("--scarlet-dir", default=str(DEFAULT_SCARLET_DIR))
     parser.add_argument("--install-scarlet", action="store_true",
                         help="pip-install scarlet-ltl into --scarlet-dir first (network)")
@@ -471,7 +477,8 @@ def main(argv=None):
     command = "python benchmarks/bench_event_logs.py " + " ".join(argv)
     t0 = time.perf_counter()
     if args.target_seeds is not None:
-        df = run_grid(target_specs(args.target_seeds, args.noise), timeout, args.memory_limit)
+        df = run_grid(target_specs(args.target_seeds, args.noise, dict(args.bsi) or None),
+                      timeout, args.memory_limit)
         paths = write_target(df, out, command.strip(), time.perf_counter() - t0)
     elif args.pattern_seeds is not None:
         sizes = args.sizes or [(20, 500), (40, 1000)]
@@ -480,8 +487,8 @@ def main(argv=None):
         paths = write_patterns(df, out, command.strip(), time.perf_counter() - t0)
     elif args.recovery_seeds is not None:
         activities = sorted({a for a, _ in args.sizes}) if args.sizes else [10, 20, 40, 100]
-        bsi = {"likelihood": args.likelihood} if args.likelihood else None
-        df = run_grid(recovery_specs(args.recovery_seeds, activities, args.noise, bsi),
+        bsi = dict(args.bsi, **({"likelihood": args.likelihood} if args.likelihood else {}))
+        df = run_grid(recovery_specs(args.recovery_seeds, activities, args.noise, bsi or None),
                       timeout, args.memory_limit)
         paths = write_recovery(df, out, command.strip(), time.perf_counter() - t0)
     elif args.scaling:

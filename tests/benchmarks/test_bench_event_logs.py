@@ -187,3 +187,18 @@ def test_bsi_rows_take_other_parameters(bench, rows):
     row = rows.run_row(dict(specs[0], n_cases=60, n_train=42))
     assert row["status"] == "ok" and row["hyper"] == "likelihood='ci', random_state=0"
     assert 0.0 <= row["rule_disagreement"] <= 1.0
+
+
+def test_the_target_sweep_takes_other_parameters_from_the_command_line(bench):
+    specs = bench.target_specs([0], bsi={"likelihood": "calibrated", "p_global": 0.2})
+    assert all(s["bsi"] == {"likelihood": "calibrated", "p_global": 0.2} for s in specs)
+    assert all("bsi" not in s for s in bench.target_specs([0]))
+    from _common import parse_param
+
+    assert parse_param("likelihood='ci'") == ("likelihood", "ci")
+    assert parse_param("flip_prior=(1, 9)") == ("flip_prior", (1, 9))
+    import argparse
+
+    for bad in ("likelihood=ci", "p_global", "1x=2"):
+        with pytest.raises(argparse.ArgumentTypeError):
+            parse_param(bad)

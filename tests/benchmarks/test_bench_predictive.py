@@ -65,3 +65,32 @@ def test_paired_differences_are_taken_repeat_by_repeat():
         assert (r.log_loss_low, r.log_loss_high) == pytest.approx((d.mean() - half,
                                                                    d.mean() + half))
         assert r.accuracy == 0.0
+
+
+def test_a_variant_takes_the_ci_fits_place_and_is_paired_with_the_default(monkeypatch):
+    bench = _load()
+    for name in ("SETTINGS", "PAIRS"):
+        monkeypatch.setattr(bench, name, type(getattr(bench, name))(getattr(bench, name)))
+    monkeypatch.setattr(bench, "ROWS", bench.ROWS)
+    monkeypatch.setattr(bench, "FIGURE_ROWS", bench.FIGURE_ROWS)
+    bench.add_variant({"likelihood": "calibrated", "p_global": 0.2})
+    name = "likelihood='calibrated', p_global=0.2"
+    assert list(bench.SETTINGS) == ["CB (default)", name]
+    assert bench.SETTINGS[name] == ({"likelihood": "calibrated", "p_global": 0.2},
+                                    ("predictive, learned",))
+    assert f"{name}, predictive, learned" in bench.ROWS
+    assert not any(row.startswith("CI") for row in bench.ROWS)
+    assert (f"{name} - default (predictive, learned)", f"{name}, predictive, learned",
+            "CB (default), predictive, learned") in bench.PAIRS
+    assert (f"{name} - logistic regression", f"{name}, predictive, learned",
+            bench.REFERENCE) in bench.PAIRS
+
+
+def test_variant_and_proposition_options_write_into_out_only():
+    bench = _load()
+    with pytest.raises(SystemExit):
+        bench.main(["--variant", "p_global=0.2"])
+    with pytest.raises(SystemExit):
+        bench.main(["--propositions", "extended"])
+    with pytest.raises(SystemExit):  # a string must be quoted as a Python literal
+        bench.main(["--variant", "likelihood=calibrated", "--out", "x"])
