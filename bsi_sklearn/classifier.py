@@ -238,7 +238,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
           ``sample_frequencies``: each specification's frequency among the samples (0 for
           added ones); ``log_posterior_traces`` (chains x samples); ``seeds``, ``n_chains``,
           ``n_samples`` (sweeps each chain recorded), ``burn_in``; ``stopping``: the rounds
-          of ``n_samples="auto"`` (each one's ``max_missed_mass``, ``rhat``, ``late_mass``).
+          of ``n_samples="auto"`` (each one's ``max_missed_mass``, ``rhat``, ``late_mass``,
+          and past the closure's budget ``max_inclusion_gap``).
 
     See Also
     --------
@@ -259,7 +260,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     2022), one ladder for every chain. Rungs whose replicas sit in the same state cost almost
     nothing, so the time saved is less than the rungs shed.
     ``n_samples="auto"`` records 500, 1,000, 2,000, ... up to 10,000 sweeps, until the chains
-    agree and stop finding mass (:mod:`bsi_sklearn.inference.stopping`). The support is what
+    agree and stop finding mass, or, where the support is too large to list (a diffuse
+    posterior), agree on every clause's posterior inclusion within 0.01
+    (:mod:`bsi_sklearn.inference.stopping`). The support is what
     the chains recorded, the optimum, and the one-block neighbours of the states holding 99%
     of the mass (in a flat posterior, states too improbable to be visited add up).
 

@@ -63,6 +63,13 @@ def _mcmc():
                       burn_in=20, random_state=0, **roles).fit(X, y)
     # n_samples="auto": rounds, and the neighbours of the visited states weighed after each
     BSIClassifier(inference="mcmc", random_state=0, **roles).fit(X, y)
+    # past the closure's budget (too large a problem to reach here), the clauses' inclusion
+    import numpy as np
+
+    from bsi_sklearn.inference.stopping import inclusion_by_chain
+
+    inclusion_by_chain(np.array([[1, 1, -1]], dtype=np.int16), np.ones(1), [np.zeros(1, int)],
+                       1, 1)
 
 
 def _predict():

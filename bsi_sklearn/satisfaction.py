@@ -1,7 +1,9 @@
 """Which specifications a demonstration satisfies: clause bitsets and the masses they hold.
 
-A specification's clauses are a bitset over the clause slots (:mod:`bsi_sklearn.model.clauses`); a
-demonstration satisfies it when every one of those clauses is true on it. The paper's vote
+A specification's clauses are a bitset over the clause slots (:mod:`bsi_sklearn.model.clauses`,
+whose :func:`~bsi_sklearn.model.clauses.clause_masks` builds them; the sampler's stopping rule
+counts them too); a demonstration satisfies it when every one of those clauses is true on it.
+The paper's vote
 (:meth:`bsi_sklearn.Posterior.predict_proba`) and the posterior predictive
 (:mod:`bsi_sklearn.predictive`) both sum posterior mass over that test, here.
 """
@@ -9,34 +11,9 @@ demonstration satisfies it when every one of those clauses is true on it. The pa
 import numpy as np
 from numba import njit
 
-from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order, n_clauses
+from bsi_sklearn.model.clauses import clause_masks
 
 __all__ = ["clause_masks", "satisfies", "satisfied_masses", "vote"]
-
-
-@njit(cache=True, nogil=True)
-def clause_masks(structures, tau_masks, w1_masks, n_g, n):
-    """Every specification's clauses as a bitset over the clause slots (``clauses`` layout)."""
-    n_h = structures.shape[0]
-    n_cl = n_clauses(n_g, n)
-    n_words = (n_cl + 63) // 64
-    out = np.zeros((n_h, n_words), dtype=np.uint64)
-    one = np.uint64(1)
-    for h in range(n_h):
-        for j in range(n_g):
-            if tau_masks[h, j]:
-                out[h, j >> 6] |= one << np.uint64(j & 63)
-        for w in range(n):
-            if w1_masks[h, w]:
-                c = clause_index_eventual(w, n_g)
-                out[h, c >> 6] |= one << np.uint64(c & 63)
-        for v in range(n):
-            a = structures[h, v]
-            while a >= 0:
-                c = clause_index_order(a, v, n_g, n)
-                out[h, c >> 6] |= one << np.uint64(c & 63)
-                a = structures[h, a]
-    return out
 
 
 @njit(cache=True, nogil=True, inline="always")

@@ -26,7 +26,7 @@ from bsi_sklearn._jit import helper
 from bsi_sklearn.model.priors import is_forest
 from bsi_sklearn.model.state_layout import parent_offset, w1_offset
 
-__all__ = ["reach"]
+__all__ = ["reach", "visited_shares"]
 
 # Fixed odd multipliers of the hash (one per entry), so that the result never depends on a
 # random draw; the confirmation makes them a matter of speed only.
@@ -206,3 +206,13 @@ def _join(states, run, b, layout, child, visited, reached, scratch, members):
             if hit:
                 for i in range(m):
                     reached[k, members[i]] = True
+
+
+def visited_shares(visited, visited_lp, model, per_chain):
+    """What each chain reached among the visited states, and their restricted posterior.
+
+    Without the closure: each chain's share is what :func:`reach` gives (indices into the
+    visited states), and the posterior the exact one restricted to them, normalised.
+    """
+    probs = np.exp(visited_lp - visited_lp.max())
+    return reach(visited, model, per_chain), probs / probs.sum()

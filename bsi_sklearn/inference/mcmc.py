@@ -39,9 +39,9 @@ from bsi_sklearn.inference._ladder import (
     temperature_ladder,
 )
 from bsi_sklearn.inference._local_search import beam_search, n_neighbours_max, neighbourhood
-from bsi_sklearn.inference._reach import reach
+from bsi_sklearn.inference._reach import visited_shares
 from bsi_sklearn.inference.diagnostics import MODE_WARN, missed_mass, split_rhat
-from bsi_sklearn.inference.stopping import MAX_SAMPLES, rounds, should_stop
+from bsi_sklearn.inference.stopping import MAX_SAMPLES, inclusion_by_chain, rounds, should_stop
 from bsi_sklearn.model.clauses import n_clauses, pack_rows
 from bsi_sklearn.model.priors import draw_hypothesis, first_structure
 from bsi_sklearn.model.state_layout import join_state, split_state, split_states
@@ -301,13 +301,6 @@ def _sweep_work(demos, model):
     return (n_g + n + n * (n + 1)) * demos.truth_t.shape[1]
 
 
-def _visited_shares(visited, visited_lp, model, per_chain):
-    # Without the closure: what each chain reached among the visited states (indices into
-    # them), and their exact posterior restricted to them.
-    probs = np.exp(visited_lp - visited_lp.max())
-    return reach(visited, model, per_chain), probs / probs.sum()
-
-
 def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
     # Run the chains round by round (one round for a fixed n_samples) until the stopping rule
     # holds; returns their results, the unique states visited with their sample counts, the
@@ -360,20 +353,22 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             # They agree when each chain's share holds what they found together: what its
             # visited states lead to, or (past the closure's budget) what it reached, visited
             # or weighed one block away (:mod:`._reach`).
-            if near is None:
-                shares, probs = _visited_shares(visited, visited_lp, model, per_chain)
+            inclusion = None
+            if near is None:  # the closure is past its budget: the support cannot be listed
+                shares, probs = visited_shares(visited, visited_lp, model, per_chain)
+                inclusion = inclusion_by_chain(visited, probs, shares, model.n_g, model.n)
             else:
                 probs, first, keys = found_states(visited, visited_lp, first, near)
                 shares = found_by_chain(closure, visited, per_chain, keys)
             stop, detail = should_stop(shares, probs, first,
-                                       np.stack([r.trace_lp for r in results]))
+                                       np.stack([r.trace_lp for r in results]), inclusion)
             record.append(dict(detail, n_samples=done))
             if stop:
                 break
     if bar is not None:
         bar.close()
     if shares is None:  # one round only: the chains' shares were not counted
-        shares, probs = _visited_shares(visited, visited_lp, model, per_chain)
+        shares, probs = visited_shares(visited, visited_lp, model, per_chain)
     missed = missed_mass(shares, probs)  # as the stopping rule counted it
     stopping = {"rounds": record, "stopped_early": done < plan[-1]}
     return results, visited, counts, missed, visited_lp, stopping, near

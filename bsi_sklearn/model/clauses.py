@@ -23,6 +23,8 @@ __all__ = [
     "clause_index_order",
     "n_clauses",
     "clause_truth",
+    "clause_masks",
+    "clause_sums",
     "pack_rows",
     "popcount",
     "popcounts",
@@ -178,3 +180,57 @@ def popcounts(bits, mask):
     n = words.shape[0]
     return np.unpackbits(words.view(np.uint8).reshape(n, -1), axis=1).sum(axis=1,
                                                                          dtype=np.int64)
+
+
+@njit(cache=True, nogil=True)
+def clause_masks(structures, tau_masks, w1_masks, n_g, n):
+    """Every specification's clauses as a bitset over the clause slots (the layout above).
+
+    An order structure holds the order clause of every ancestor of each subtask, not only of
+    its parent.
+    """
+    n_h = structures.shape[0]
+    n_cl = n_clauses(n_g, n)
+    n_words = (n_cl + 63) // 64
+    out = np.zeros((n_h, n_words), dtype=np.uint64)
+    one = np.uint64(1)
+    for h in range(n_h):
+        for j in range(n_g):
+            if tau_masks[h, j]:
+                out[h, j >> 6] |= one << np.uint64(j & 63)
+        for w in range(n):
+            if w1_masks[h, w]:
+                c = clause_index_eventual(w, n_g)
+                out[h, c >> 6] |= one << np.uint64(c & 63)
+        for v in range(n):
+            a = structures[h, v]
+            while a >= 0:
+                c = clause_index_order(a, v, n_g, n)
+                out[h, c >> 6] |= one << np.uint64(c & 63)
+                a = structures[h, a]
+    return out
+
+
+@njit(cache=True, nogil=True)
+def clause_sums(masks, weights):
+    """Weights summed per clause slot: with probabilities, each clause's inclusion.
+
+    ``out[k, c]`` is the sum of ``weights[k, h]`` over the specifications ``h`` holding clause
+    slot ``c`` (bit ``c`` of ``masks[h]``). ``masks`` (n_specs, n_words) uint64
+    (:func:`clause_masks`), ``weights`` (n_rows, n_specs) float64; ``out`` (n_rows,
+    64 n_words), the slots past the last clause 0.
+    """
+    n_k, n_h = weights.shape
+    n_w = masks.shape[1]
+    out = np.zeros((n_k, 64 * n_w))
+    one = np.uint64(1)
+    for h in range(n_h):
+        for w in range(n_w):
+            word = masks[h, w]
+            while word:
+                low = word & (~word + one)  # the lowest set bit
+                c = 64 * w + popcount(low - one)
+                for k in range(n_k):
+                    out[k, c] += weights[k, h]
+                word ^= low
+    return out
