@@ -28,6 +28,12 @@ largest |observed - predicted| over the bins holding at least 5 % of them).
 
     python benchmarks/bench_label_noise.py            # about 10 minutes on one core
     python benchmarks/bench_label_noise.py --quick    # a few fits a family
+    python benchmarks/bench_label_noise.py --variant likelihood="'calibrated'" --out /tmp/v
+
+``--variant NAME=VALUE`` (repeatable; a Python literal) fits a second classifier with those
+parameters beside the defaults on every case and reads it by its default predictive in place
+of the ``epsilon`` reading (issue 31's candidate defaults): the difference is then the
+default fit's minus the variant's, fit by fit. It writes into ``--out`` only.
 
 Writes ``benchmarks/RESULTS_label_noise.md``, ``benchmarks/label_noise/runs.csv`` and
 ``reliability.csv`` (the bins), and one figure per task family,
@@ -53,7 +59,7 @@ import _checkout  # noqa: F401, E402 - this checkout's packages first (benchmark
 
 # isort: split
 
-from _common import machine_info, md_table  # noqa: E402
+from _common import machine_info, md_table, parse_param  # noqa: E402
 from _event_log_rows import _encoded, split_log  # noqa: E402
 from _reliability import (  # noqa: E402
     diagonal_axes,
@@ -73,17 +79,25 @@ from lfe.study import t_interval  # noqa: E402
 
 DATA = HERE.parent.parent / "shared" / "benchmarks-data"
 READINGS = {"learned": "learned", "epsilon": "likelihood"}
+#: ``--variant``'s parameters: a second fit read in place of ``epsilon`` (empty: none).
+VARIANT = {}
 METRICS = ("log_loss", "brier", "accuracy")
 #: One reliability figure per task family: file name -> the families it pools, a panel each.
 FIGURES = {"published_files": "published files", "roles_tasks": "roles tasks",
            "event_logs": "event logs"}
 
 
-def _scores(clf, X_test, y_test):
-    """Each reading's scores and P(acceptable) on the test set: ``{reading: (scores, p1)}``."""
+def _scores(clf, X_test, y_test, other=None):
+    """Each reading's scores and P(acceptable) on the test set: ``{reading: (scores, p1)}``.
+
+    With ``other`` (the ``--variant`` fit), the second reading is its default predictive.
+    """
     out = {}
     for name, mode in READINGS.items():
-        clf.set_params(label_noise=mode)  # read at prediction: one fit, both readings
+        if other is not None and name == "epsilon":
+            clf = other
+        else:
+            clf.set_params(label_noise=mode)  # read at prediction: one fit, both readings
         p1 = clf.predict_proba(X_test)[:, 1]
         out[name] = (dict(log_loss=log_loss(y_test, p1, labels=[0, 1]),
                           brier=brier_score_loss(y_test, p1, pos_label=1),
@@ -91,22 +105,28 @@ def _scores(clf, X_test, y_test):
     return out
 
 
-def _fit(X, y, seed):
+def _fit(X, y, seed, params=None):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")  # counted, not silenced
         t0 = time.perf_counter()
-        clf = BSIClassifier(random_state=seed).fit(X, y)
+        clf = BSIClassifier(random_state=seed, **(params or {})).fit(X, y)
         seconds = time.perf_counter() - t0
     kinds = sorted({f"{w.category.__name__}: {str(w.message)[:80]}" for w in caught})
-    return clf, dict(fit_s=seconds, inference=clf.inference_, n_warnings=len(caught),
-                     warnings=" | ".join(kinds))
+    facts = dict(fit_s=seconds, inference=clf.inference_, n_warnings=len(caught),
+                 warnings=" | ".join(kinds))
+    if VARIANT and params is None:  # the second fit, its facts beside the default's
+        other, more = _fit(X, y, seed, VARIANT)
+        clf.variant_ = other
+        facts.update({f"variant_{k}": v for k, v in more.items()})
+    return clf, facts
 
 
 def _rows(family, case, clf, facts, X_test, y_test, preds):
     """The fit's lines of ``runs.csv``; its test predictions appended to ``preds``."""
     y_test = np.asarray(y_test)
     rows = []
-    for name, (scores, p1) in _scores(clf, X_test, y_test).items():
+    other = getattr(clf, "variant_", None)
+    for name, (scores, p1) in _scores(clf, X_test, y_test, other).items():
         rows.append(dict(family=family, case=case, reading=name, **facts, **scores))
         preds.append(pd.DataFrame(dict(family=family, case=case, reading=name, p=p1,
                                        y=y_test)))
@@ -222,6 +242,10 @@ def report(runs, command, seconds, gaps=None):
              "`label_noise=\"likelihood\"`; the two readings of a line are the *same* fit. "
              "Means over fits with Student-t 95 % intervals; the difference is paired, fit by "
              "fit.", "",
+             *([f"**With `--variant`: the `epsilon` columns are the fit with "
+                f"{', '.join(f'`{k}={v!r}`' for k, v in VARIANT.items())} (its default "
+                "predictive), and `learned - epsilon` is the default fit's minus that "
+                "one's.**", ""] if VARIANT else []),
              f"- Command: `{command}`",
              f"- Machine: {info['cpu']}, {info['usable_cores']} usable cores, load "
              f"{info.get('load_average')}; commit {info['commit']}",
@@ -267,11 +291,18 @@ def main(argv=None):
                              "with the negations)")
     parser.add_argument("--seeds", type=int, default=5, help="roles tasks and logs")
     parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--variant", action="append", type=parse_param, default=[],
+                        metavar="NAME=VALUE",
+                        help="a second fit with this BSIClassifier parameter (repeatable), "
+                             "read in place of the epsilon reading (needs --out)")
     parser.add_argument("--out", default=None, help="folder (default: benchmarks/)")
     parser.add_argument("--figures-only", action="store_true",
                         help="redraw the figures from the recorded label_noise/reliability.csv "
                              "(no fit)")
     args = parser.parse_args(argv)
+    if args.variant and args.out is None:
+        parser.error("--variant writes into --out only")
+    VARIANT.update(args.variant)
     out = Path(args.out) if args.out else HERE
     if args.figures_only:
         figures(pd.read_csv(out / "label_noise" / "reliability.csv"), out / "figures")

@@ -54,3 +54,23 @@ def test_report_pairs_the_readings_case_by_case():
     # the worst bins, learned and epsilon ("-": none given)
     assert next(line for line in text.splitlines()
                 if line.startswith("| f | 3")).endswith("| 0.125 | - |")
+
+
+def test_a_variant_is_a_second_fit_read_in_place_of_epsilon(monkeypatch):
+    from bsi_sklearn import BSIClassifier
+    from bsi_sklearn.datasets.errands import make_errand_demos, make_errand_task
+
+    bench = _load()
+    monkeypatch.setattr(bench, "VARIANT", {"likelihood": "ci", "epsilon": 0.1})
+    rows = bench.roles_tasks([0], [], sizes=(20,), noises=(0.0,))
+    by = {r["reading"]: r for r in rows if r["case"].startswith("errand")}
+    assert by["epsilon"]["variant_inference"] == by["learned"]["variant_inference"]
+    # the second reading is the variant's own fit, scored by its default predictive
+    s_task, s_train, s_test = bench._seeds("errand", 0, 20)
+    task = make_errand_task("errand", random_state=s_task)
+    train = make_errand_demos(task, 20, random_state=s_train)
+    test = make_errand_demos(task, 300, random_state=s_test)
+    clf = BSIClassifier(random_state=0, likelihood="ci", epsilon=0.1).fit(train.traces, train.y)
+    assert by["epsilon"]["accuracy"] == pytest.approx(np.mean(clf.predict(test.traces) == test.y))
+    with pytest.raises(SystemExit):  # a variant writes into --out only
+        bench.main(["--variant", "likelihood='ci'"])
