@@ -47,7 +47,7 @@ keep finding states and disagree, runs to ``MAX_SAMPLES`` as a fixed ``n_samples
 import numpy as np
 
 from bsi_sklearn.inference.diagnostics import missed_mass, split_rhat
-from bsi_sklearn.model.clauses import clause_masks, clause_sums
+from bsi_sklearn.model.clauses import clause_masks, clause_sums, n_clauses
 from bsi_sklearn.model.state_layout import split_states
 
 __all__ = ["FIRST_ROUND", "MAX_SAMPLES", "STOP_MISSED", "STOP_RHAT", "STOP_LATE",
@@ -64,6 +64,9 @@ STOP_LATE = 0.001
 #: Past the closure's budget: the largest gap between a chain's and the pooled inclusion of a
 #: clause at which the chains may stop (a vote moved by a hundredth at most per clause).
 STOP_INCLUSION = 0.01
+#: States whose clause bitsets :func:`inclusion_by_chain` holds at once (200 propositions'
+#: 40,000 clause slots: 20 MB).
+INCLUSION_BLOCK = 4096
 
 
 def rounds(first=FIRST_ROUND, most=MAX_SAMPLES):
@@ -156,14 +159,19 @@ def inclusion_by_chain(states, probabilities, shares, n_g, n):
     ...                    1, 1)[:, :2].tolist()
     [[0.75, 1.0], [1.0, 1.0], [0.0, 1.0]]
     """
-    tau, w1, parent = split_states(np.asarray(states), n_g, n)
-    masks = clause_masks(np.ascontiguousarray(parent, dtype=np.int64),
-                         np.ascontiguousarray(tau, dtype=np.bool_),
-                         np.ascontiguousarray(w1, dtype=np.bool_), n_g, n)
     weights = np.zeros((1 + len(shares), len(probabilities)))
     weights[0] = probabilities
     for k, share in enumerate(shares):
         mass = probabilities[share].sum()
         if mass > 0:
             weights[1 + k, share] = probabilities[share] / mass
-    return clause_sums(masks, weights)
+    tau, w1, parent = split_states(np.asarray(states), n_g, n)
+    out = np.zeros((len(weights), 64 * ((n_clauses(n_g, n) + 63) // 64)))
+    # The states' clause bitsets a block at a time: at most INCLUSION_BLOCK rows of them.
+    for lo in range(0, len(probabilities), INCLUSION_BLOCK):
+        hi = lo + INCLUSION_BLOCK
+        masks = clause_masks(np.ascontiguousarray(parent[lo:hi], dtype=np.int64),
+                             np.ascontiguousarray(tau[lo:hi], dtype=np.bool_),
+                             np.ascontiguousarray(w1[lo:hi], dtype=np.bool_), n_g, n)
+        out += clause_sums(masks, np.ascontiguousarray(weights[:, lo:hi]))
+    return out
