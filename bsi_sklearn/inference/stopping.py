@@ -84,7 +84,7 @@ def rounds(first=FIRST_ROUND, most=MAX_SAMPLES):
 
 
 def should_stop(shares, probabilities, first_found, traces, inclusion=None):
-    """Whether the chains may stop after this round, and the three quantities it weighs.
+    """Whether the chains may stop after this round, and the quantities it weighs.
 
     Parameters
     ----------
