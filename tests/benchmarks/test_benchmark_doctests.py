@@ -8,7 +8,7 @@ from _scripts import BENCH
 
 # Modules with examples (bench_roles and bench_external_templates the only bench_* ones).
 MODULES = ["external", "external_bsi", "external_scarlet", "run", "reference.webppl",
-           "_roles_report", "bench_roles", "bench_external_templates"]
+           "_roles_report", "_common", "bench_roles", "bench_external_templates"]
 FLAGS = doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS
 
 
