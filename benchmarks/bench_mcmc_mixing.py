@@ -121,6 +121,8 @@ def fit_pair(X, y, roles, **mcmc_params):
         "n_demos": len(y), "tv": total_variation(exact.posterior_, mcmc.posterior_),
         "rhat": float(diag["rhat"]), "max_missed_mass": float(diag["max_missed_mass"]),
         "optimum_gap": float(diag.get("optimum_gap", np.nan)),
+        "typical_gap": float(diag.get("typical_gap", np.nan)),
+        "sampled": bool(diag.get("sampled", False)),
         "n_temperatures": int(len(diag.get("betas", [1.0]))),
         "burn_in_max": int(np.max(diag.get("burn_in_per_chain", [diag["burn_in"]]))),
         "n_samples": int(diag["n_samples"]),
@@ -144,6 +146,7 @@ def measure(problems, **mcmc_params):
         row["problem"] = name
         rows.append(row)
         print(f"{name:44s} TV={row['tv']:.4f} rhat={row['rhat']:.3g} "
+              f"typical_gap={row['typical_gap']:.2f}{' (sampled)' if row['sampled'] else ''} "
               f"warnings={row['warnings']} {row['wall_s']:.2f} s", flush=True)
     return rows
 

@@ -224,7 +224,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         - ``optimum_log_posterior``: the log posterior (unnormalised) of a deterministic
           optimum (a beam search over one-block changes), where every chain starts;
           ``best_visited_log_posterior``: the best state the chains recorded;
-          ``optimum_gap``: the first less the second;
+          ``optimum_gap``: the first less the second; ``typical_gap``: the reported
+          visited states' mean log posterior, reweighted exactly, less the chains' (above
+          log 20 the posterior is too diffuse to list and ``sampled`` is ``True``: the
+          probabilities are the sample frequencies);
         - ``betas``: the tempering ladder the chains recorded on; ``ladder``: with
           ``n_temperatures="auto"``, the pilot's ``default_betas``, ``pilot_rejection`` (mean
           rejection probability of each pair's swaps over the pilot's second half, the
@@ -249,30 +252,37 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     -----
     The MCMC sampler discovers the posterior's support; the probabilities it reports are the
     exact posterior restricted to that support, renormalised, which is far closer to the exact
-    posterior than sample frequencies (kept in ``mcmc_diagnostics_``). Every chain runs a
-    ladder of tempered replicas (``n_temperatures``) from the deterministic optimum (a beam
-    search's best basin, which single-coordinate moves often miss on large problems) for
-    ``burn_in`` sweeps, and longer while it is 20 times less probable than the optimum. The
-    burn-in runs on the default ladder and measures how often each pair of adjacent rungs
-    refuses a swap; the chains then go on with the same coldest and hottest rungs and the
-    fewest rungs in between that keep about half the swaps accepted, placed at equal steps of
-    the summed rejections (the schedule of non-reversible parallel tempering, Syed et al.
-    2022), one ladder for every chain. Rungs whose replicas sit in the same state cost almost
-    nothing, so the time saved is less than the rungs shed.
-    ``n_samples="auto"`` records 500, 1,000, 2,000, ... up to 10,000 sweeps, until the chains
-    agree and stop finding mass, or, where the support is too large to list (a diffuse
-    posterior), agree on every clause's posterior inclusion within 0.01
-    (:mod:`bsi_sklearn.inference.stopping`). The support is what
-    the chains recorded, the optimum, and the one-block neighbours of the states holding 99%
-    of the mass (in a flat posterior, states too improbable to be visited add up).
+    posterior than sample frequencies (kept in ``mcmc_diagnostics_``), except where the
+    posterior is too diffuse for a support to hold it (``typical_gap`` above log 20): there
+    they are the sample frequencies (``mcmc_diagnostics_["sampled"]``), and the MAP is the
+    specification sampled most often (ties: the most probable; the deterministic optimum, more
+    probable still, holds too little of the mass to be sampled, and is not listed). Every chain
+    runs a ladder of tempered replicas (``n_temperatures``) from the deterministic optimum (a
+    beam search's best basin, which single-coordinate moves often miss on large problems) for
+    ``burn_in`` sweeps, and while it is 20 times less probable than the optimum for up to as
+    many more. The burn-in runs on the default ladder and measures how often each pair of
+    adjacent rungs refuses a swap; the chains then go on with the same coldest and hottest
+    rungs and the fewest rungs in between that keep about half the swaps accepted, placed at
+    equal steps of the summed rejections (the schedule of non-reversible parallel tempering,
+    Syed et al. 2022), one ladder for every chain. Rungs whose replicas sit in the same state
+    cost almost nothing, so the time saved is less than the rungs shed. ``n_samples="auto"``
+    records 500, 1,000, 2,000, ... up to 10,000 sweeps, until the chains agree and stop finding
+    mass, or, where the support is too large to list (a diffuse posterior), agree on every
+    clause's posterior inclusion within 0.01, or, for a posterior reported by its samples, on
+    every clause's inclusion (its split-R-hat across them at most 1.01;
+    :mod:`bsi_sklearn.inference.stopping`). The support is what the chains recorded, the
+    optimum, and the one-block neighbours of the states holding 99% of the mass (in a flat
+    posterior, states too improbable to be visited add up).
 
     A ``ConvergenceWarning`` is raised when the optimum is more than 20 times as probable as
     every state the chains recorded (they left it and agree on a worse mode), when some chain
     never reached more than 5% of the mass the chains found (``max_missed_mass``: they
     disagree), and when the split-R-hat exceeds 1.05 (with one chain, the halves of its
-    trace are compared, and no chain can disagree). With ``roles="all"`` (every proposition
-    a global candidate and a subtask) and a support that ``"auto"`` could not enumerate, a
-    ``UserWarning`` suggests ``global_candidates``, ``subtasks`` and ``conditions``.
+    trace are compared, and no chain can disagree); on a posterior reported by its samples,
+    only the last (the first two weigh states by their exact posterior). With
+    ``roles="all"`` (every proposition a global candidate and a subtask) and a support that
+    ``"auto"`` could not enumerate, a ``UserWarning`` suggests ``global_candidates``,
+    ``subtasks`` and ``conditions``.
 
     References
     ----------

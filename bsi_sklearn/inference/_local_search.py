@@ -12,9 +12,10 @@ not through the chains' incremental bookkeeping. No random numbers.
   against (they must not sit on a worse mode) and the level their burn-in waits for.
 - :func:`neighbourhood`: the neighbours of given rows above a log-posterior floor, which
   complete the support of an MCMC posterior where it is flat (states each too improbable for
-  the chains to visit, but many).
+  the chains to visit, but many): :func:`complete_support` picks the rows.
 """
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -43,7 +44,16 @@ from bsi_sklearn.model.likelihood import log_likelihood
 from bsi_sklearn.model.priors import log_prior, log_prior_globals
 from bsi_sklearn.model.state_layout import split_state, state_width
 
-__all__ = ["beam_search", "neighbourhood", "n_neighbours_max"]
+__all__ = ["beam_search", "neighbourhood", "complete_support", "n_neighbours_max"]
+
+#: The support is completed with the neighbours of its most probable states holding this much
+#: of its mass (at most ``COMPLETE_SOURCES`` of them, within a budget of this many clause-row
+#: operations, about 0.3 s), keeping neighbours less than ``COMPLETE_FLOOR`` (log 1e12) below
+#: the most probable state.
+COMPLETE_MASS = 0.99
+COMPLETE_SOURCES = 2000
+COMPLETE_WORK = 3e8
+COMPLETE_FLOOR = math.log(1e12)
 
 
 class _Scratch(NamedTuple):
@@ -230,3 +240,22 @@ def _beam_search(start, demos, model, width, max_steps, scratch, bufs, moves, fl
         if not changed:
             break
     return beam_lp[0]
+
+
+def complete_support(uniq, scores, demos, model):
+    """The one-block neighbours that complete an MCMC posterior's support where it is flat.
+
+    The neighbours of the support's most probable states (those holding ``COMPLETE_MASS`` of
+    it, within the caps) less than ``COMPLETE_FLOOR`` below the most probable, with their
+    exact log posterior (:func:`neighbourhood`); the caller drops those already in it.
+    Returns ``(rows, log_posteriors)``.
+    """
+    probs = np.exp(scores - scores.max())
+    probs /= probs.sum()
+    order = np.argsort(-scores, kind="stable")
+    cost = max(1, n_neighbours_max(model.n_g, model.n) * demos.truth_t.shape[0]) * \
+        demos.truth_t.shape[1]
+    n_src = min(int(np.searchsorted(np.cumsum(probs[order]), COMPLETE_MASS)) + 1,
+                max(1, int(COMPLETE_WORK // cost)), COMPLETE_SOURCES, len(order))
+    sources = np.ascontiguousarray(uniq[order[:n_src]], dtype=np.int64)
+    return neighbourhood(sources, demos, model, scores.max() - COMPLETE_FLOOR)

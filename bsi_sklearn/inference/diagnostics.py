@@ -4,8 +4,12 @@ import math
 
 import numpy as np
 
-__all__ = ["split_rhat", "missed_mass", "total_variation", "disagreement_problems",
-           "RHAT_WARN", "MISSED_WARN", "MODE_WARN"]
+from bsi_sklearn.model.clauses import clause_masks, clause_sums, n_clauses
+from bsi_sklearn.model.state_layout import split_states
+
+__all__ = ["split_rhat", "missed_mass", "typical_gap", "weighted_inclusion", "inclusion_rhat",
+           "total_variation", "disagreement_problems", "RHAT_WARN", "MISSED_WARN", "MODE_WARN",
+           "DIFFUSE_GAP"]
 
 #: Split-R-hat of the chains' log posteriors above which the chains have not mixed.
 RHAT_WARN = 1.05
@@ -16,6 +20,12 @@ MISSED_WARN = 0.05
 #: A deterministic optimum more probable than every visited state by more than this factor
 #: (log 20): the chains sit on a wrong mode, however well they agree.
 MODE_WARN = math.log(20.0)
+#: A posterior whose visited states, reweighted exactly, lie this far (log 20) above the
+#: chains' own log posterior on average is too diffuse to list (:func:`typical_gap`).
+DIFFUSE_GAP = math.log(20.0)
+#: States whose clause bitsets :func:`weighted_inclusion` holds at once (200 propositions'
+#: 40,000 clause slots: 20 MB).
+INCLUSION_BLOCK = 4096
 
 
 def split_rhat(traces):
@@ -109,6 +119,154 @@ def missed_mass(chain_visits, probabilities):
     return out
 
 
+def typical_gap(scores, counts, traces):
+    """How far the chains' states lie below the visited states reweighted exactly.
+
+    The mean log posterior of the visited states under the exact posterior restricted to them,
+    less the chains' mean log posterior. Where the chains sample a posterior whose visited
+    states hold its mass, the two are the same average and the gap is near 0. Where its mass
+    is spread over far more states than the chains can visit twice (many clauses the data
+    leave undetermined, each near its prior inclusion), the restricted posterior piles onto
+    the few most probable states visited, far above the chains' typical ones: the gap is
+    large, and the restricted posterior is not the posterior. Chains stuck away from a better
+    mode give no gap (their visited states are what they sample); that is ``optimum_gap``.
+
+    Parameters
+    ----------
+    scores : ndarray of shape (n_states,)
+        Exact unnormalised log posterior of each state.
+    counts : ndarray of shape (n_states,)
+        Samples of each state (0: not visited).
+    traces : ndarray of shape (n_chains, n_samples)
+        The chains' log posteriors after every recorded sweep.
+
+    Returns
+    -------
+    float
+        In nats; 0.0 without samples.
+
+    Examples
+    --------
+    Samples in proportion to the exact posterior: no gap.
+
+    >>> import numpy as np
+    >>> scores, counts = np.log([0.6, 0.3, 0.1]), np.array([6, 3, 1])
+    >>> traces = np.repeat(scores, counts)[None, :]
+    >>> round(typical_gap(scores, counts, traces), 12)
+    0.0
+
+    A thousand states, each visited once, ten of them 10 nats above the rest:
+
+    >>> scores = np.r_[np.full(10, 10.0), np.zeros(990)]
+    >>> round(typical_gap(scores, np.ones(1000), scores[None, :]), 2)
+    9.9
+    """
+    scores, counts = np.asarray(scores, dtype=float), np.asarray(counts)
+    if np.size(traces) == 0 or not (counts > 0).any():
+        return 0.0
+    visited = scores[counts > 0]
+    weights = np.exp(visited - visited.max())
+    return float(weights @ visited / weights.sum() - np.mean(traces))
+
+
+def weighted_inclusion(states, weights, n_g, n):
+    """Each clause's inclusion under each row of weights over the states.
+
+    Parameters
+    ----------
+    states : ndarray of shape (n_states, n_g + 2 n)
+        State rows (:mod:`bsi_sklearn.model.state_layout`).
+    weights : ndarray of shape (n_rows, n_states)
+        For example probabilities, one distribution a row.
+    n_g, n : int
+        Global slots and subtasks.
+
+    Returns
+    -------
+    ndarray of shape (n_rows, n_slots)
+        ``out[k, c]``: the weight of row ``k`` on the states holding clause slot ``c`` (the
+        layout of :mod:`bsi_sklearn.model.clauses`; unused slots 0).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> states = np.array([[1, 1, -1], [0, 1, -1]])  # G(0) & F(0), and F(0): n_g = 1, n = 1
+    >>> weighted_inclusion(states, np.array([[0.75, 0.25]]), 1, 1)[:, :2].tolist()
+    [[0.75, 1.0]]
+    """
+    weights = np.asarray(weights, dtype=float)
+    tau, w1, parent = split_states(np.asarray(states), n_g, n)
+    out = np.zeros((len(weights), 64 * ((n_clauses(n_g, n) + 63) // 64)))
+    # The states' clause bitsets a block at a time: at most INCLUSION_BLOCK rows of them.
+    for lo in range(0, weights.shape[1], INCLUSION_BLOCK):
+        hi = lo + INCLUSION_BLOCK
+        masks = clause_masks(np.ascontiguousarray(parent[lo:hi], dtype=np.int64),
+                             np.ascontiguousarray(tau[lo:hi], dtype=np.bool_),
+                             np.ascontiguousarray(w1[lo:hi], dtype=np.bool_), n_g, n)
+        out += clause_sums(masks, np.ascontiguousarray(weights[:, lo:hi]))
+    return out
+
+
+def inclusion_rhat(states, chain_rows, chain_counts, n_g, n):
+    """The largest split-R-hat of a clause's inclusion across the chains.
+
+    Each clause's indicator (the recorded state holds it) is a scalar of every sample, whose
+    split-R-hat compares the chains' halves (Vehtari et al. 2021 recommend it for indicator
+    functions): near 1 when every half includes the clause about as often as the others,
+    given how much it varies within them, so it allows for the chains' autocorrelation. Where
+    the posterior is reported by its samples, this is how the chains are asked whether they
+    agree. A clause every half includes always, or never, gives 1 (``inf`` if the halves differ).
+
+    Parameters
+    ----------
+    states : ndarray of shape (n_states, n_g + 2 n)
+        The visited states' rows.
+    chain_rows, chain_counts : sequence of ndarray of int
+        For each chain, the index into ``states`` of each row of its run-length encoded record,
+        and the samples the row stands for.
+    n_g, n : int
+
+    Returns
+    -------
+    float
+        ``nan`` with fewer than 4 samples a chain.
+
+    Examples
+    --------
+    Two chains, each alternating between a state with ``G(0)`` and one without, five
+    samples at a time: they agree. Two that each stay in one: they do not.
+
+    >>> import numpy as np
+    >>> states = np.array([[0], [1]])  # without G(0), with it: n_g = 1, n = 0
+    >>> rows, counts = [np.array([0, 1, 0, 1])] * 2, [np.array([5, 5, 5, 5])] * 2
+    >>> bool(inclusion_rhat(states, rows, counts, 1, 0) < 1.01)
+    True
+    >>> inclusion_rhat(states, [np.array([0]), np.array([1])], [np.array([20])] * 2, 1, 0)
+    inf
+    """
+    half = min(int(np.sum(c)) for c in chain_counts) // 2
+    if half < 2:
+        return float("nan")
+    weights = np.zeros((2 * len(chain_rows), len(states)))
+    for k, (rows, counts) in enumerate(zip(chain_rows, chain_counts)):
+        counts = np.asarray(counts, dtype=np.int64)
+        start = np.cumsum(counts) - counts
+        early = np.clip(half - start, 0, counts)  # a run across the middle is split
+        late = np.clip(2 * half - start, 0, counts) - early
+        np.add.at(weights[2 * k], rows, early / half)
+        np.add.at(weights[2 * k + 1], rows, late / half)
+    means = weighted_inclusion(states, weights, n_g, n)[:, :n_clauses(n_g, n)]
+    within = np.mean(means * (1.0 - means), axis=0) * half / (half - 1)
+    between = half * np.var(means, axis=0, ddof=1)
+    noise = 1e-12
+    flat = within <= noise
+    if np.any(flat & (np.ptp(means, axis=0) > noise)):
+        return float("inf")
+    var_plus = (half - 1) / half * within + between / half
+    rhat = np.sqrt(var_plus[~flat] / within[~flat])
+    return float(rhat.max(initial=1.0))
+
+
 def total_variation(p, q):
     """Total-variation distance between two posteriors (over specifications).
 
@@ -139,9 +297,25 @@ def disagreement_problems(diag):
     A better optimum than the chains found (``optimum_gap > MODE_WARN``), a chain that missed
     more than ``MISSED_WARN`` of the mass the chains found, a split-R-hat above
     ``RHAT_WARN`` (NaN, too few samples, says nothing): the estimator warns with each.
+
+    A posterior too diffuse to list (``typical_gap > DIFFUSE_GAP``, :func:`typical_gap`) is
+    reported by its samples (:func:`bsi_sklearn.inference.mcmc.sample_posterior`): the
+    optimum gap and the missed mass, which weigh states by their exact posterior, say
+    nothing there (the chains leave the optimum they start from and never meet); there the
+    chains are asked whether each clause's inclusion agrees across them
+    (``inclusion_rhat > RHAT_WARN``, :func:`inclusion_rhat`) besides the R-hat of their log
+    posteriors.
+
+    Examples
+    --------
+    >>> diag = {"optimum_gap": 26.4, "max_missed_mass": 0.9, "missed_mass_per_chain": [0.9],
+    ...         "rhat": 1.0, "typical_gap": 30.0, "inclusion_rhat": 1.002}
+    >>> disagreement_problems(diag)
+    []
     """
     problems = []
-    if diag["optimum_gap"] > MODE_WARN:
+    listed = diag.get("typical_gap", 0.0) <= DIFFUSE_GAP
+    if listed and diag["optimum_gap"] > MODE_WARN:
         problems.append(
             "MCMC chains missed a mode: a deterministic search found a specification "
             f"exp({diag['optimum_gap']:.3g}) times more probable than any state the chains "
@@ -149,7 +323,7 @@ def disagreement_problems(diag):
             "posterior, but the chains did not sample its neighbourhood, so the rest of "
             "the reported posterior is unreliable.")
     worst = diag["max_missed_mass"]
-    if worst > MISSED_WARN:
+    if listed and worst > MISSED_WARN:
         chain = int(np.argmax(diag["missed_mass_per_chain"]))
         problems.append(
             f"MCMC chains disagree: chain {chain} never reached specifications holding "
@@ -157,6 +331,12 @@ def disagreement_problems(diag):
             "mcmc_diagnostics_['missed_mass_per_chain']: neither visited them nor led to "
             "them from a state it visited through weighed neighbours), so the reported "
             "posterior is unreliable.")
+    if not listed and diag.get("inclusion_rhat", 1.0) > RHAT_WARN:
+        problems.append(
+            "MCMC chains disagree: the posterior, too diffuse to list, is reported by their "
+            "samples, and the split-R-hat of a clause's inclusion across them is "
+            f"{diag['inclusion_rhat']:.3g} (> {RHAT_WARN}; mcmc_diagnostics_"
+            "['inclusion_rhat']), so the reported posterior is unreliable.")
     if diag["rhat"] > RHAT_WARN:  # nan (too few samples) does not warn
         problems.append(
             f"MCMC chains have not mixed: the split-R-hat of their log posteriors is "

@@ -12,9 +12,11 @@ modes that single-coordinate moves cannot (a valley of a few violated demonstrat
 :class:`MCMCResult`: the reported posterior is the exact posterior restricted to the visited
 states (plus the deterministic optimum of :func:`deterministic_optimum` when no chain visited
 it), renormalised, and a dictionary of diagnostics (:mod:`bsi_sklearn.inference.diagnostics`).
+A posterior too diffuse to list that way (its mass over far more states than the chains can
+visit twice, :func:`~bsi_sklearn.inference.diagnostics.typical_gap`) is reported by the
+chains' sample frequencies instead.
 """
 
-import math
 from typing import NamedTuple
 
 import numpy as np
@@ -38,9 +40,16 @@ from bsi_sklearn.inference._ladder import (
     swap_tries,
     temperature_ladder,
 )
-from bsi_sklearn.inference._local_search import beam_search, n_neighbours_max, neighbourhood
+from bsi_sklearn.inference._local_search import beam_search, complete_support
 from bsi_sklearn.inference._reach import visited_shares
-from bsi_sklearn.inference.diagnostics import MODE_WARN, missed_mass, split_rhat
+from bsi_sklearn.inference.diagnostics import (
+    DIFFUSE_GAP,
+    MODE_WARN,
+    inclusion_rhat,
+    missed_mass,
+    split_rhat,
+    typical_gap,
+)
 from bsi_sklearn.inference.stopping import MAX_SAMPLES, inclusion_by_chain, rounds, should_stop
 from bsi_sklearn.model.clauses import n_clauses, pack_rows
 from bsi_sklearn.model.priors import draw_hypothesis, first_structure
@@ -52,14 +61,6 @@ __all__ = ["Demos", "ChainResult", "MCMCResult", "ChainRun", "run_chain", "dedup
 
 #: Hypotheses the beam search of :func:`deterministic_optimum` keeps at every step.
 BEAM_WIDTH = 8
-#: The support is completed with the neighbours of its most probable states holding this much
-#: of its mass (at most ``COMPLETE_SOURCES`` of them, within a budget of this many clause-row
-#: operations, about 0.3 s), keeping neighbours less than ``COMPLETE_FLOOR`` (log 1e12) below
-#: the most probable state.
-COMPLETE_MASS = 0.99
-COMPLETE_SOURCES = 2000
-COMPLETE_WORK = 3e8
-COMPLETE_FLOOR = math.log(1e12)
 
 
 class ChainResult(NamedTuple):
@@ -256,21 +257,6 @@ def run_chain(seed, demos, model, n_samples, burn_in, betas=None, start=None, *,
                     max_extra=max_extra).advance(n_samples).result()
 
 
-def _complete(uniq, scores, demos, model):
-    # The support's one-block neighbourhood: the neighbours of its most probable states (those
-    # holding COMPLETE_MASS of it, within the caps) above the floor, with their log posterior;
-    # the caller drops those already in the support.
-    probs = np.exp(scores - scores.max())
-    probs /= probs.sum()
-    order = np.argsort(-scores, kind="stable")
-    cost = max(1, n_neighbours_max(model.n_g, model.n) * demos.truth_t.shape[0]) * \
-        demos.truth_t.shape[1]
-    n_src = min(int(np.searchsorted(np.cumsum(probs[order]), COMPLETE_MASS)) + 1,
-                max(1, int(COMPLETE_WORK // cost)), COMPLETE_SOURCES, len(order))
-    sources = np.ascontiguousarray(uniq[order[:n_src]], dtype=np.int64)
-    return neighbourhood(sources, demos, model, scores.max() - COMPLETE_FLOOR)
-
-
 def sampling_count(truth, y01, model, *, n_chains, n_samples, burn_in, n_temperatures="auto"):
     """How much work :func:`sample_posterior` may do: candidate evaluations x rows.
 
@@ -350,18 +336,22 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             for r, rows in zip(results, per_chain):
                 np.minimum.at(first, rows, np.cumsum(r.counts) - r.counts)
             near = closure.update(visited, visited_lp, first)
+            traces = np.stack([r.trace_lp for r in results])
             # They agree when each chain's share holds what they found together: what its
             # visited states lead to, or (past the closure's budget) what it reached, visited
-            # or weighed one block away (:mod:`._reach`).
-            inclusion = None
-            if near is None:  # the closure is past its budget: the support cannot be listed
+            # or weighed one block away (:mod:`._reach`); a posterior too diffuse to list,
+            # reported by the samples, when each clause's inclusion agrees across them.
+            inclusion = sampled = probs = None
+            if typical_gap(visited_lp, counts, traces) > DIFFUSE_GAP:
+                sampled = inclusion_rhat(visited, per_chain, [r.counts for r in results],
+                                         model.n_g, model.n)
+            elif near is None:  # the closure is past its budget: the support cannot be listed
                 shares, probs = visited_shares(visited, visited_lp, model, per_chain)
                 inclusion = inclusion_by_chain(visited, probs, shares, model.n_g, model.n)
             else:
                 probs, first, keys = found_states(visited, visited_lp, first, near)
                 shares = found_by_chain(closure, visited, per_chain, keys)
-            stop, detail = should_stop(shares, probs, first,
-                                       np.stack([r.trace_lp for r in results]), inclusion)
+            stop, detail = should_stop(shares, probs, first, traces, inclusion, sampled)
             record.append(dict(detail, n_samples=done))
             if stop:
                 break
@@ -371,7 +361,7 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
         shares, probs = visited_shares(visited, visited_lp, model, per_chain)
     missed = missed_mass(shares, probs)  # as the stopping rule counted it
     stopping = {"rounds": record, "stopped_early": done < plan[-1]}
-    return results, visited, counts, missed, visited_lp, stopping, near
+    return results, visited, counts, missed, visited_lp, stopping, near, per_chain
 
 
 def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
@@ -382,13 +372,19 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     (:func:`deterministic_optimum`): a beam search finds the best basin that single-coordinate
     moves from the hypothesis without clauses often cannot reach on large problems, and the
     hot replicas leave it at once. Burn-in lasts ``burn_in`` sweeps and then, for at most
-    ``n_samples`` more, until the chain's log posterior is within ``log 20`` of the optimum's
+    ``burn_in`` more, until the chain's log posterior is within ``log 20`` of the optimum's
     (the first ``burn_in`` on the default ladder: a pilot that adapts it). The reported
     posterior is the exact posterior restricted to the states the chains recorded, the
     optimum, the neighbours of the recorded states that the stopping rule counted as found
     (:mod:`bsi_sklearn.inference._closure`; ``n_samples="auto"``), and the one-block
     neighbours of the most probable of them (where the posterior is flat, states each too
-    improbable to be visited add up), renormalised.
+    improbable to be visited add up), renormalised. Where the visited states, so reweighted,
+    lie on average more than log 20 above the chains' own log posterior (``typical_gap``:
+    many clauses the data leave undetermined, each near its prior inclusion, spread the mass
+    over far more states than the chains visit, each visited about once), that restriction
+    would pile the mass onto the most probable states found; the probabilities are then the
+    sample frequencies of the visited states (``sampled``), the most often sampled first
+    (ties: the most probable), and the optimum is listed only if visited.
 
     Parameters
     ----------
@@ -425,7 +421,11 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     betas = temperature_ladder(demos, model, n_temperatures)
     optimum, optimum_lp = deterministic_optimum(demos, model)
     plan = rounds() if n_samples == "auto" else [int(n_samples)]
-    chain = dict(target=optimum_lp - MODE_WARN, max_extra=plan[-1])
+    # The extension lets a chain that the pilot's swaps left below the optimum's level climb
+    # back, for as long again as the burn-in: a chain still below after that samples a
+    # posterior whose typical states lie far below its mode (where a thousand weakly determined
+    # clauses combine, 56 nats below at 100 activities), and burning on would last forever.
+    chain = dict(target=optimum_lp - MODE_WARN, max_extra=int(burn_in))
     ladder = None
     if n_temperatures == "auto" and len(betas) > 2 and int(burn_in) >= PILOT_MIN:
         # The burn-in is the pilot: it runs on the default ladder, which is then adapted.
@@ -438,7 +438,7 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     else:
         runs = [ChainRun(int(seed), demos, model, betas, optimum, burn_in=int(burn_in),
                          **chain) for seed in seeds]
-    results, visited, counts, missed, visited_lp, stopping, near = _run_rounds(
+    results, visited, counts, missed, visited_lp, stopping, near, per_chain = _run_rounds(
         runs, plan, demos, model, n_jobs, verbose)
     # The support: the visited states, the optimum, what the last round found one block from
     # the visited states, and the neighbourhood of the most probable.
@@ -449,7 +449,7 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         support = np.concatenate([support, near[0]])
         support_lp = np.concatenate([support_lp, near[1]])
         counts = np.concatenate([counts, np.zeros(len(near[0]), dtype=np.int64)])
-    extra, extra_lp = _complete(support, support_lp, demos, model)
+    extra, extra_lp = complete_support(support, support_lp, demos, model)
     uniq, counts, inverse = unique_states(
         np.concatenate([support, extra]),
         np.concatenate([counts, np.zeros(len(extra), dtype=np.int64)]), return_inverse=True)
@@ -458,9 +458,19 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     # Sort by decreasing posterior; ties keep np.unique's canonical order.
     order = np.argsort(-scores, kind="stable")
     uniq, counts, scores = uniq[order], counts[order], scores[order]
-    probs = np.exp(scores - scores.max())
-    probs /= probs.sum()
     traces = np.stack([r.trace_lp for r in results])
+    gap = typical_gap(scores, counts, traces)
+    if gap > DIFFUSE_GAP:
+        # Too diffuse to list: restricted to the states found, the posterior would pile onto
+        # the most probable of them, so the samples report it: the visited states, the most
+        # often sampled first (ties: the most probable).
+        keep = np.flatnonzero(counts > 0)
+        keep = keep[np.lexsort((-scores[keep], -counts[keep]))]
+        uniq, counts, scores = uniq[keep], counts[keep], scores[keep]
+        probs = counts / counts.sum()
+    else:
+        probs = np.exp(scores - scores.max())
+        probs /= probs.sum()
     moves = np.array([r.move_rate for r in results])
     best_visited = float(visited_lp.max())
     diagnostics = {
@@ -483,6 +493,10 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         "burn_in": int(burn_in),
         "n_visited": len(visited),
         "n_added": len(uniq) - len(visited),
+        "typical_gap": gap,
+        "sampled": bool(gap > DIFFUSE_GAP),
+        "inclusion_rhat": (inclusion_rhat(visited, per_chain, [r.counts for r in results],
+                                          n_g, n) if gap > DIFFUSE_GAP else None),
         "sample_frequencies": counts / counts.sum(),
         "log_posterior_traces": traces,
         "seeds": np.asarray(seeds),

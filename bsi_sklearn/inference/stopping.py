@@ -39,6 +39,11 @@ calibrated likelihood (``benchmarks/RESULTS_default_candidates.md``): the first 
 was 0.30 after 500 sweeps and still 0.16 after 10,000, the chains' largest inclusion gap 0.005
 after 500; the held-out predictions of 500 and 10,000 sweeps score alike.
 
+A posterior too diffuse to list at all (its visited states, reweighted exactly, far above the
+chains' own log posterior: :func:`bsi_sklearn.inference.diagnostics.typical_gap`) is reported
+by the chains' samples, and they stop when they agree on what the samples report: the
+split-R-hat of every clause's inclusion, and of their log posteriors, at most ``STOP_RHAT``.
+
 Every quantity is exact-scored, and the rules depend on the chains only, never on timing or
 on ``n_jobs``. A peaked posterior stops after the first round; a flat one, where the chains
 keep finding states and disagree, runs to ``MAX_SAMPLES`` as a fixed ``n_samples`` would.
@@ -46,9 +51,7 @@ keep finding states and disagree, runs to ``MAX_SAMPLES`` as a fixed ``n_samples
 
 import numpy as np
 
-from bsi_sklearn.inference.diagnostics import missed_mass, split_rhat
-from bsi_sklearn.model.clauses import clause_masks, clause_sums, n_clauses
-from bsi_sklearn.model.state_layout import split_states
+from bsi_sklearn.inference.diagnostics import missed_mass, split_rhat, weighted_inclusion
 
 __all__ = ["FIRST_ROUND", "MAX_SAMPLES", "STOP_MISSED", "STOP_RHAT", "STOP_LATE",
            "STOP_INCLUSION", "rounds", "should_stop", "inclusion_by_chain"]
@@ -64,9 +67,6 @@ STOP_LATE = 0.001
 #: Past the closure's budget: the largest gap between a chain's and the pooled inclusion of a
 #: clause at which the chains may stop (a vote moved by a hundredth at most per clause).
 STOP_INCLUSION = 0.01
-#: States whose clause bitsets :func:`inclusion_by_chain` holds at once (200 propositions'
-#: 40,000 clause slots: 20 MB).
-INCLUSION_BLOCK = 4096
 
 
 def rounds(first=FIRST_ROUND, most=MAX_SAMPLES):
@@ -83,7 +83,7 @@ def rounds(first=FIRST_ROUND, most=MAX_SAMPLES):
     return out
 
 
-def should_stop(shares, probabilities, first_found, traces, inclusion=None):
+def should_stop(shares, probabilities, first_found, traces, inclusion=None, sampled=None):
     """Whether the chains may stop after this round, and the quantities it weighs.
 
     Parameters
@@ -101,13 +101,19 @@ def should_stop(shares, probabilities, first_found, traces, inclusion=None):
     inclusion : ndarray of shape (1 + n_chains, n_slots), optional
         Past the closure's budget only (:func:`inclusion_by_chain`): each clause's inclusion
         under the pooled posterior (row 0) and under each chain's share.
+    sampled : float, optional
+        For a posterior too diffuse to list, reported by its samples only: the largest
+        split-R-hat of a clause's inclusion across the chains
+        (:func:`~bsi_sklearn.inference.diagnostics.inclusion_rhat`). The chains then stop
+        when it and the R-hat of their log posteriors are at most ``STOP_RHAT``; ``shares``,
+        ``probabilities`` and ``first_found`` are not read.
 
     Returns
     -------
     stop : bool
     detail : dict
         ``max_missed_mass``, ``rhat``, ``late_mass``; with ``inclusion``, also
-        ``max_inclusion_gap``.
+        ``max_inclusion_gap``; with ``sampled``, ``rhat`` and ``inclusion_rhat`` only.
 
     Examples
     --------
@@ -118,8 +124,11 @@ def should_stop(shares, probabilities, first_found, traces, inclusion=None):
     >>> stop, detail["late_mass"]
     (True, 0.0005)
     """
-    missed = float(missed_mass(shares, probabilities).max())
     rhat = split_rhat(traces)
+    if sampled is not None:
+        return (bool(rhat <= STOP_RHAT and sampled <= STOP_RHAT),
+                {"rhat": rhat, "inclusion_rhat": sampled})
+    missed = float(missed_mass(shares, probabilities).max())
     half = traces.shape[1] // 2
     late = float(np.sum(probabilities[first_found >= half]))
     stop = missed <= STOP_MISSED and rhat <= STOP_RHAT and late <= STOP_LATE
@@ -165,13 +174,4 @@ def inclusion_by_chain(states, probabilities, shares, n_g, n):
         mass = probabilities[share].sum()
         if mass > 0:
             weights[1 + k, share] = probabilities[share] / mass
-    tau, w1, parent = split_states(np.asarray(states), n_g, n)
-    out = np.zeros((len(weights), 64 * ((n_clauses(n_g, n) + 63) // 64)))
-    # The states' clause bitsets a block at a time: at most INCLUSION_BLOCK rows of them.
-    for lo in range(0, len(probabilities), INCLUSION_BLOCK):
-        hi = lo + INCLUSION_BLOCK
-        masks = clause_masks(np.ascontiguousarray(parent[lo:hi], dtype=np.int64),
-                             np.ascontiguousarray(tau[lo:hi], dtype=np.bool_),
-                             np.ascontiguousarray(w1[lo:hi], dtype=np.bool_), n_g, n)
-        out += clause_sums(masks, np.ascontiguousarray(weights[:, lo:hi]))
-    return out
+    return weighted_inclusion(states, weights, n_g, n)

@@ -185,9 +185,9 @@ def test_past_the_closure_budget_chains_that_disagree_on_a_clause_go_on():
 
 @pytest.mark.parametrize("block", [7, 4096])  # several blocks of states, and one
 def test_inclusion_by_chain_sums_each_clause_over_the_states_holding_it(monkeypatch, block):
-    from bsi_sklearn.inference import stopping
+    from bsi_sklearn.inference import diagnostics
 
-    monkeypatch.setattr(stopping, "INCLUSION_BLOCK", block)
+    monkeypatch.setattr(diagnostics, "INCLUSION_BLOCK", block)
     rng = np.random.default_rng(3)
     n_g, n = 3, 4
     states = []
