@@ -224,10 +224,12 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         - ``optimum_log_posterior``: the log posterior (unnormalised) of a deterministic
           optimum (a beam search over one-block changes), where every chain starts;
           ``best_visited_log_posterior``: the best state the chains recorded;
-          ``optimum_gap``: the first less the second; ``typical_gap``: the reported
-          visited states' mean log posterior, reweighted exactly, less the chains' (above
-          log 20 the posterior is too diffuse to list and ``sampled`` is ``True``: the
-          probabilities are the sample frequencies);
+          ``optimum_gap``: the first less the second; ``typical_gap``: the visited
+          states' mean log posterior, reweighted exactly, less the chains' (above log 20
+          the posterior is too diffuse to list and ``sampled`` is ``True``: the
+          probabilities are the sample frequencies, and ``inclusion_rhat``, the largest
+          split-R-hat of a clause's inclusion across the chains, says whether they agree;
+          else ``None``);
         - ``betas``: the tempering ladder the chains recorded on; ``ladder``: with
           ``n_temperatures="auto"``, the pilot's ``default_betas``, ``pilot_rejection`` (mean
           rejection probability of each pair's swaps over the pilot's second half, the

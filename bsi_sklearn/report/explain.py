@@ -140,7 +140,13 @@ def explain(classifier, X=None, y=None, descriptions=None, top_k=5, *, title=Non
         "dropped_mass": float(posterior.dropped_mass),
         "rhat": None if not diagnostics else float(diagnostics["rhat"]),
         "max_missed_mass": (None if not diagnostics or "max_missed_mass" not in diagnostics
+                            or diagnostics.get("sampled")
                             else float(diagnostics["max_missed_mass"])),
+        # A posterior too diffuse to list is reported by its samples: the chains agree when
+        # each clause's inclusion does (the missed mass weighs states exactly, and says
+        # nothing there).
+        "inclusion_rhat": (float(diagnostics["inclusion_rhat"])
+                           if diagnostics and diagnostics.get("sampled") else None),
     }
     fields = dict(
         title=title, specification=spec, ltl=spec.to_ltl(), ltl_latex=spec.to_ltl(latex=True),

@@ -68,7 +68,8 @@ class SpecificationReport:
         Transitive reduction of the MAP orders (the arrows of the DAG figure).
     inference : dict
         How the posterior was obtained: ``method``, ``prior``, ``likelihood``,
-        ``dropped_mass``, ``rhat`` and ``max_missed_mass`` (MCMC only).
+        ``dropped_mass``, ``rhat`` and ``max_missed_mass`` (MCMC only; for a posterior
+        reported by its samples, ``inclusion_rhat`` instead of ``max_missed_mass``).
     demo_names : list of str or None
         One name per demonstration (``None`` without ``X``).
     clause_states : pandas.DataFrame or None
@@ -251,6 +252,11 @@ class SpecificationReport:
         if info.get("max_missed_mass") is not None:
             text += (" Posterior mass the least thorough MCMC chain never reached: "
                      f"{info['max_missed_mass']:.3f} (above 0.05 the chains disagree).")
+        if info.get("inclusion_rhat") is not None:
+            text += (" Too diffuse to list, the posterior is reported by the MCMC samples: "
+                     "the probabilities are their frequencies. Largest split-R-hat of a "
+                     f"clause's inclusion across the chains: {info['inclusion_rhat']:.3f} "
+                     "(above 1.05 they disagree).")
         doc.add("p", text)
         doc.add("table", ["rank", "probability", "difference from the MAP", "specification"],
                 [[str(r), f"{p:.4f}", Code(diff) if diff else "(MAP)", Code(ltl)]

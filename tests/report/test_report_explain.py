@@ -325,6 +325,28 @@ def test_mcmc_report_states_the_chains_agreement():
             in rep.markdown())
 
 
+def test_a_posterior_reported_by_its_samples_says_so():
+    # 40 propositions true throughout: their G clauses are undetermined, each at its prior
+    # inclusion 0.2, and the posterior is too diffuse to list (tests/inference/
+    # test_mcmc_diffuse.py). The report gives the chains' agreement on clause inclusions, not
+    # the missed mass, which weighs states exactly.
+    rng = np.random.default_rng(0)
+    Xd = [np.ones((3, 41), dtype=int) for _ in range(30)]
+    for x in Xd:
+        x[:, 40] = rng.integers(0, 2, 3)
+    yd = np.array([1, 0] * 15)
+    clf = BSIClassifier(likelihood="calibrated", global_candidates=list(range(40)),
+                        subtasks=[], conditions={}, p_global=0.2, inference="mcmc",
+                        n_samples=500, random_state=0).fit(Xd, yd)
+    assert clf.mcmc_diagnostics_["sampled"]
+    rep = explain(clf, Xd, yd)
+    assert rep.inference["max_missed_mass"] is None
+    assert rep.inference["inclusion_rhat"] == pytest.approx(
+        clf.mcmc_diagnostics_["inclusion_rhat"])
+    text = rep.markdown()
+    assert "reported by the MCMC samples" in text and "never reached" not in text
+
+
 def test_report_files_get_the_umask_mode(report, tmp_path):
     # Issue 21: report files were written with mode 0600 (mkstemp's), not the umask's.
     import os
