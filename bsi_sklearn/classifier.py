@@ -244,7 +244,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
           added ones); ``log_posterior_traces`` (chains x samples); ``seeds``, ``n_chains``,
           ``n_samples`` (sweeps each chain recorded), ``burn_in``; ``stopping``: the rounds
           of ``n_samples="auto"`` (each one's ``max_missed_mass``, ``rhat``, ``late_mass``,
-          and past the closure's budget ``max_inclusion_gap``).
+          and past the closure's budget ``max_inclusion_gap``; a round of a posterior
+          reported by its samples has ``rhat`` and ``inclusion_rhat``).
 
     See Also
     --------
