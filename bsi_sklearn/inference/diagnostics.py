@@ -72,9 +72,14 @@ def split_rhat(traces):
     within = split.var(axis=1, ddof=1).mean()
     if math.sqrt(within) <= noise:
         return 1.0 if np.ptp(means) <= noise else float("inf")
-    between = half * means.var(ddof=1)
+    return float(_rhat(means, within, half))
+
+
+def _rhat(means, within, half):
+    # Split-R-hat (BDA3) from the halves' means (axis 0) and their mean within-half variance.
+    between = half * np.var(means, axis=0, ddof=1)
     var_plus = (half - 1) / half * within + between / half
-    return float(np.sqrt(var_plus / within))
+    return np.sqrt(var_plus / within)
 
 
 def missed_mass(chain_visits, probabilities):
@@ -256,15 +261,13 @@ def inclusion_rhat(states, chain_rows, chain_counts, n_g, n):
         np.add.at(weights[2 * k], rows, early / half)
         np.add.at(weights[2 * k + 1], rows, late / half)
     means = weighted_inclusion(states, weights, n_g, n)[:, :n_clauses(n_g, n)]
+    # A binary indicator's variance within a half is its mean times one less it (ddof=1).
     within = np.mean(means * (1.0 - means), axis=0) * half / (half - 1)
-    between = half * np.var(means, axis=0, ddof=1)
     noise = 1e-12
     flat = within <= noise
     if np.any(flat & (np.ptp(means, axis=0) > noise)):
         return float("inf")
-    var_plus = (half - 1) / half * within + between / half
-    rhat = np.sqrt(var_plus[~flat] / within[~flat])
-    return float(rhat.max(initial=1.0))
+    return float(_rhat(means[:, ~flat], within[~flat], half).max(initial=1.0))
 
 
 def total_variation(p, q):

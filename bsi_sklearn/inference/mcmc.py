@@ -461,6 +461,12 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     traces = np.stack([r.trace_lp for r in results])
     gap = typical_gap(scores, counts, traces)
     if gap > DIFFUSE_GAP:
+        # The last round's stopping rule weighed it on these very samples (one round only:
+        # it did not).
+        inclusion = (stopping["rounds"][-1].get("inclusion_rhat") if stopping["rounds"]
+                     else None)
+        if inclusion is None:
+            inclusion = inclusion_rhat(visited, per_chain, [r.counts for r in results], n_g, n)
         # Too diffuse to list: restricted to the states found, the posterior would pile onto
         # the most probable of them, so the samples report it: the visited states, the most
         # often sampled first (ties: the most probable).
@@ -495,8 +501,7 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         "n_added": len(uniq) - len(visited),
         "typical_gap": gap,
         "sampled": bool(gap > DIFFUSE_GAP),
-        "inclusion_rhat": (inclusion_rhat(visited, per_chain, [r.counts for r in results],
-                                          n_g, n) if gap > DIFFUSE_GAP else None),
+        "inclusion_rhat": inclusion if gap > DIFFUSE_GAP else None,
         "sample_frequencies": counts / counts.sum(),
         "log_posterior_traces": traces,
         "seeds": np.asarray(seeds),
