@@ -194,7 +194,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     posterior_ : Posterior
         The inferred posterior over unique specifications.
     map_specification_ : Specification
-        The most probable specification; ``.readable(vacuous_clauses_)`` shows it to a person.
+        The most probable specification (``posterior_.map_specification``; of a posterior
+        reported by its samples, the most probable found, not the most often sampled);
+        ``.readable(vacuous_clauses_)`` shows it to a person.
     vacuous_clauses_ : frozenset of clause keys
         Candidate clauses every training demonstration satisfies, acceptable or not: untested
         (see :meth:`Posterior.mark_vacuous <bsi_sklearn.Posterior.mark_vacuous>`).
@@ -463,7 +465,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         self.inference_ = result.engine
         self.n_hypotheses_ = result.n_hypotheses
         self.log_epsilon_ = model.log_eps
-        self.map_specification_ = self.posterior_.specification(0)
+        self.map_specification_ = self.posterior_.map_specification
         self.vacuous_clauses_ = self.posterior_.mark_vacuous(traces, y01, truth=truth)
         self.n_unique_specifications_ = len(self.posterior_)
         return self

@@ -55,12 +55,20 @@ class Posterior:
         when omitted (exact inference passes marginals over the full support).
     dropped_mass : float, default=0.0
         Posterior mass left out of ``specifications`` (exact inference with ``tol``).
+    map_index : int, default=0
+        Position of the most probable specification. Not 0 only for a posterior reported by
+        its samples (too diffuse to list, ``mcmc_diagnostics_["sampled"]``): there the
+        probabilities are sample frequencies, and the most probable specification found may
+        have been sampled less often than others, or never (probability 0).
 
     Attributes
     ----------
     specifications : list of Specification
     probabilities : ndarray
     dropped_mass : float
+    map_index : int
+    map_specification : Specification
+        The most probable specification, ``specification(map_index)``.
     vacuous_clauses : frozenset of clause keys
         Candidate clauses no training demonstration violates, set apart by :meth:`to_frame`
         (:meth:`mark_vacuous`, called by ``BSIClassifier.fit``; empty for a file's posterior).
@@ -81,13 +89,17 @@ class Posterior:
     vacuous_clauses = frozenset()
 
     def __init__(self, structures, tau_masks, w1_masks, probabilities, roles,
-                 clause_marginals=None, dropped_mass=0.0):
+                 clause_marginals=None, dropped_mass=0.0, map_index=0):
         self._structures = np.ascontiguousarray(structures, dtype=np.int64)
         self._tau = np.ascontiguousarray(tau_masks, dtype=bool)
         self._w1 = np.ascontiguousarray(w1_masks, dtype=bool)
         self.probabilities = np.asarray(probabilities, dtype=float)
         self.roles = roles
         self.dropped_mass = float(dropped_mass)
+        if not 0 <= int(map_index) < len(self.probabilities):
+            raise ValueError(f"Posterior: map_index={map_index!r} is not the position of one "
+                             f"of the {len(self.probabilities)} specifications")
+        self.map_index = int(map_index)
         self._masks = clause_masks(
             self._structures, self._tau, self._w1, roles.n_global_slots, roles.n_subtasks
         )
@@ -112,7 +124,7 @@ class Posterior:
         """
         return cls(result.structures, result.tau_masks, result.w1_masks, result.probabilities,
                    roles, clause_marginals=result.clause_marginals,
-                   dropped_mass=result.dropped_mass)
+                   dropped_mass=result.dropped_mass, map_index=result.map_index)
 
     # ------------------------------------------------------------------ containers
     def __len__(self):
@@ -120,13 +132,18 @@ class Posterior:
 
     def __repr__(self):
         return (
-            f"Posterior(n_specifications={len(self)}, map={self.specification(0)}, "
-            f"p_map={self.probabilities[0]:.4g})"
+            f"Posterior(n_specifications={len(self)}, map={self.map_specification}, "
+            f"p_map={self.probabilities[self.map_index]:.4g})"
         )
 
     def specification(self, i):
-        """The ``i``-th most probable specification."""
+        """The ``i``-th listed specification (by decreasing probability)."""
         return self._build_spec(i)
+
+    @property
+    def map_specification(self):
+        """The most probable specification (:attr:`map_index`)."""
+        return self._build_spec(self.map_index)
 
     @property
     def specifications(self):
@@ -328,10 +345,11 @@ class Posterior:
             File to write, in one step (a temporary file renamed over it, so a failed write
             leaves the previous file intact); the text is returned either way.
         max_specifications : int or None, default=10_000
-            Most specifications listed: the most probable ones, their probabilities
-            renormalised, and the mass of the others added to ``dropped_mass`` (as exact
-            inference does with ``tol``). ``None`` lists them all. The file grows by about
-            150 bytes a listed specification.
+            Most specifications listed: the most probable ones (and the MAP,
+            :attr:`map_index`, whatever its rank), their probabilities renormalised, and
+            the mass of the others added to ``dropped_mass`` (as exact inference does with
+            ``tol``). ``None`` lists them all. The file grows by about 150 bytes a listed
+            specification.
 
         Returns
         -------
@@ -368,14 +386,18 @@ class Posterior:
             {"max_specifications": [Interval(numbers.Integral, 1, None, closed="left"), None]},
             "Posterior.to_json")
         k = len(self) if max_specifications is None else min(len(self), max_specifications)
-        probs, dropped = self.probabilities[:k], self.dropped_mass
+        # The most probable first, and the MAP whatever its rank (then last: listed later, it
+        # is no more probable than the others kept).
+        rows = np.arange(k) if self.map_index < k else np.r_[np.arange(k - 1), self.map_index]
+        probs, dropped = self.probabilities[rows], self.dropped_mass
         if k < len(self):
             kept = float(probs.sum())
-            probs = probs / kept
+            # One listed specification carries all the listed mass (the MAP may have none).
+            probs = probs / kept if k > 1 else np.ones(1)
             dropped = 1.0 - (1.0 - dropped) * kept
-        text = dump_posterior(self.roles, [self._build_spec(i) for i in range(k)], probs,
+        text = dump_posterior(self.roles, [self._build_spec(i) for i in rows], probs,
                               self.clause_keys(), self._marginals[self._clause_slots()],
-                              dropped)
+                              dropped, map_index=int(np.flatnonzero(rows == self.map_index)[0]))
         if path is not None:
             write_posterior(path, text)
         return text.rstrip("\n")
@@ -451,7 +473,7 @@ a str is the JSON text: to read a file, pass a pathlib.Path or call Posterior.re
     @classmethod
     def _from_document(cls, doc, who):
         post = cls(doc.structures, doc.tau_masks, doc.w1_masks, doc.probabilities, doc.roles,
-                   dropped_mass=doc.dropped_mass)
+                   dropped_mass=doc.dropped_mass, map_index=doc.map_index)
         expected, keys = post.clause_keys(), doc.marginal_keys
         if len(keys) != len(expected):
             raise ValueError(f"{who}: clause_marginals: {len(keys)} entries for the "

@@ -43,8 +43,9 @@ def test_round_trip_gives_identical_predictions(kwargs, frames, tmp_path):
         assert again.dropped_mass == post.dropped_mass
         assert again.roles.names == list(post.roles.names)
     doc = json.loads(text)
-    # without pattern candidates the file is version 1, as before them; SCHEMA_VERSION is 2
-    assert doc["schema"] == SCHEMA and doc["version"] == 1 and SCHEMA_VERSION == 2
+    # without pattern candidates or a MAP listed after others the file is version 1, as
+    # before them; SCHEMA_VERSION is 3
+    assert doc["schema"] == SCHEMA and doc["version"] == 1 and SCHEMA_VERSION == 3
     assert doc["specifications"][0]["ltl"] == clf.map_specification_.to_ltl()
     assert set(doc) == {"schema", "version", "names", "roles", "specifications",
                         "probabilities", "clause_marginals", "dropped_mass"}
@@ -69,8 +70,8 @@ def _doc():
 @pytest.mark.parametrize("edit, message", [
     (lambda d: d.update(schema="something/else"), "schema: expected 'bsi-sklearn/posterior', "
                                                   "got 'something/else'"),
-    (lambda d: d.update(version=3), "schema version 3 is not supported; this bsi-sklearn "
-                                    "reads versions 1, 2"),
+    (lambda d: d.update(version=4), "schema version 4 is not supported; this bsi-sklearn "
+                                    "reads versions 1, 2, 3"),
     (lambda d: d["roles"]["subtasks"].append("zz"), "roles.subtasks\\[\\d+\\]: 'zz' is not one "
                                                     "of the names"),
     (lambda d: d["probabilities"].pop(), "probabilities: .* probabilities for .* "
@@ -116,3 +117,77 @@ def test_bsi_fit_save_writes_a_posterior(tmp_path, capsys):
                  "--save", str(out)]) == 0
     assert (tmp_path / "posterior_one.json").exists()
     assert (tmp_path / "posterior_two.json").exists()
+
+
+def _sampled_posterior(map_index):
+    """Four specifications listed by sample frequency, the most probable at ``map_index``."""
+    X, y = _data()
+    post = BSIClassifier(random_state=0).fit(X, y).posterior_
+    rows = np.arange(4)
+    return Posterior(post._structures[rows], post._tau[rows], post._w1[rows],
+                     [0.5, 0.3, 0.2, 0.0], post.roles, map_index=map_index), X
+
+
+@pytest.mark.parametrize("map_index", [1, 3])
+def test_a_map_listed_after_others_survives_the_file(map_index, tmp_path):
+    # A posterior reported by its samples lists them by frequency: the MAP (the most
+    # probable found) may come later, sampled less often, or never (probability 0).
+    post, X = _sampled_posterior(map_index)
+    assert post.map_specification == post.specification(map_index)
+    assert f"p_map={post.probabilities[map_index]:.4g}" in repr(post)
+    doc = json.loads(post.to_json())
+    assert doc["version"] == 3 and doc["map_index"] == map_index
+    assert doc["roles"]["patterns"] == []  # version 3 keeps version 2's fields
+    again = Posterior.from_json(json.dumps(doc))
+    assert again.map_index == map_index and again.map_specification == post.map_specification
+    np.testing.assert_array_equal(again.predict_proba(X), post.predict_proba(X))
+    # Cut short, the file keeps the MAP, last (no more probable than those kept before it).
+    short = Posterior.from_json(post.to_json(max_specifications=2))
+    assert short.specifications == [post.specification(0), post.map_specification]
+    assert short.map_index == 1
+    np.testing.assert_allclose(short.probabilities.sum(), 1.0)
+    only = Posterior.from_json(post.to_json(max_specifications=1))
+    assert only.specifications == [post.map_specification] and only.map_index == 0
+    assert only.probabilities.tolist() == [1.0]
+    assert json.loads(post.to_json(max_specifications=1))["version"] == 1
+
+
+@pytest.mark.parametrize("value, message", [
+    (4, "map_index: expected the position of a listed specification \\(an integer from 0 "
+        "to 3\\), got .*4"),
+    (-1, "map_index: expected .* got .*-1"),
+    (1.0, "map_index: expected .* got .*1.0"),
+    (True, "map_index: expected .* got .*True"),
+])
+def test_a_bad_map_index_says_what_is_wrong(value, message):
+    doc = json.loads(_sampled_posterior(1)[0].to_json())
+    doc["map_index"] = value
+    with pytest.raises(ValueError, match=message):
+        Posterior.from_json(json.dumps(doc))
+    del doc["map_index"]
+    with pytest.raises(ValueError, match="missing field 'map_index'"):
+        Posterior.from_json(json.dumps(doc))
+    doc.update(version=2, map_index=1)
+    with pytest.raises(ValueError, match="unknown field 'map_index'"):
+        Posterior.from_json(json.dumps(doc))
+
+
+def test_a_map_index_outside_the_listing_is_refused():
+    with pytest.raises(ValueError, match="map_index=4 is not the position of one of the 4"):
+        _sampled_posterior(4)
+
+
+def test_a_version_3_file_follows_the_published_schema():
+    import pathlib
+
+    jsonschema = pytest.importorskip("jsonschema")
+    root = pathlib.Path(__file__).resolve().parents[1]
+    schema = json.loads((root / "docs" / "posterior-schema.json").read_text())
+    doc = json.loads(_sampled_posterior(2)[0].to_json())
+    jsonschema.validate(doc, schema)
+    for edit in (lambda d: d.pop("map_index"), lambda d: d.update(version=2),
+                 lambda d: d.update(map_index="2")):
+        bad = json.loads(json.dumps(doc))
+        edit(bad)
+        with pytest.raises(jsonschema.ValidationError):
+            jsonschema.validate(bad, schema)

@@ -79,7 +79,10 @@ class MCMCResult(NamedTuple):
     """The reported posterior of :func:`sample_posterior` and its diagnostics.
 
     ``structures`` (parent arrays), ``tau_masks``, ``w1_masks`` and ``probabilities`` list the
-    specifications by decreasing probability, as :class:`bsi_sklearn.Posterior` takes them.
+    specifications by decreasing probability, as :class:`bsi_sklearn.Posterior` takes them;
+    ``map_index`` is the position of the most probable specification found (0 unless the
+    posterior is reported by its samples, where it may be sampled less often than others, or
+    never: then it is listed with probability 0).
     """
 
     structures: np.ndarray  # (H, n) int64
@@ -88,6 +91,7 @@ class MCMCResult(NamedTuple):
     probabilities: np.ndarray
     diagnostics: dict
     violations: np.ndarray  # (H,) misclassified demonstrations, with a flip prior; else None
+    map_index: int = 0
 
 
 def unique_states(states, counts, return_inverse=False):
@@ -384,7 +388,10 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     over far more states than the chains visit, each visited about once), that restriction
     would pile the mass onto the most probable states found; the probabilities are then the
     sample frequencies of the visited states (``sampled``), the most often sampled first
-    (ties: the most probable), and the optimum is listed only if visited.
+    (ties: the most probable); the most probable state found (the MAP, ``map_index``) is
+    listed too, with probability 0 if never sampled: in so flat a posterior every state's
+    mass is tiny, and the most often sampled one is no better an estimate of the MAP than
+    any other visited once more by chance.
 
     Parameters
     ----------
@@ -470,11 +477,14 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         # Too diffuse to list: restricted to the states found, the posterior would pile onto
         # the most probable of them, so the samples report it: the visited states, the most
         # often sampled first (ties: the most probable).
-        keep = np.flatnonzero(counts > 0)
+        # The MAP (scores are sorted: row 0) stays listed, last if never sampled.
+        keep = np.flatnonzero((counts > 0) | (np.arange(len(counts)) == 0))
         keep = keep[np.lexsort((-scores[keep], -counts[keep]))]
+        map_index = int(np.flatnonzero(keep == 0)[0])
         uniq, counts, scores = uniq[keep], counts[keep], scores[keep]
         probs = counts / counts.sum()
     else:
+        map_index = 0
         probs = np.exp(scores - scores.max())
         probs /= probs.sum()
     moves = np.array([r.move_rate for r in results])
@@ -511,4 +521,4 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
                   if model.flip_a > 0 else None)
     tau, w1, parent = split_states(uniq, n_g, n)
     return MCMCResult(parent.astype(np.int64), tau.astype(bool), w1.astype(bool), probs,
-                      diagnostics, violations)
+                      diagnostics, violations, map_index)

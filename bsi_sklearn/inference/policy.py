@@ -86,6 +86,10 @@ class InferenceResult:
         The sampler's diagnostics (``mcmc_diagnostics_``); ``None`` for exact.
     n_hypotheses : int or float
         Size of the prior's support.
+    map_index : int
+        Position in the listing of the most probable specification found: 0, except for a
+        posterior reported by its samples (``diagnostics["sampled"]``), listed by how often
+        each specification was sampled.
     """
 
     engine: str
@@ -100,6 +104,7 @@ class InferenceResult:
     violation_weights: np.ndarray
     diagnostics: Any
     n_hypotheses: Any
+    map_index: int = 0
 
     def flip_rate(self, n_demos, flip_prior):
         """The flip rate's posterior mean and 95 % interval (``None``s without a flip prior)."""
@@ -196,4 +201,4 @@ def _mcmc(truth, y01, model, policy, n_hyp):
         w1_masks=res.w1_masks, probabilities=res.probabilities, clause_marginals=None,
         dropped_mass=0.0, violations=res.violations, violation_counts=res.violations,
         violation_weights=res.probabilities, diagnostics=res.diagnostics,
-        n_hypotheses=n_hyp)
+        n_hypotheses=n_hyp, map_index=res.map_index)

@@ -36,11 +36,13 @@ __all__ = [
 ]
 
 #: Name and version of the format (the ``schema`` and ``version`` fields). Version 2 adds
-#: the pattern clauses (DESIGN §12); a posterior without pattern candidates is still written
-#: as version 1, byte for byte as before, and both versions are read.
+#: the pattern clauses (DESIGN §12); version 3 adds ``map_index``, the position of the most
+#: probable specification where it is not listed first (a posterior reported by its
+#: samples). A posterior that needs neither is still written as version 1, byte for byte as
+#: before, and every version is read.
 SCHEMA = "bsi-sklearn/posterior"
-SCHEMA_VERSION = 2
-_VERSIONS = (1, 2)
+SCHEMA_VERSION = 3
+_VERSIONS = (1, 2, 3)
 
 #: Default most specifications a file lists; the rest is written as ``dropped_mass``.
 MAX_LISTED = 10_000
@@ -50,6 +52,7 @@ SUM_TOLERANCE = 1e-6
 
 _TOP_KEYS = ("schema", "version", "names", "roles", "specifications", "probabilities",
              "clause_marginals", "dropped_mass")
+_TOP_KEYS_3 = _TOP_KEYS + ("map_index",)
 _ROLE_KEYS = ("global_candidates", "subtasks", "conditions")
 _SPEC_KEYS = ("globals", "eventuals", "orders", "ltl")
 # Version 2: the roles list the pattern candidates, each specification its pattern clauses.
@@ -73,6 +76,8 @@ class PosteriorDocument(NamedTuple):
     marginals : ndarray
         Inclusion probability of every clause of ``marginal_keys``.
     dropped_mass : float
+    map_index : int
+        Position of the most probable specification (0 before version 3).
     """
 
     roles: Roles
@@ -83,6 +88,7 @@ class PosteriorDocument(NamedTuple):
     marginal_keys: list
     marginals: np.ndarray
     dropped_mass: float
+    map_index: int = 0
 
 
 # ---------------------------------------------------------------------------------- writing
@@ -119,7 +125,7 @@ def _key_entry(key):
 
 
 def dump_posterior(roles, specifications, probabilities, marginal_keys, marginals,
-                   dropped_mass):
+                   dropped_mass, map_index=0):
     """The text of a posterior file.
 
     Parameters
@@ -135,15 +141,18 @@ def dump_posterior(roles, specifications, probabilities, marginal_keys, marginal
         The clause inclusion probabilities over the whole posterior.
     dropped_mass : float
         Posterior mass not listed.
+    map_index : int, default=0
+        Position of the most probable specification among those listed.
 
     Returns
     -------
     text : str
         One field a line, one specification or probability a line; floats exactly. Version 2
         when the roles have pattern candidates (``roles.patterns``, listed by template name
-        or user LTLf text and their propositions), else version 1, as before them.
+        or user LTLf text and their propositions), version 3 (with ``map_index``) when the
+        most probable specification is not listed first, else version 1, as before them.
     """
-    version = 2 if getattr(roles, "patterns", ()) else 1
+    version = 3 if map_index else 2 if getattr(roles, "patterns", ()) else 1
     role_entry = {
         "global_candidates": [_plain(n) for n in roles.global_names()],
         "subtasks": [_plain(n) for n in roles.subtask_names()],
@@ -163,6 +172,8 @@ def dump_posterior(roles, specifications, probabilities, marginal_keys, marginal
                              for key, v in zip(marginal_keys, marginals)],
         "dropped_mass": float(dropped_mass),
     }
+    if version >= 3:
+        doc["map_index"] = int(map_index)
     lines = []
     for key, value in doc.items():
         if isinstance(value, list) and value and key != "names":
@@ -356,14 +367,23 @@ class _Reader:
             self.fail("version", f"schema version {version!r} is not supported; this "
                       f"bsi-sklearn reads versions {', '.join(map(str, _VERSIONS))}")
         self.version = version
-        self.object(doc, "(document)", _TOP_KEYS)
+        self.object(doc, "(document)", _TOP_KEYS_3 if self.version >= 3 else _TOP_KEYS)
         names = self.names(doc["names"])
         roles = self.roles(doc["roles"], names)
         structures, tau, w1 = self.specifications(doc["specifications"], roles)
         probs = self.probabilities(doc["probabilities"], len(structures))
         keys, marginals = self.marginals(doc["clause_marginals"], names)
         dropped = self.number(doc["dropped_mass"], "dropped_mass")
-        return PosteriorDocument(roles, structures, tau, w1, probs, keys, marginals, dropped)
+        map_index = self.map_index(doc["map_index"], len(structures)) if self.version >= 3 \
+            else 0
+        return PosteriorDocument(roles, structures, tau, w1, probs, keys, marginals, dropped,
+                                 map_index)
+
+    def map_index(self, value, n_specs):
+        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < n_specs:
+            self.fail("map_index", f"expected the position of a listed specification (an "
+                      f"integer from 0 to {n_specs - 1}), got {_kind(value)} {value!r}")
+        return value
 
     def names(self, value):
         names = self.list(value, "names")

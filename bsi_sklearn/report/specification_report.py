@@ -60,7 +60,8 @@ class SpecificationReport:
         added, ``+``, and removed, ``-``, relative to the MAP specification; empty for the
         MAP).
     map_probability, entropy : float
-        Posterior probability of the MAP specification; entropy (nats) of the posterior.
+        Posterior probability of the MAP specification (its share of the samples, possibly
+        0, for a posterior reported by its samples); entropy (nats) of the posterior.
     n_unique_specifications : int
     clause_marginals : pandas.Series
         Posterior inclusion probability of every candidate clause.
@@ -196,8 +197,12 @@ class SpecificationReport:
     def _section_specification(self, doc):
         doc.add("h", 2, "MAP specification")
         info = self.inference
-        doc.add("p", f"The most probable specification (posterior probability "
-                     f"{self.map_probability:.3f}) has {len(self.clauses)} clause"
+        # A posterior reported by its samples lists frequencies: the MAP's may be 0.
+        mass = (f"share of the samples {self.map_probability:.3f}: the posterior is too "
+                "diffuse to list, and is reported by its samples"
+                if info.get("inclusion_rhat") is not None
+                else f"posterior probability {self.map_probability:.3f}")
+        doc.add("p", f"The most probable specification ({mass}) has {len(self.clauses)} clause"
                      f"{'' if len(self.clauses) == 1 else 's'}; a demonstration is acceptable "
                      f"when it satisfies all of them. Inferred with the {info['prior']} prior "
                      f"and the {info['likelihood']} likelihood ({info['method']} inference).")

@@ -345,6 +345,12 @@ def test_a_posterior_reported_by_its_samples_says_so():
         clf.mcmc_diagnostics_["inclusion_rhat"])
     text = rep.markdown()
     assert "reported by the MCMC samples" in text and "never reached" not in text
+    # The MAP is the most probable formula (the empty one), at its share of the samples.
+    post = clf.posterior_
+    assert rep.specification == post.map_specification and rep.ltl == "true"
+    assert rep.map_probability == post.probabilities[post.map_index]
+    assert (f"The most probable specification (share of the samples "
+            f"{rep.map_probability:.3f}: the posterior is too diffuse to list") in text
 
 
 def test_report_files_get_the_umask_mode(report, tmp_path):
