@@ -222,7 +222,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
           or one exchange of two subtasks between ties of the best); past the closure's
           budget, or with a fixed ``n_samples``, among the states the chains visited, those
           it neither visited nor weighed one block from a state it visited (the total
-          variation between that chain's own reweighted posterior and theirs);
+          variation between that chain's own reweighted posterior and theirs); ``nan`` for
+          a posterior reported by its samples (``sampled``), where exact weights say nothing;
         - ``optimum_log_posterior``: the log posterior (unnormalised) of a deterministic
           optimum (a beam search over one-block changes), where every chain starts;
           ``best_visited_log_posterior``: the best state the chains recorded;

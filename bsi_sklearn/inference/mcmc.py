@@ -294,9 +294,9 @@ def _sweep_work(demos, model):
 def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
     # Run the chains round by round (one round for a fixed n_samples) until the stopping rule
     # holds; returns their results, the unique states visited with their sample counts, the
-    # mass each chain missed (as the stopping rule counts it where the closure is computed;
-    # else among the visited states, from what it reached), the states' exact log
-    # posteriors, the rounds' record and the closure's states.
+    # last round's chains' shares and the probabilities they index, as the stopping rule
+    # counted them (None, None where it did not: one round, or a posterior too diffuse to
+    # list), the states' exact log posteriors, the rounds' record and the closure's states.
     from sklearn.utils.parallel import Parallel, delayed
 
     bar = None
@@ -329,9 +329,24 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             visited_lp = np.array([scored[row.tobytes()] for row in visited])
             ends = np.cumsum([len(r.states) for r in results])
             per_chain = np.split(row_state, ends[:-1])
-            shares = None
+            shares = probs = None
             if len(plan) == 1:
                 break
+            traces = np.stack([r.trace_lp for r in results])
+            # They agree when each chain's share holds what they found together: what its
+            # visited states lead to, or (past the closure's budget) what it reached, visited
+            # or weighed one block away (:mod:`._reach`); a posterior too diffuse to list,
+            # reported by the samples, when each clause's inclusion agrees across them (the
+            # closure, which weighs states exactly, is then not updated: it says nothing).
+            inclusion = sampled = first = None
+            if typical_gap(visited_lp, counts, traces) > DIFFUSE_GAP:
+                sampled = inclusion_rhat(visited, per_chain, [r.counts for r in results],
+                                         model.n_g, model.n)
+                stop, detail = should_stop(None, None, None, traces, sampled=sampled)
+                record.append(dict(detail, n_samples=done))
+                if stop:
+                    break
+                continue
             # They stopped finding mass when the states first found late hold little: found
             # is visited, or weighed from a visited state and so in the support
             # (:mod:`._closure`). Reach alone would not do: a walk's new state is always one
@@ -340,32 +355,20 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             for r, rows in zip(results, per_chain):
                 np.minimum.at(first, rows, np.cumsum(r.counts) - r.counts)
             near = closure.update(visited, visited_lp, first)
-            traces = np.stack([r.trace_lp for r in results])
-            # They agree when each chain's share holds what they found together: what its
-            # visited states lead to, or (past the closure's budget) what it reached, visited
-            # or weighed one block away (:mod:`._reach`); a posterior too diffuse to list,
-            # reported by the samples, when each clause's inclusion agrees across them.
-            inclusion = sampled = probs = None
-            if typical_gap(visited_lp, counts, traces) > DIFFUSE_GAP:
-                sampled = inclusion_rhat(visited, per_chain, [r.counts for r in results],
-                                         model.n_g, model.n)
-            elif near is None:  # the closure is past its budget: the support cannot be listed
+            if near is None:  # the closure is past its budget: the support cannot be listed
                 shares, probs = visited_shares(visited, visited_lp, model, per_chain)
                 inclusion = inclusion_by_chain(visited, probs, shares, model.n_g, model.n)
             else:
                 probs, first, keys = found_states(visited, visited_lp, first, near)
                 shares = found_by_chain(closure, visited, per_chain, keys)
-            stop, detail = should_stop(shares, probs, first, traces, inclusion, sampled)
+            stop, detail = should_stop(shares, probs, first, traces, inclusion)
             record.append(dict(detail, n_samples=done))
             if stop:
                 break
     if bar is not None:
         bar.close()
-    if shares is None:  # one round only: the chains' shares were not counted
-        shares, probs = visited_shares(visited, visited_lp, model, per_chain)
-    missed = missed_mass(shares, probs)  # as the stopping rule counted it
     stopping = {"rounds": record, "stopped_early": done < plan[-1]}
-    return results, visited, counts, missed, visited_lp, stopping, near, per_chain
+    return results, visited, counts, (shares, probs), visited_lp, stopping, near, per_chain
 
 
 def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
@@ -445,7 +448,7 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     else:
         runs = [ChainRun(int(seed), demos, model, betas, optimum, burn_in=int(burn_in),
                          **chain) for seed in seeds]
-    results, visited, counts, missed, visited_lp, stopping, near, per_chain = _run_rounds(
+    results, visited, counts, counted, visited_lp, stopping, near, per_chain = _run_rounds(
         runs, plan, demos, model, n_jobs, verbose)
     # The support: the visited states, the optimum, what the last round found one block from
     # the visited states, and the neighbourhood of the most probable.
@@ -483,10 +486,16 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         map_index = int(np.flatnonzero(keep == 0)[0])
         uniq, counts, scores = uniq[keep], counts[keep], scores[keep]
         probs = counts / counts.sum()
+        # The missed mass weighs states exactly: it says nothing here, and is not counted.
+        missed = np.full(len(results), np.nan)
     else:
         map_index = 0
         probs = np.exp(scores - scores.max())
         probs /= probs.sum()
+        shares, found = counted
+        if shares is None:  # the last round's shares were not counted (one round, or sampled)
+            shares, found = visited_shares(visited, visited_lp, model, per_chain)
+        missed = missed_mass(shares, found)  # as the stopping rule counted it
     moves = np.array([r.move_rate for r in results])
     best_visited = float(visited_lp.max())
     diagnostics = {

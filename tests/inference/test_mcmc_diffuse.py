@@ -81,8 +81,12 @@ def test_a_posterior_too_diffuse_to_list_is_reported_by_its_samples(n_samples):
     assert probs[post.map_index] == diag["sample_frequencies"][post.map_index]
     assert post.map_index == 0 or probs[post.map_index] < probs[0]
     # Nothing to warn about: not a missed mode (the chains start at the optimum and leave
-    # it), nor chains that disagree (their states never meet, their inclusions agree).
+    # it), nor chains that disagree (their states never meet, their inclusions agree). The
+    # missed mass, which weighs states exactly, is not counted: it would say nothing.
     assert caught == []
+    assert np.isnan(diag["max_missed_mass"]) and np.isnan(diag["missed_mass_per_chain"]).all()
+    assert all(set(r) == {"rhat", "inclusion_rhat", "n_samples"}
+               for r in diag["stopping"]["rounds"])
     # The chains stay below the optimum's level: the burn-in's extension ends after as many
     # sweeps again (the pilot's 100, then 100 more at most), not after n_samples more.
     assert (diag["burn_in_per_chain"] <= 200).all()
