@@ -223,13 +223,15 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
           budget, or with a fixed ``n_samples``, among the states the chains visited, those
           it neither visited nor weighed one block from a state it visited (the total
           variation between that chain's own reweighted posterior and theirs); ``nan`` for
-          a posterior reported by its samples (``sampled``), where exact weights say nothing;
+          a posterior too diffuse to list (``typical_gap``), where exact weights say
+          nothing;
         - ``optimum_log_posterior``: the log posterior (unnormalised) of a deterministic
           optimum (a beam search over one-block changes), where every chain starts;
           ``best_visited_log_posterior``: the best state the chains recorded;
           ``optimum_gap``: the first less the second; ``typical_gap``: the visited
           states' mean log posterior, reweighted exactly, less the chains' (above log 20
-          the posterior is too diffuse to list and ``sampled`` is ``True``: the
+          the posterior is too diffuse to list and ``sampled`` is ``True``, as it is where
+          the states found fail the missed mass's check while the chains agree: the
           probabilities are the sample frequencies, and ``inclusion_rhat``, the largest
           split-R-hat of a clause's inclusion across the chains, says whether they agree;
           else ``None``);
@@ -259,10 +261,12 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     The MCMC sampler discovers the posterior's support; the probabilities it reports are the
     exact posterior restricted to that support, renormalised, which is far closer to the exact
     posterior than sample frequencies (kept in ``mcmc_diagnostics_``), except where the
-    posterior is too diffuse for a support to hold it (``typical_gap`` above log 20): there
-    they are the sample frequencies (``mcmc_diagnostics_["sampled"]``), and the MAP is the
-    specification sampled most often (ties: the most probable; the deterministic optimum, more
-    probable still, holds too little of the mass to be sampled, and is not listed). Every chain
+    posterior is too diffuse for a support to hold it (``typical_gap`` above log 20, or the
+    support fails its own check, ``max_missed_mass`` above 5 %, while the chains agree on every
+    clause's inclusion): there they are the sample frequencies
+    (``mcmc_diagnostics_["sampled"]``), listed most often sampled first, and the MAP is still
+    the most probable specification found (``posterior_.map_index``; the deterministic
+    optimum, which may hold too little of the mass to be sampled at all). Every chain
     runs a ladder of tempered replicas (``n_temperatures``) from the deterministic optimum (a
     beam search's best basin, which single-coordinate moves often miss on large problems) for
     ``burn_in`` sweeps, and while it is 20 times less probable than the optimum for up to as

@@ -307,18 +307,21 @@ def disagreement_problems(diag):
     nothing there (the chains leave the optimum they start from and never meet); there the
     chains are asked whether each clause's inclusion agrees across them
     (``inclusion_rhat > RHAT_WARN``, :func:`inclusion_rhat`) besides the R-hat of their log
-    posteriors.
+    posteriors. So is a posterior whose restriction to the states found fails the missed
+    mass's check while the chains agree on every inclusion (``sampled`` with a lower
+    ``typical_gap``): its optimum gap still warns.
 
     Examples
     --------
     >>> diag = {"optimum_gap": 26.4, "max_missed_mass": 0.9, "missed_mass_per_chain": [0.9],
-    ...         "rhat": 1.0, "typical_gap": 30.0, "inclusion_rhat": 1.002}
+    ...         "rhat": 1.0, "typical_gap": 30.0, "sampled": True, "inclusion_rhat": 1.002}
     >>> disagreement_problems(diag)
     []
     """
     problems = []
-    listed = diag.get("typical_gap", 0.0) <= DIFFUSE_GAP
-    if listed and diag["optimum_gap"] > MODE_WARN:
+    diffuse = diag.get("typical_gap", 0.0) > DIFFUSE_GAP
+    listed = not diag.get("sampled", diffuse)
+    if not diffuse and diag["optimum_gap"] > MODE_WARN:
         problems.append(
             "MCMC chains missed a mode: a deterministic search found a specification "
             f"exp({diag['optimum_gap']:.3g}) times more probable than any state the chains "

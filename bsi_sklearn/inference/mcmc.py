@@ -44,7 +44,9 @@ from bsi_sklearn.inference._local_search import beam_search, complete_support
 from bsi_sklearn.inference._reach import visited_shares
 from bsi_sklearn.inference.diagnostics import (
     DIFFUSE_GAP,
+    MISSED_WARN,
     MODE_WARN,
+    RHAT_WARN,
     inclusion_rhat,
     missed_mass,
     split_rhat,
@@ -390,7 +392,9 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     many clauses the data leave undetermined, each near its prior inclusion, spread the mass
     over far more states than the chains visit, each visited about once), that restriction
     would pile the mass onto the most probable states found; the probabilities are then the
-    sample frequencies of the visited states (``sampled``), the most often sampled first
+    sample frequencies of the visited states (``sampled``; so too where the restriction fails
+    its own check, a chain missing more than ``MISSED_WARN`` of the mass found, while the
+    chains agree on every clause's inclusion), the most often sampled first
     (ties: the most probable); the most probable state found (the MAP, ``map_index``) is
     listed too, with probability 0 if never sampled: in so flat a posterior every state's
     mass is tiny, and the most often sampled one is no better an estimate of the MAP than
@@ -470,32 +474,41 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     uniq, counts, scores = uniq[order], counts[order], scores[order]
     traces = np.stack([r.trace_lp for r in results])
     gap = typical_gap(scores, counts, traces)
-    if gap > DIFFUSE_GAP:
+    sampled, inclusion = gap > DIFFUSE_GAP, None
+    if sampled:
         # The last round's stopping rule weighed it on these very samples (one round only:
         # it did not).
         inclusion = (stopping["rounds"][-1].get("inclusion_rhat") if stopping["rounds"]
                      else None)
+        missed = np.full(len(results), np.nan)  # weighs states exactly: says nothing here
+    else:
+        shares, found = counted
+        if shares is None:  # the last round's shares were not counted (one round, or sampled)
+            shares, found = visited_shares(visited, visited_lp, model, per_chain)
+        missed = missed_mass(shares, found)  # as the stopping rule counted it
+        if missed.max() > MISSED_WARN:
+            # The restricted posterior fails its own check: a chain never reached much of
+            # the mass the others found, so the states found miss mass too (where many
+            # clauses are weakly determined, and the closure gave up). If the chains agree
+            # on every clause's inclusion, their samples report the posterior instead.
+            inclusion = inclusion_rhat(visited, per_chain, [r.counts for r in results], n_g, n)
+            sampled = bool(inclusion <= RHAT_WARN)
+    if sampled:
         if inclusion is None:
             inclusion = inclusion_rhat(visited, per_chain, [r.counts for r in results], n_g, n)
         # Too diffuse to list: restricted to the states found, the posterior would pile onto
         # the most probable of them, so the samples report it: the visited states, the most
-        # often sampled first (ties: the most probable).
-        # The MAP (scores are sorted: row 0) stays listed, last if never sampled.
+        # often sampled first (ties: the most probable). The MAP (scores are sorted: row 0)
+        # stays listed, last if never sampled.
         keep = np.flatnonzero((counts > 0) | (np.arange(len(counts)) == 0))
         keep = keep[np.lexsort((-scores[keep], -counts[keep]))]
         map_index = int(np.flatnonzero(keep == 0)[0])
         uniq, counts, scores = uniq[keep], counts[keep], scores[keep]
         probs = counts / counts.sum()
-        # The missed mass weighs states exactly: it says nothing here, and is not counted.
-        missed = np.full(len(results), np.nan)
     else:
         map_index = 0
         probs = np.exp(scores - scores.max())
         probs /= probs.sum()
-        shares, found = counted
-        if shares is None:  # the last round's shares were not counted (one round, or sampled)
-            shares, found = visited_shares(visited, visited_lp, model, per_chain)
-        missed = missed_mass(shares, found)  # as the stopping rule counted it
     moves = np.array([r.move_rate for r in results])
     best_visited = float(visited_lp.max())
     diagnostics = {
@@ -519,8 +532,8 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         "n_visited": len(visited),
         "n_added": len(uniq) - len(visited),
         "typical_gap": gap,
-        "sampled": bool(gap > DIFFUSE_GAP),
-        "inclusion_rhat": inclusion if gap > DIFFUSE_GAP else None,
+        "sampled": bool(sampled),
+        "inclusion_rhat": inclusion if sampled else None,
         "sample_frequencies": counts / counts.sum(),
         "log_posterior_traces": traces,
         "seeds": np.asarray(seeds),

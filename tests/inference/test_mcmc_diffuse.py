@@ -19,7 +19,12 @@ import pytest
 from sklearn.exceptions import ConvergenceWarning
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.inference.diagnostics import DIFFUSE_GAP
+from bsi_sklearn.inference.diagnostics import (
+    DIFFUSE_GAP,
+    MISSED_WARN,
+    RHAT_WARN,
+    disagreement_problems,
+)
 
 
 def _neutral(n_neutral, n_demos=30, seed=0):
@@ -90,6 +95,34 @@ def test_a_posterior_too_diffuse_to_list_is_reported_by_its_samples(n_samples):
     # The chains stay below the optimum's level: the burn-in's extension ends after as many
     # sweeps again (the pilot's 100, then 100 more at most), not after n_samples more.
     assert (diag["burn_in_per_chain"] <= 200).all()
+
+
+def test_a_restriction_that_misses_mass_gives_way_to_the_samples():
+    # 20 undetermined clauses: about 2 nats between the typical states and those the
+    # restriction favours, under log 20, but the states found miss mass: restricted to them,
+    # the inclusions were 0.163 where the posterior's are 0.2, and a chain "disagreed". The
+    # restriction fails its own check (the missed mass) while the chains agree on every
+    # clause's inclusion: their samples report the posterior.
+    X, y, params = _neutral(20)
+    clf, caught = _fit(X, y, inference="mcmc", random_state=0, **params)
+    diag = clf.mcmc_diagnostics_
+    assert diag["typical_gap"] < DIFFUSE_GAP and diag["sampled"]
+    assert diag["max_missed_mass"] > MISSED_WARN and diag["inclusion_rhat"] <= RHAT_WARN
+    np.testing.assert_allclose(clf.posterior_.clause_marginals(), 0.2, atol=0.03)
+    assert abs(clf.posterior_.clause_marginals().mean() - 0.2) < 0.005
+    assert caught == []
+    assert clf.map_specification_.to_ltl() == "true"
+
+
+def test_a_sampled_report_still_warns_of_a_missed_mode_where_not_diffuse():
+    diag = {"optimum_gap": 5.0, "max_missed_mass": 0.3, "missed_mass_per_chain": [0.3],
+            "rhat": 1.0, "typical_gap": 1.0, "sampled": True, "inclusion_rhat": 1.001}
+    assert [p.split(":")[0] for p in disagreement_problems(diag)] == [
+        "MCMC chains missed a mode"]
+    diag.update(typical_gap=10.0)  # diffuse: the typical states lie far below the mode
+    assert disagreement_problems(diag) == []
+    diag.update(typical_gap=1.0, sampled=False)  # listed: the missed mass warns too
+    assert len(disagreement_problems(diag)) == 2
 
 
 def test_the_chains_of_a_diffuse_posterior_predict_by_its_samples():
