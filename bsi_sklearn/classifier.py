@@ -229,12 +229,14 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
           optimum (a beam search over one-block changes), where every chain starts;
           ``best_visited_log_posterior``: the best state the chains recorded;
           ``optimum_gap``: the first less the second; ``typical_gap``: the visited
-          states' mean log posterior, reweighted exactly, less the chains' (above log 20
+          states' mean log posterior, reweighted exactly, less the chains';
+          ``unseen_mass``: the share of the samples whose state was sampled once (the
+          Good-Turing estimate of the mass in states never visited). Above log 20 and 0.05
           the posterior is too diffuse to list and ``sampled`` is ``True``, as it is where
-          the states found fail the missed mass's check while the chains agree: the
-          probabilities are the sample frequencies, and ``inclusion_rhat``, the largest
-          split-R-hat of a clause's inclusion across the chains, says whether they agree;
-          else ``None``);
+          the states found fail the missed mass's check while as much is unseen and the
+          chains agree: the probabilities are the sample frequencies, and
+          ``inclusion_rhat``, the largest split-R-hat of a clause's inclusion across the
+          chains, says whether they agree (else ``None``);
         - ``betas``: the tempering ladder the chains recorded on; ``ladder``: with
           ``n_temperatures="auto"``, the pilot's ``default_betas``, ``pilot_rejection`` (mean
           rejection probability of each pair's swaps over the pilot's second half, the
@@ -263,7 +265,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     posterior than sample frequencies (kept in ``mcmc_diagnostics_``), except where the
     posterior is too diffuse for a support to hold it (``typical_gap`` above log 20, or the
     support fails its own check, ``max_missed_mass`` above 5 %, while the chains agree on every
-    clause's inclusion): there they are the sample frequencies
+    clause's inclusion; either only where ``unseen_mass`` is above 5 %): there they are the
+    sample frequencies
     (``mcmc_diagnostics_["sampled"]``), listed most often sampled first, and the MAP is still
     the most probable specification found (``posterior_.map_index``; the deterministic
     optimum, which may hold too little of the mass to be sampled at all). Every chain

@@ -7,9 +7,9 @@ import numpy as np
 from bsi_sklearn.model.clauses import clause_masks, clause_sums, n_clauses
 from bsi_sklearn.model.state_layout import split_states
 
-__all__ = ["split_rhat", "missed_mass", "typical_gap", "weighted_inclusion", "inclusion_rhat",
-           "total_variation", "disagreement_problems", "RHAT_WARN", "MISSED_WARN", "MODE_WARN",
-           "DIFFUSE_GAP"]
+__all__ = ["split_rhat", "missed_mass", "typical_gap", "unseen_mass", "too_diffuse",
+           "weighted_inclusion", "inclusion_rhat", "total_variation", "disagreement_problems",
+           "RHAT_WARN", "MISSED_WARN", "MODE_WARN", "DIFFUSE_GAP"]
 
 #: Split-R-hat of the chains' log posteriors above which the chains have not mixed.
 RHAT_WARN = 1.05
@@ -135,6 +135,9 @@ def typical_gap(scores, counts, traces):
     the few most probable states visited, far above the chains' typical ones: the gap is
     large, and the restricted posterior is not the posterior. Chains stuck away from a better
     mode give no gap (their visited states are what they sample); that is ``optimum_gap``.
+    Chains stuck in different modes do (the best one's states outweigh the others'): so a
+    posterior is too diffuse to list only where the samples also say that much of its mass
+    lies in states not seen (:func:`too_diffuse`).
 
     Parameters
     ----------
@@ -172,6 +175,52 @@ def typical_gap(scores, counts, traces):
     visited = scores[counts > 0]
     weights = np.exp(visited - visited.max())
     return float(weights @ visited / weights.sum() - np.mean(traces))
+
+
+def unseen_mass(counts):
+    """The Good-Turing estimate of the posterior mass in states the chains never visited.
+
+    The share of the samples whose state was sampled exactly once (Good 1953): near 0 where
+    the chains return to the states they sample, near 1 where nearly every sample is a new
+    state. The chains' autocorrelation makes it low, if anything (a state visited for two
+    sweeps in a row is not a singleton).
+
+    Parameters
+    ----------
+    counts : ndarray of shape (n_states,)
+        Samples of each state (0: not visited).
+
+    Returns
+    -------
+    float
+        0.0 without samples.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> unseen_mass(np.array([6, 3, 1, 0]))
+    0.1
+    """
+    counts = np.asarray(counts)
+    total = int(counts.sum())
+    return float(np.count_nonzero(counts == 1) / total) if total else 0.0
+
+
+def too_diffuse(scores, counts, traces):
+    """Whether a posterior is too diffuse to list, with the two quantities that say so.
+
+    Too diffuse where the visited states, reweighted exactly, lie more than ``DIFFUSE_GAP``
+    above the chains' states (:func:`typical_gap`) and the samples put more than
+    ``MISSED_WARN`` of the mass in states never visited (:func:`unseen_mass`): a large gap
+    with few unseen states is chains stuck in different modes, a disagreement to warn of.
+
+    Returns
+    -------
+    diffuse : bool
+    gap, unseen : float
+    """
+    gap, unseen = typical_gap(scores, counts, traces), unseen_mass(counts)
+    return bool(gap > DIFFUSE_GAP and unseen > MISSED_WARN), gap, unseen
 
 
 def weighted_inclusion(states, weights, n_g, n):
@@ -301,7 +350,8 @@ def disagreement_problems(diag):
     more than ``MISSED_WARN`` of the mass the chains found, a split-R-hat above
     ``RHAT_WARN`` (NaN, too few samples, says nothing): the estimator warns with each.
 
-    A posterior too diffuse to list (``typical_gap > DIFFUSE_GAP``, :func:`typical_gap`) is
+    A posterior too diffuse to list (:func:`too_diffuse`: ``typical_gap > DIFFUSE_GAP`` and
+    ``unseen_mass > MISSED_WARN``) is
     reported by its samples (:func:`bsi_sklearn.inference.mcmc.sample_posterior`): the
     optimum gap and the missed mass, which weigh states by their exact posterior, say
     nothing there (the chains leave the optimum they start from and never meet); there the
@@ -319,7 +369,8 @@ def disagreement_problems(diag):
     []
     """
     problems = []
-    diffuse = diag.get("typical_gap", 0.0) > DIFFUSE_GAP
+    diffuse = (diag.get("typical_gap", 0.0) > DIFFUSE_GAP
+               and diag.get("unseen_mass", 1.0) > MISSED_WARN)
     listed = not diag.get("sampled", diffuse)
     if not diffuse and diag["optimum_gap"] > MODE_WARN:
         problems.append(

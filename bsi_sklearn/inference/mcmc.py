@@ -13,7 +13,7 @@ modes that single-coordinate moves cannot (a valley of a few violated demonstrat
 states (plus the deterministic optimum of :func:`deterministic_optimum` when no chain visited
 it), renormalised, and a dictionary of diagnostics (:mod:`bsi_sklearn.inference.diagnostics`).
 A posterior too diffuse to list that way (its mass over far more states than the chains can
-visit twice, :func:`~bsi_sklearn.inference.diagnostics.typical_gap`) is reported by the
+visit twice, :func:`~bsi_sklearn.inference.diagnostics.too_diffuse`) is reported by the
 chains' sample frequencies instead.
 """
 
@@ -43,14 +43,13 @@ from bsi_sklearn.inference._ladder import (
 from bsi_sklearn.inference._local_search import beam_search, complete_support
 from bsi_sklearn.inference._reach import visited_shares
 from bsi_sklearn.inference.diagnostics import (
-    DIFFUSE_GAP,
     MISSED_WARN,
     MODE_WARN,
     RHAT_WARN,
     inclusion_rhat,
     missed_mass,
     split_rhat,
-    typical_gap,
+    too_diffuse,
 )
 from bsi_sklearn.inference.stopping import MAX_SAMPLES, inclusion_by_chain, rounds, should_stop
 from bsi_sklearn.model.clauses import n_clauses, pack_rows
@@ -341,7 +340,7 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             # reported by the samples, when each clause's inclusion agrees across them (the
             # closure, which weighs states exactly, is then not updated: it says nothing).
             inclusion = sampled = first = None
-            if typical_gap(visited_lp, counts, traces) > DIFFUSE_GAP:
+            if too_diffuse(visited_lp, counts, traces)[0]:
                 sampled = inclusion_rhat(visited, per_chain, [r.counts for r in results],
                                          model.n_g, model.n)
                 stop, detail = should_stop(None, None, None, traces, sampled=sampled)
@@ -390,11 +389,13 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     improbable to be visited add up), renormalised. Where the visited states, so reweighted,
     lie on average more than log 20 above the chains' own log posterior (``typical_gap``:
     many clauses the data leave undetermined, each near its prior inclusion, spread the mass
-    over far more states than the chains visit, each visited about once), that restriction
+    over far more states than the chains visit, each visited about once: ``unseen_mass``, the
+    share of samples whose state was sampled once, above ``MISSED_WARN``), that restriction
     would pile the mass onto the most probable states found; the probabilities are then the
     sample frequencies of the visited states (``sampled``; so too where the restriction fails
     its own check, a chain missing more than ``MISSED_WARN`` of the mass found, while the
-    chains agree on every clause's inclusion), the most often sampled first
+    samples leave as much unseen and the chains agree on every clause's inclusion), the
+    most often sampled first
     (ties: the most probable); the most probable state found (the MAP, ``map_index``) is
     listed too, with probability 0 if never sampled: in so flat a posterior every state's
     mass is tiny, and the most often sampled one is no better an estimate of the MAP than
@@ -473,8 +474,8 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     order = np.argsort(-scores, kind="stable")
     uniq, counts, scores = uniq[order], counts[order], scores[order]
     traces = np.stack([r.trace_lp for r in results])
-    gap = typical_gap(scores, counts, traces)
-    sampled, inclusion = gap > DIFFUSE_GAP, None
+    sampled, gap, unseen = too_diffuse(scores, counts, traces)
+    inclusion = None
     if sampled:
         # The last round's stopping rule weighed it on these very samples (one round only:
         # it did not).
@@ -486,11 +487,11 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         if shares is None:  # the last round's shares were not counted (one round, or sampled)
             shares, found = visited_shares(visited, visited_lp, model, per_chain)
         missed = missed_mass(shares, found)  # as the stopping rule counted it
-        if missed.max() > MISSED_WARN:
+        if missed.max() > MISSED_WARN and unseen > MISSED_WARN:
             # The restricted posterior fails its own check: a chain never reached much of
-            # the mass the others found, so the states found miss mass too (where many
-            # clauses are weakly determined, and the closure gave up). If the chains agree
-            # on every clause's inclusion, their samples report the posterior instead.
+            # the mass the others found, and the samples say the states found miss mass too
+            # (where many clauses are weakly determined, and the closure gave up). If the
+            # chains agree on every clause's inclusion, their samples report the posterior.
             inclusion = inclusion_rhat(visited, per_chain, [r.counts for r in results], n_g, n)
             sampled = bool(inclusion <= RHAT_WARN)
     if sampled:
@@ -532,6 +533,7 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         "n_visited": len(visited),
         "n_added": len(uniq) - len(visited),
         "typical_gap": gap,
+        "unseen_mass": unseen,
         "sampled": bool(sampled),
         "inclusion_rhat": inclusion if sampled else None,
         "sample_frequencies": counts / counts.sum(),

@@ -24,6 +24,7 @@ from bsi_sklearn.inference.diagnostics import (
     MISSED_WARN,
     RHAT_WARN,
     disagreement_problems,
+    too_diffuse,
 )
 
 
@@ -136,3 +137,21 @@ def test_the_chains_of_a_diffuse_posterior_predict_by_its_samples():
     p_all = 0.8 ** 20  # the posterior probability of a formula with none of them
     assert clf.predict_proba([broken])[0, 1] == pytest.approx(p_all, abs=0.02)
     assert clf.mcmc_diagnostics_["sampled"]
+
+
+def test_chains_stuck_in_different_modes_are_not_a_diffuse_posterior():
+    # Four chains, each sitting on its own state 50 nats from the next (a Declare log's
+    # pattern clauses under CB did this: 16 states in 40,000 samples, typical_gap 149). The
+    # best state outweighs the chains' average by far, but nothing is unseen: a disagreement
+    # to warn of, not a posterior to report by its samples.
+    scores = np.array([0.0, -50.0, -100.0, -150.0])
+    counts = np.full(4, 1000)
+    traces = np.repeat(scores, 1000).reshape(4, 1000)
+    diffuse, gap, unseen = too_diffuse(scores, counts, traces)
+    assert gap == pytest.approx(75.0) and unseen == 0.0 and not diffuse
+    # The diffuse case: a thousand states each visited once, ten of them 10 nats up.
+    scores = np.r_[np.full(10, 10.0), np.zeros(990)]
+    assert too_diffuse(scores, np.ones(1000), scores[None, :])[0]
+    diag = {"optimum_gap": -6213.0, "max_missed_mass": 0.9, "missed_mass_per_chain": [0.9],
+            "rhat": 1.03, "typical_gap": 149.0, "unseen_mass": 0.0001, "sampled": False}
+    assert [p.split(":")[0] for p in disagreement_problems(diag)] == ["MCMC chains disagree"]
