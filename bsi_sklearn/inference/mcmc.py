@@ -33,6 +33,7 @@ from bsi_sklearn.inference._chain_kernel import (
 )
 from bsi_sklearn.inference._closure import Closure, found_by_chain, found_states
 from bsi_sklearn.inference._consistent_start import consistent_start
+from bsi_sklearn.inference._demo_moves import demo_moves
 from bsi_sklearn.inference._ladder import (
     PILOT_MIN,
     adapted_ladder,
@@ -154,8 +155,11 @@ def deterministic_optimum(demos, model, width=BEAM_WIDTH):
     changes. A second beam starts from every clause the acceptable demonstrations keep
     (:mod:`bsi_sklearn.inference._consistent_start`), which reaches the size principle's
     optimum where single blocks from the empty hypothesis stop short; its result is taken only
-    when strictly more probable. Returns ``(row, log posterior)`` with ``row`` laid out as the
-    sampler's states, ``[tau, w1, parent]`` (int16).
+    when strictly more probable. From the better, moves of many clauses at once about one
+    acceptable demonstration (keep it, or give it up: :mod:`bsi_sklearn.inference._demo_moves`)
+    are scored exactly, and while the best beats it the beam search continues from there.
+    Returns ``(row, log posterior)`` with ``row`` laid out as the sampler's states,
+    ``[tau, w1, parent]`` (int16).
     """
     n_g, n = model.n_g, model.n
     start = join_state(np.zeros(n_g), np.zeros(n), first_structure(model))
@@ -166,6 +170,17 @@ def deterministic_optimum(demos, model, width=BEAM_WIDTH):
         row_s, lp_s = beam_search(seeded[None, :], demos, model, int(width), max_steps)
         if lp_s > lp:
             row, lp = row_s, lp_s
+    # Each round strictly improves the log posterior, so no state returns and the rounds
+    # end; the cap (one a deduplicated demonstration, and one) only bounds the time.
+    for _ in range(len(demos.w_pos) + 1):
+        moves = demo_moves(row, demos, model)
+        if not len(moves):
+            break
+        lps = score_states(moves, demos, model)
+        best = int(np.argmax(lps))
+        if not lps[best] > lp:
+            break
+        row, lp = beam_search(moves[best][None, :], demos, model, int(width), max_steps)
     return row.astype(np.int16), float(lp)
 
 
