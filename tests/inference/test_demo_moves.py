@@ -140,3 +140,28 @@ def test_the_optimum_is_never_worse_than_the_beams(prior, seed):
     moves = demo_moves(row, demos, model)
     if len(moves):
         assert score_states(moves, demos, model).max() <= lp
+
+
+def test_keeping_one_case_while_giving_up_another_takes_two_moves():
+    # 30 clauses every acceptable case keeps, 14 only the first violates, 15 only the second.
+    # From the formula that gave up the first (30 + 14 clauses), keeping it (30) or giving up
+    # the second too (59, two cases rejected) is worse; both at once (30 + 15) is better.
+    from bsi_sklearn.inference.mcmc import _best_demo_move
+
+    n_g = 30 + 14 + 15
+    truth = np.ones((20, n_g), dtype=np.uint8)
+    truth[0, 30:44], truth[1, 44:] = 0, 0
+    demos = deduplicate_demos(truth, np.ones(20, dtype=np.int64))
+    model = make_model(prior="sets_of_chains", likelihood="cb", n_globals=n_g, n_subtasks=0,
+                       epsilon=float(np.exp(-180.0)))
+    gave_first = np.r_[np.ones(44), np.zeros(15)].astype(np.int64)
+    kept_both = np.r_[np.ones(30), np.zeros(29)].astype(np.int64)
+    gave_both = np.ones(n_g, dtype=np.int64)
+    gave_second = np.r_[np.ones(30), np.zeros(14), np.ones(15)].astype(np.int64)
+    lp_first, lp_kept, lp_both, lp_second = score_states(
+        np.array([gave_first, kept_both, gave_both, gave_second]), demos, model)
+    assert lp_kept < lp_first and lp_both < lp_first < lp_second
+    single = score_states(demo_moves(gave_first, demos, model), demos, model)
+    assert single.max() < lp_first  # no single move improves
+    move, move_lp = _best_demo_move(gave_first, lp_first, demos, model, BEAM_WIDTH)
+    assert move.tolist() == gave_second.tolist() and move_lp == pytest.approx(lp_second)
