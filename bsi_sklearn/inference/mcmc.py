@@ -33,7 +33,7 @@ from bsi_sklearn.inference._chain_kernel import (
 )
 from bsi_sklearn.inference._closure import Closure, found_by_chain, found_states
 from bsi_sklearn.inference._consistent_start import consistent_start
-from bsi_sklearn.inference._demo_moves import demo_moves
+from bsi_sklearn.inference._demo_moves import best_demo_move
 from bsi_sklearn.inference._ladder import (
     PILOT_MIN,
     adapted_ladder,
@@ -174,34 +174,12 @@ def deterministic_optimum(demos, model, width=BEAM_WIDTH):
     # Each round strictly improves the log posterior, so no state returns and the rounds
     # end; the cap (one a deduplicated demonstration, and one) only bounds the time.
     for _ in range(len(demos.w_pos) + 1):
-        move, move_lp = _best_demo_move(row, lp, demos, model, int(width))
+        move, move_lp = best_demo_move(row, lp, demos, model, int(width))
         if not move_lp > lp:
             break
         row, lp = beam_search(move[None, :], demos, model, int(width), max_steps)
     return row.astype(np.int16), float(lp)
 
-
-def _best_demo_move(row, lp, demos, model, width):
-    # The best of one move about a demonstration and, where none beats `lp`, of two: from
-    # each of the `width` best single moves (keeping one rejected case while giving up
-    # another takes two: 948 nats on a Declare log of 40 activities). (None, -inf) without
-    # moves.
-    moves = demo_moves(row, demos, model)
-    if not len(moves):
-        return None, -np.inf
-    lps = score_states(moves, demos, model)
-    best = int(np.argmax(lps))
-    move, move_lp = moves[best], lps[best]
-    if move_lp > lp:
-        return move, move_lp
-    for i in np.argsort(-lps, kind="stable")[:width]:
-        second = demo_moves(moves[i], demos, model)
-        if len(second):
-            second_lps = score_states(second, demos, model)
-            k = int(np.argmax(second_lps))
-            if second_lps[k] > move_lp:
-                move, move_lp = second[k], second_lps[k]
-    return move, move_lp
 
 
 class ChainRun:

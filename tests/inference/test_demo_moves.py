@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from bsi_sklearn import BSIClassifier
-from bsi_sklearn.inference._demo_moves import demo_moves
+from bsi_sklearn.inference._demo_moves import best_demo_move, demo_moves
 from bsi_sklearn.inference._local_search import beam_search
 from bsi_sklearn.inference.mcmc import (
     BEAM_WIDTH,
@@ -146,8 +146,6 @@ def test_keeping_one_case_while_giving_up_another_takes_two_moves():
     # 30 clauses every acceptable case keeps, 14 only the first violates, 15 only the second.
     # From the formula that gave up the first (30 + 14 clauses), keeping it (30) or giving up
     # the second too (59, two cases rejected) is worse; both at once (30 + 15) is better.
-    from bsi_sklearn.inference.mcmc import _best_demo_move
-
     n_g = 30 + 14 + 15
     truth = np.ones((20, n_g), dtype=np.uint8)
     truth[0, 30:44], truth[1, 44:] = 0, 0
@@ -163,5 +161,5 @@ def test_keeping_one_case_while_giving_up_another_takes_two_moves():
     assert lp_kept < lp_first and lp_both < lp_first < lp_second
     single = score_states(demo_moves(gave_first, demos, model), demos, model)
     assert single.max() < lp_first  # no single move improves
-    move, move_lp = _best_demo_move(gave_first, lp_first, demos, model, BEAM_WIDTH)
+    move, move_lp = best_demo_move(gave_first, lp_first, demos, model, BEAM_WIDTH)
     assert move.tolist() == gave_second.tolist() and move_lp == pytest.approx(lp_second)
