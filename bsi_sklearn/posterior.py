@@ -87,6 +87,7 @@ class Posterior:
     """
 
     vacuous_clauses = frozenset()
+    map_index = 0  # a posterior pickled before the MAP's position was recorded listed it first
 
     def __init__(self, structures, tau_masks, w1_masks, probabilities, roles,
                  clause_marginals=None, dropped_mass=0.0, map_index=0):

@@ -181,7 +181,6 @@ def deterministic_optimum(demos, model, width=BEAM_WIDTH):
     return row.astype(np.int16), float(lp)
 
 
-
 class ChainRun:
     """One chain that can be run in several calls (the rounds of ``n_samples="auto"``).
 
@@ -408,11 +407,10 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     sample frequencies of the visited states (``sampled``; so too where the restriction fails
     its own check, a chain missing more than ``MISSED_WARN`` of the mass found, while the
     samples leave as much unseen and the chains agree on every clause's inclusion), the
-    most often sampled first
-    (ties: the most probable); the most probable state found (the MAP, ``map_index``) is
-    listed too, with probability 0 if never sampled: in so flat a posterior every state's
-    mass is tiny, and the most often sampled one is no better an estimate of the MAP than
-    any other visited once more by chance.
+    most often sampled first (ties: the most probable); the most probable state found (the
+    MAP, ``map_index``) is listed too, with probability 0 if never sampled: in so flat a
+    posterior every state's mass is tiny, and the most often sampled one is no better an
+    estimate of the MAP than any other visited once more by chance.
 
     Parameters
     ----------
