@@ -87,13 +87,17 @@ def demo_moves(row, demos, model):
     pos = demos.w_pos > 0
     moves = []
     cut = structures_are_sets(model)
-    for d in np.flatnonzero(pos & ~sat):
-        broken = [b for (a, b), o in zip(pairs, orders) if truth[o, d] == 0]
-        if broken and not cut:
+    later = np.array([b for _, b in pairs], dtype=np.int64)  # each order's later subtask
+    rejected = np.flatnonzero(pos & ~sat)
+    free_kept = truth[np.ix_(free, rejected)] != 0  # (clauses x rejected rows)
+    orders_kept = truth[np.ix_(orders, rejected)] != 0
+    for k in range(len(rejected)):
+        broken = later[~orders_kept[:, k]]
+        if len(broken) and not cut:
             continue
         out = row.copy()
-        out[free_at[truth[free, d] == 0]] = 0
-        out[n_g + n + np.array(broken, dtype=np.int64)] = -1
+        out[free_at[~free_kept[:, k]]] = 0
+        out[n_g + n + broken] = -1
         moves.append(out)
     # Give up: the clauses outside the row that exactly one satisfied acceptable row violates.
     held_free = np.zeros(n_g + n, dtype=bool)
