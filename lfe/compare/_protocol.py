@@ -275,8 +275,9 @@ def compare(dataset=None, *, n_splits=None, seed=0, n_jobs=None, quick=False, ve
     >>> with warnings.catch_warnings(record=True) as caught:
     ...     warnings.simplefilter("always")
     ...     res = compare(ds, quick=True, verbose=0)
-    >>> sorted({w.category.__name__ for w in caught})  # the quick runs' short chains disagree
-    ['ConvergenceWarning']
+    >>> # the quick runs' short chains: posteriors too flat to list, reported by their samples
+    >>> sorted({w.category.__name__ for w in caught})
+    []
     >>> list(res.f1.columns), list(res.f1.index[:7])
     (['MO1', 'MO2', 'MO3'], ['LSTM', 'Bi-LSTM', 'LSTM Coupled', 'Bi-LSTM Coupled', \
 'BSI (Prior 2)', 'BSI (Prior 3)', 'BSI (Prior 2, CI)'])

@@ -16,8 +16,23 @@ PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 STATUSES = {"PASS", "FALL SHORT", "NOT MEASURED"}
 FILES = ("results.csv", "summary.csv", "claims.csv", "claims.md", "config.json", "report.md")
 #: The quick dinner grid samples its flattest posteriors (2.45e9 hypotheses) with 2 chains of
-#: 1,000 draws: too few for the chains to agree, and the classifier says so.
+#: 1,000 draws: nearly every draw a new state (unseen mass 0.95-0.97), too few to list the
+#: posterior (restricted to the states found, a chain missed 17-21 % of their mass, and the
+#: classifier warned that the chains disagree) but enough for them to agree on every clause's
+#: inclusion (split-R-hat 1.006-1.011): the samples report it, and nothing warns. The claims
+#: table's smaller grid (3 and 5 participants, 2 repeats) has chains that do disagree (one
+#: missed 22 % of the mass found, most of its samples repeated states), and that warns.
 DINNER_UNDER_SAMPLED = "MCMC chains disagree"
+
+
+def _run_silently(args):
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        status = main(args)
+    assert not [w for w in caught if issubclass(w.category, ConvergenceWarning)]
+    return status
 
 
 @pytest.fixture(scope="module")
@@ -31,9 +46,8 @@ def synthetic_run(tmp_path_factory):
 @pytest.fixture(scope="module")
 def dinner_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("dinner")
-    with pytest.warns(ConvergenceWarning, match=DINNER_UNDER_SAMPLED):
-        status = main(["reproduce", "dinner", "--quick", "--out", str(out), "--n-jobs", "1",
-                       "--verbose", "0"])
+    status = _run_silently(["reproduce", "dinner", "--quick", "--out", str(out), "--n-jobs", "1",
+                            "--verbose", "0"])
     return status, out
 
 
@@ -226,9 +240,8 @@ def test_fork_spoon_violations_follow_the_placements():
 
 def test_same_seed_same_results_whatever_n_jobs(tmp_path, dinner_run):
     _, out = dinner_run
-    with pytest.warns(ConvergenceWarning, match=DINNER_UNDER_SAMPLED):
-        assert main(["reproduce", "dinner", "--quick", "--out", str(tmp_path), "--n-jobs", "2",
-                     "--verbose", "0"]) == 0
+    assert _run_silently(["reproduce", "dinner", "--quick", "--out", str(tmp_path),
+                          "--n-jobs", "2", "--verbose", "0"]) == 0
     a = pd.read_csv(out / "dinner_results.csv").drop(columns="fit_time")
     b = pd.read_csv(tmp_path / "dinner_results.csv").drop(columns="fit_time")
     pd.testing.assert_frame_equal(a, b)
