@@ -220,7 +220,12 @@ def too_diffuse(scores, counts, traces):
     gap, unseen : float
     """
     gap, unseen = typical_gap(scores, counts, traces), unseen_mass(counts)
-    return bool(gap > DIFFUSE_GAP and unseen > MISSED_WARN), gap, unseen
+    return _diffuse(gap, unseen), gap, unseen
+
+
+def _diffuse(gap, unseen):
+    # too_diffuse's rule, on its two quantities (also as mcmc_diagnostics_ records them).
+    return bool(gap > DIFFUSE_GAP and unseen > MISSED_WARN)
 
 
 def weighted_inclusion(states, weights, n_g, n):
@@ -369,8 +374,7 @@ def disagreement_problems(diag):
     []
     """
     problems = []
-    diffuse = (diag.get("typical_gap", 0.0) > DIFFUSE_GAP
-               and diag.get("unseen_mass", 1.0) > MISSED_WARN)
+    diffuse = _diffuse(diag.get("typical_gap", 0.0), diag.get("unseen_mass", 1.0))
     listed = not diag.get("sampled", diffuse)
     if not diffuse and diag["optimum_gap"] > MODE_WARN:
         problems.append(

@@ -486,28 +486,27 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     uniq, counts, scores = uniq[order], counts[order], scores[order]
     traces = np.stack([r.trace_lp for r in results])
     sampled, gap, unseen = too_diffuse(scores, counts, traces)
-    inclusion = None
     if sampled:
-        # The last round's stopping rule weighed it on these very samples (one round only:
-        # it did not).
-        inclusion = (stopping["rounds"][-1].get("inclusion_rhat") if stopping["rounds"]
-                     else None)
         missed = np.full(len(results), np.nan)  # weighs states exactly: says nothing here
     else:
         shares, found = counted
         if shares is None:  # the last round's shares were not counted (one round, or sampled)
             shares, found = visited_shares(visited, visited_lp, model, per_chain)
         missed = missed_mass(shares, found)  # as the stopping rule counted it
-        if missed.max() > MISSED_WARN and unseen > MISSED_WARN:
-            # The restricted posterior fails its own check: a chain never reached much of
-            # the mass the others found, and the samples say the states found miss mass too
-            # (where many clauses are weakly determined, and the closure gave up). If the
-            # chains agree on every clause's inclusion, their samples report the posterior.
-            inclusion = inclusion_rhat(visited, per_chain, [r.counts for r in results], n_g, n)
-            sampled = bool(inclusion <= RHAT_WARN)
-    if sampled:
+    # Where the restricted posterior fails its own check (a chain never reached much of the
+    # mass the others found) and the samples say the states found miss mass too (many
+    # clauses weakly determined, the closure past its budget), the samples report the
+    # posterior if the chains agree on every clause's inclusion.
+    inclusion = None
+    if sampled or (missed.max() > MISSED_WARN and unseen > MISSED_WARN):
+        # The last round's stopping rule weighed it on these very samples where it reported
+        # them by their samples.
+        inclusion = (stopping["rounds"][-1].get("inclusion_rhat") if stopping["rounds"]
+                     else None)
         if inclusion is None:
             inclusion = inclusion_rhat(visited, per_chain, [r.counts for r in results], n_g, n)
+        sampled = sampled or bool(inclusion <= RHAT_WARN)
+    if sampled:
         # Too diffuse to list: restricted to the states found, the posterior would pile onto
         # the most probable of them, so the samples report it: the visited states, the most
         # often sampled first (ties: the most probable). The MAP (scores are sorted: row 0)
