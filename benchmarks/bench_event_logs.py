@@ -167,16 +167,19 @@ PATTERN_TEMPLATES = ("Absence", "AtMostOnce", "Response")
 PATTERN_ENCODER = {"encoding": "current", "negations": False}
 
 
-def pattern_specs(seeds, sizes, noise=0.05):
+def pattern_specs(seeds, sizes, noise=0.05, bsi=None):
     """Declare logs per seed and size: BSI's defaults, BSI with the pattern templates on the
-    current-activity encoding, and the practitioner's tree and logistic regression."""
+    current-activity encoding, and the practitioner's tree and logistic regression. ``bsi``:
+    more ``BSIClassifier`` parameters for both BSI rows."""
     out = []
+    extra = dict(bsi or {})
     for s in seeds:
         for a, c in sizes:
             base = dict(task="patterns", n_activities=a, n_cases=c, rule="declare",
                         noise=noise, seed=s)
-            out += [dict(base, method="bsi"),
-                    dict(base, method="bsi", bsi={"templates": list(PATTERN_TEMPLATES)},
+            out += [dict(base, method="bsi", **({"bsi": extra} if extra else {})),
+                    dict(base, method="bsi",
+                         bsi=dict(extra, templates=list(PATTERN_TEMPLATES)),
                          encoder=dict(PATTERN_ENCODER)),
                     dict(base, method="tree"), dict(base, method="logreg")]
     return out
@@ -188,7 +191,7 @@ def write_patterns(df, out, command, seconds):
     from _roles_report import t_interval
 
     df = _save_csv(df, out / "patterns.csv")
-    df["row"] = [("BSI (templates)" if isinstance(b, dict) or (isinstance(b, str) and b)
+    df["row"] = [("BSI (templates)" if isinstance(b, (dict, str)) and "templates" in b
                   else LABELS[m]) for m, b in zip(df["method"], df.get("bsi", [None] * len(df)))]
     rows, summary = [], []
     for _, r in df.iterrows():
@@ -457,7 +460,8 @@ def main(argv=None):
                         help="with --recovery-seeds: BSI's likelihood (default: its default)")
     parser.add_argument("--bsi", action="append", type=parse_param, default=[],
                         metavar="NAME=VALUE",
-                        help="with --recovery-seeds or --target-seeds: one more BSIClassifier "
+                        help="with --recovery-, --target- or --pattern-seeds: one more "
+                             "BSIClassifier "
                              "parameter (a Python literal, e.g. p_global=0.5); repeatable")
     parser.add_argument("--scarlet-dir", default=str(DEFAULT_SCARLET_DIR))
     parser.add_argument("--install-scarlet", action="store_true",
@@ -482,7 +486,8 @@ def main(argv=None):
         paths = write_target(df, out, command.strip(), time.perf_counter() - t0)
     elif args.pattern_seeds is not None:
         sizes = args.sizes or [(20, 500), (40, 1000)]
-        df = run_grid(pattern_specs(args.pattern_seeds, sizes, args.noise), timeout,
+        df = run_grid(pattern_specs(args.pattern_seeds, sizes, args.noise,
+                                    dict(args.bsi) or None), timeout,
                       args.memory_limit)
         paths = write_patterns(df, out, command.strip(), time.perf_counter() - t0)
     elif args.recovery_seeds is not None:

@@ -42,6 +42,7 @@ from bsi_sklearn.inference._ladder import (
     temperature_ladder,
 )
 from bsi_sklearn.inference._local_search import beam_search, complete_support
+from bsi_sklearn.inference._negligible import common_burn_in, negligible_margin
 from bsi_sklearn.inference._reach import visited_shares
 from bsi_sklearn.inference.diagnostics import (
     MISSED_WARN,
@@ -228,6 +229,23 @@ class ChainRun:
         run.pilot_updates = self.pilot_updates + int(updates) * len(self.betas)
         return run
 
+    def restarted_at(self, row):
+        """A chain going on from ``row`` (every rung), with this one's generator.
+
+        Its sweeps so far count as burned; its record is dropped.
+        """
+        sweep = int(self.loop.counters[0])
+        run = ChainRun(self.rng, self.demos, self.model, self.betas, row, burn_in=0)
+        run.pilot_sweeps = self.pilot_sweeps + sweep
+        run.pilot_updates = self.result().n_updates
+        return run
+
+    def discard(self):
+        """Drop the record so far; its samples count as burned."""
+        self.pilot_sweeps += int(sum(int(np.sum(c)) for c in self.counts))
+        self.states, self.counts, self.traces = [], [], []
+        return self
+
     def advance(self, n_samples):
         """Record ``n_samples`` more sweeps (after the burn-in, on the first call)."""
         states, counts, trace_lp = chain_kernel(
@@ -238,15 +256,23 @@ class ChainRun:
         self.traces.append(trace_lp)
         return self
 
-    def result(self):
-        """The chain's :class:`ChainResult` so far."""
+    def result(self, skip=0):
+        """The chain's :class:`ChainResult` so far, its first ``skip`` samples burned."""
         sweep, burned, _, moved, updates, _ = self.loop.counters.tolist()
         tries = swap_tries(sweep, len(self.loop.swaps))
-        return ChainResult(np.concatenate(self.states), np.concatenate(self.counts),
-                           np.concatenate(self.traces), moved / max(updates, 1),
+        states, counts = np.concatenate(self.states), np.concatenate(self.counts)
+        traces = np.concatenate(self.traces)
+        if skip:  # drop whole records before the skip, and the skipped part of the one across
+            ends = np.cumsum(counts)
+            cut = int(np.searchsorted(ends, skip, side="right"))
+            states, counts = states[cut:], counts[cut:].copy()
+            if len(counts):
+                counts[0] = ends[cut] - skip
+            traces = traces[skip:]
+        return ChainResult(states, counts, traces, moved / max(updates, 1),
                            int(updates) * len(self.betas) + self.pilot_updates,
                            self.loop.swaps / np.maximum(tries, 1),
-                           burned + self.pilot_sweeps)
+                           burned + self.pilot_sweeps + int(skip))
 
 
 def run_chain(seed, demos, model, n_samples, burn_in, betas=None, start=None, *,
@@ -318,6 +344,8 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
 
         bar = tqdm(total=len(runs) * plan[-1], desc="MCMC sweeps", unit="sweep")
     scored = {}  # the exact log posterior of every state seen, by its row's bytes
+    margin = negligible_margin(model.n_g, model.n)
+    restarted = False
     record, done, near = [], 0, None
     # What the chains may still do after the first round (sampling_count's count): a plateau
     # of ties found whole by the closure saves it.
@@ -331,17 +359,32 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             if bar is not None:
                 bar.update(len(runs) * (total - done))
             done = total
-            results = [run.result() for run in runs]
-            visited, counts, row_state = unique_states(
-                np.concatenate([r.states for r in results], axis=0),
-                np.concatenate([r.counts for r in results]), return_inverse=True)
-            new = [i for i in range(len(visited)) if visited[i].tobytes() not in scored]
-            if new:
-                lp_new = score_states(visited[new], demos, model)
-                scored.update(zip((visited[i].tobytes() for i in new), lp_new.tolist()))
-            visited_lp = np.array([scored[row.tobytes()] for row in visited])
-            ends = np.cumsum([len(r.states) for r in results])
-            per_chain = np.split(row_state, ends[:-1])
+            results, live = [run.result() for run in runs], None
+            visited, counts, per_chain, visited_lp = _scored_record(results, scored, demos,
+                                                                    model)
+            # Samples provably without mass (far below the best found) are burn-in; a chain
+            # that stays there is left out (:mod:`._negligible`).
+            skip, live = common_burn_in(per_chain, [r.counts for r in results], visited_lp,
+                                        margin)
+            if not live.all() and not restarted:
+                # Once: the chains left behind go on from the best state found, every chain's
+                # record so far is burn-in, and the round is run again.
+                best = visited[int(np.argmax(visited_lp))].astype(np.int64)
+                runs = [run.discard() if ok else run.restarted_at(best)
+                        for run, ok in zip(runs, live)]
+                restarted = True
+                parallel(delayed(run.advance)(total) for run in runs)
+                if bar is not None:
+                    bar.update(len(runs) * total)
+                results = [run.result() for run in runs]
+                visited, counts, per_chain, visited_lp = _scored_record(results, scored, demos,
+                                                                        model)
+                skip, live = common_burn_in(per_chain, [r.counts for r in results],
+                                            visited_lp, margin)
+            if skip or not live.all():
+                results = [run.result(skip) for run, ok in zip(runs, live) if ok]
+                visited, counts, per_chain, visited_lp = _scored_record(results, scored,
+                                                                        demos, model)
             shares = probs = None
             if len(plan) == 1:
                 break
@@ -380,8 +423,25 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
                 break
     if bar is not None:
         bar.close()
-    stopping = {"rounds": record, "stopped_early": done < plan[-1]}
+    stopping = {"rounds": record, "stopped_early": done < plan[-1],
+                "negligible_burn_in": int(skip),
+                "restarted": restarted, "lost_chains": [int(k) for k in np.flatnonzero(~live)]}
     return results, visited, counts, (shares, probs), visited_lp, stopping, near, per_chain
+
+
+def _scored_record(results, scored, demos, model):
+    # The chains' unique visited states, their sample counts, each chain's record as indices
+    # into them, and their exact log posteriors (scored once: ``scored`` caches by row bytes).
+    visited, counts, row_state = unique_states(
+        np.concatenate([r.states for r in results], axis=0),
+        np.concatenate([r.counts for r in results]), return_inverse=True)
+    new = [i for i in range(len(visited)) if visited[i].tobytes() not in scored]
+    if new:
+        lp_new = score_states(visited[new], demos, model)
+        scored.update(zip((visited[i].tobytes() for i in new), lp_new.tolist()))
+    visited_lp = np.array([scored[row.tobytes()] for row in visited])
+    ends = np.cumsum([len(r.states) for r in results])
+    return visited, counts, np.split(row_state, ends[:-1]), visited_lp
 
 
 def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
@@ -393,7 +453,13 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     moves from the hypothesis without clauses often cannot reach on large problems, and the
     hot replicas leave it at once. Burn-in lasts ``burn_in`` sweeps and then, for at most
     ``burn_in`` more, until the chain's log posterior is within ``log 20`` of the optimum's
-    (the first ``burn_in`` on the default ladder: a pilot that adapts it). The reported
+    (the first ``burn_in`` on the default ladder: a pilot that adapts it). A chain whose
+    samples all lie so far below the best state found that they provably hold under 1e-17 of
+    the mass (:mod:`bsi_sklearn.inference._negligible`: modes apart by misclassified
+    demonstrations, thousands of nats on event logs) goes on from that state, once, after
+    which the round is run again and the record so far is burn-in for every chain
+    (``diagnostics["stopping"]["restarted"]``); samples still below are burned alike, and a
+    chain that stays there is left out (``["lost_chains"]``). The reported
     posterior is the exact posterior restricted to the states the chains recorded, the
     optimum, the neighbours of the recorded states that the stopping rule counted as found
     (:mod:`bsi_sklearn.inference._closure`; ``n_samples="auto"``), and the one-block
