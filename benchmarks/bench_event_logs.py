@@ -104,13 +104,17 @@ def run_isolated(spec, timeout, memory_limit_gb, scarlet_dir=None):
     return dict(spec, method_label=LABELS[spec["method"]], status=status, wall_s=wall)
 
 
-def grid_specs(sizes, methods, noise=0.05, seed=0, recovery=True, minirocket_max_train=5000):
-    """The specs of the grid (every size x rule x method) and of the recovery rows."""
+def grid_specs(sizes, methods, noise=0.05, seed=0, recovery=True, minirocket_max_train=5000,
+               bsi=None):
+    """The specs of the grid (every size x rule x method) and of the recovery rows; ``bsi``:
+    more ``BSIClassifier`` parameters for the BSI rows."""
+    extra = {"bsi": dict(bsi)} if bsi else {}
     specs = [dict(task="grid", n_activities=a, n_cases=c, rule=rule, noise=noise, seed=seed,
-                  method=m, minirocket_max_train=minirocket_max_train)
+                  method=m, minirocket_max_train=minirocket_max_train,
+                  **(extra if m == "bsi" else {}))
              for a, c in sizes for rule in RULES for m in methods]
     if recovery and "bsi" in methods:
-        specs += recovery_specs([seed], sorted({a for a, _ in sizes}), noise)
+        specs += recovery_specs([seed], sorted({a for a, _ in sizes}), noise, bsi)
     return specs
 
 
@@ -460,9 +464,8 @@ def main(argv=None):
                         help="with --recovery-seeds: BSI's likelihood (default: its default)")
     parser.add_argument("--bsi", action="append", type=parse_param, default=[],
                         metavar="NAME=VALUE",
-                        help="with --recovery-, --target- or --pattern-seeds: one more "
-                             "BSIClassifier "
-                             "parameter (a Python literal, e.g. p_global=0.5); repeatable")
+                        help="one more BSIClassifier parameter of the BSI rows "
+                             "(a Python literal, e.g. p_global=0.5); repeatable")
     parser.add_argument("--scarlet-dir", default=str(DEFAULT_SCARLET_DIR))
     parser.add_argument("--install-scarlet", action="store_true",
                         help="pip-install scarlet-ltl into --scarlet-dir first (network)")
@@ -503,7 +506,7 @@ def main(argv=None):
     else:
         sizes = args.sizes or (QUICK_SIZES if args.quick else SIZES)
         specs = grid_specs(sizes, methods, args.noise, args.seed, not args.no_recovery,
-                           args.minirocket_max_train)
+                           args.minirocket_max_train, dict(args.bsi) or None)
         df = run_grid(specs, timeout, args.memory_limit, scarlet_dir=args.scarlet_dir)
         settings = {"sizes": ",".join(f"{a}x{c}" for a, c in sizes), "noise": args.noise,
                     "seed": args.seed, "timeout_s": timeout,
