@@ -362,6 +362,8 @@ def main(argv=None):
                    help="Scarlet's loss bound on the label-noise (*misclass*) files")
     p.add_argument("--scarlet-dir", default=str(DEFAULT_SCARLET_DIR),
                    help="where Scarlet is (or gets) installed")
+    p.add_argument("--likelihood", choices=["cb", "ci", "calibrated"], default=Config.likelihood,
+                   help="BSI's likelihood (default: %(default)s, the paper's)")
     p.add_argument("--max-exact", type=int, default=Config.max_exact)
     p.add_argument("--max-subtasks", type=int, default=Config.max_subtasks)
     p.add_argument("--max-globals", type=int, default=Config.max_globals)
@@ -374,7 +376,8 @@ def main(argv=None):
     except ValueError as exc:
         p.error(str(exc))
     cfg = Config(
-        seed=args.seed, min_support=args.min_support, max_globals=args.max_globals,
+        seed=args.seed, likelihood=args.likelihood, min_support=args.min_support,
+        max_globals=args.max_globals,
         max_subtasks=args.max_subtasks, max_exact=args.max_exact, scarlet=not args.no_scarlet,
         scarlet_timeout=args.scarlet_timeout or (10.0 if args.quick else Config.scarlet_timeout),
         scarlet_every=args.scarlet_every or (1 if args.quick else Config.scarlet_every),
