@@ -252,7 +252,11 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
           ``n_samples`` (sweeps each chain recorded), ``burn_in``; ``stopping``: the rounds
           of ``n_samples="auto"`` (each one's ``max_missed_mass``, ``rhat``, ``late_mass``,
           and past the closure's budget ``max_inclusion_gap``; a round of a posterior
-          reported by its samples has ``rhat`` and ``inclusion_rhat``).
+          reported by its samples has ``rhat`` and ``inclusion_rhat``); ``restarted``:
+          whether chains whose samples lay where the posterior provably has no mass (far
+          below the best state found: ``inference/_negligible.py``) went on from that state,
+          ``negligible_burn_in`` the samples every chain burned for it, ``lost_chains`` the
+          chains left out (absent from the per-chain entries above).
 
     See Also
     --------
