@@ -89,7 +89,7 @@ def entropy_sampling(clf, X_pool, n_instances=1):
     ...         np.array([[0, 1], [1, 1]]),   # b before a: does the order matter?
     ...         np.array([[0, 0], [0, 0]])]   # nothing done: almost surely bad
     >>> vote_entropy(clf, pool).round(2)
-    array([0.  , 0.21, 0.01])
+    array([0.  , 0.44, 0.04])
     >>> entropy_sampling(clf, pool)
     array([1])
     """

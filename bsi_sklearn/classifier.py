@@ -54,9 +54,12 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     prior : {"linear_chain", "sets_of_chains", "forest"}, default="sets_of_chains"
         Prior over the order structure: Prior 1 (one permutation of all subtasks), Prior 2 (sets
         of disjoint chains) or Prior 3 (forest of subtasks).
-    likelihood : {"cb", "ci", "calibrated"}, default="cb"
-        Complexity-based (size principle), complexity-independent likelihood, or the size
-        principle calibrated by the data (``docs/likelihoods.md``).
+    likelihood : {"cb", "ci", "calibrated"}, default="calibrated"
+        The size principle calibrated by the data (a clause earns only through the
+        demonstrations it moves across the boundary), the paper's complexity-based likelihood
+        (``"cb"``: the size principle, every conjunct earning on every satisfied acceptable
+        demonstration), or the complexity-independent one (``docs/likelihoods.md``;
+        ``benchmarks/RESULTS_default_candidates.md`` for why ``"calibrated"`` is the default).
     global_candidates : list of str or int, default=None
         Propositions that may be required to hold always (the set T). ``None``: set by
         ``roles``, read from the training demonstrations by default (``roles="infer"``).
@@ -320,7 +323,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     array([0])
     """
 
-    def __init__(self, *, prior="sets_of_chains", likelihood="cb", global_candidates=None,
+    def __init__(self, *, prior="sets_of_chains", likelihood="calibrated", global_candidates=None,
                  subtasks=None, conditions=None, roles="infer", templates="paper",
                  p_global=0.8, p_eventual=0.8, p_patterns=None, p_part=0.3, n_new=5.0,
                  epsilon=None, flip_prior=None, vote="predictive",

@@ -174,8 +174,8 @@ def test_warnings_point_at_the_callers_line():
     rng = np.random.RandomState(0)
     X = [rng.randint(0, 2, size=(5, 4)) for _ in range(12)]
     y = rng.randint(0, 2, 12)
-    clf = BSIClassifier(roles="all", inference="mcmc", n_samples=4, n_chains=2,
-                        n_temperatures=1, burn_in=0, random_state=0)
+    clf = BSIClassifier(roles="all", likelihood="cb", inference="mcmc", n_samples=4,
+                        n_chains=2, n_temperatures=1, burn_in=0, random_state=0)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         clf.fit(X, y)

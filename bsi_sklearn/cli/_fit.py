@@ -172,10 +172,10 @@ def add_arguments(parser):
     parser.add_argument("--prior", choices=PRIOR_CHOICES, default="sets_of_chains",
                         help="prior over the order of subtasks: one chain, sets of chains or "
                              "a forest (default: %(default)s)")
-    parser.add_argument("--likelihood", choices=LIKELIHOOD_CHOICES, default="cb",
-                        help="complexity-based (cb, the size principle) or "
-                             "complexity-independent (ci) likelihood, or the size principle "
-                             "calibrated on the demonstrations (calibrated) "
+    parser.add_argument("--likelihood", choices=LIKELIHOOD_CHOICES, default="calibrated",
+                        help="the size principle calibrated on the demonstrations "
+                             "(calibrated), the paper's complexity-based likelihood (cb, the "
+                             "size principle) or the complexity-independent one (ci) "
                              "(default: %(default)s)")
     parser.add_argument("--flip-prior", nargs=2, type=float, default=None, metavar=("A", "B"),
                         help="with --likelihood ci: the rate at which labels are wrong is "

@@ -53,7 +53,8 @@ def active_learning_curve(data, strategy, *, first, n_queries, random_state=None
     random_state : int or None
         Draws of the random strategy.
     classifier_params : dict, default=None
-        Extra :class:`BSIClassifier` parameters.
+        Extra :class:`BSIClassifier` parameters (``likelihood="cb"``, the paper's, unless
+        given).
 
     Returns
     -------
@@ -69,7 +70,9 @@ def active_learning_curve(data, strategy, *, first, n_queries, random_state=None
     labelled, pool = [first], [i for i in range(len(data.traces)) if i != first]
     rows = []
     for step in range(min(n_queries, len(pool)) + 1):
-        clf = BSIClassifier(**data.roles, random_state=0, **(classifier_params or {}))
+        # the paper's likelihood (CB) unless classifier_params says otherwise
+        params = {"likelihood": "cb", **(classifier_params or {})}
+        clf = BSIClassifier(**data.roles, random_state=0, **params)
         clf.fit([data.traces[i] for i in labelled], data.labels[labelled])
         nxt = -1
         if step < min(n_queries, len(pool)):

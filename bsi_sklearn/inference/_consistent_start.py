@@ -1,6 +1,6 @@
 """A second start for the deterministic optimum: every clause the acceptable demonstrations keep.
 
-Under the size principle (CB, the default) a clause that every acceptable demonstration
+Under the size principle (CB, the paper's likelihood) a clause that every acceptable demonstration
 satisfies earns ``log 2`` per acceptable demonstration, and one that any of them violates costs
 ``|log eps|``: the optimum keeps every clause the acceptable demonstrations keep, and arranges
 the orders among them in the structure with the most ancestor -> descendant pairs. The beam

@@ -1,6 +1,6 @@
 """Moves of many clauses at once, each about one demonstration: where the beam search stops short.
 
-Under the size principle (CB, the default) a clause earns ``log 2`` for every acceptable
+Under the size principle (CB, the paper's likelihood) a clause earns ``log 2`` for every acceptable
 demonstration the formula satisfies, and a misclassified demonstration costs ``|log eps|``,
 thousands of nats with hundreds of candidate clauses (``log eps`` grows with them). So the
 formula either keeps an acceptable demonstration, and every clause it violates is out, or gives

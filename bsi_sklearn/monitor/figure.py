@@ -40,7 +40,7 @@ def monitor_frame(posterior, trace, *, binarize=None):
     >>> clf = BSIClassifier(random_state=0).fit(X)
     >>> frame = monitor_frame(clf.posterior_, X[0])
     >>> frame[["step", "closed", "p_open"]].round(3).values.tolist()
-    [[0, False, 0.988], [1, False, 0.889], [1, True, 0.0]]
+    [[0, False, 0.96], [1, False, 0.8], [1, True, 0.0]]
     """
     mon = PosteriorMonitor(posterior, binarize=binarize)
     rows = (trace.iloc[t] for t in range(len(trace))) if is_frame(trace) else np.asarray(trace)

@@ -20,7 +20,7 @@ BSI_PRIORS = {"BSI (Prior 2)": "sets_of_chains", "BSI (Prior 3)": "forest"}
 #: BSI rows of the comparison and of ``bsi-lfe study``: name -> ``BSIClassifier`` parameters
 #: (the paper's two priors with the CB likelihood, Prior 2 with the CI likelihood, and every
 #: default without roles: :data:`WITHOUT_ROLES`).
-BSI_ROWS = {**{name: {"prior": prior} for name, prior in BSI_PRIORS.items()},
+BSI_ROWS = {**{name: {"prior": prior, "likelihood": "cb"} for name, prior in BSI_PRIORS.items()},
             "BSI (Prior 2, CI)": {"prior": "sets_of_chains", "likelihood": "ci"},
             "BSI (no roles)": {}}
 

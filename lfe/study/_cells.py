@@ -229,6 +229,8 @@ def _fit_bsi_cv(X, y, roles, params, grid, seed):
     # zero_division=0: what "f1_weighted" computes, without warning about a class that a
     # fold's truth or predictions lack
     scorer = make_scorer(f1_score, average="weighted", zero_division=0)
+    # the paper's likelihood (CB), whose epsilon the grid searches
+    params = {"likelihood": "cb", **params}
     search = GridSearchCV(BSIClassifier(random_state=seed, **roles, **params), grid,
                           scoring=scorer, cv=cv, n_jobs=1, error_score="raise")
     search.fit(X, y)

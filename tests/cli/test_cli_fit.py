@@ -136,7 +136,7 @@ def test_flip_prior_prints_the_flip_rate_of_the_classifier(csv_file, capsys):
 
 @pytest.mark.parametrize("argv, message", [
     (["--flip-prior", "1", "9"], "--flip-prior applies to --likelihood ci only, got "
-                                 "--likelihood cb"),
+                                 "--likelihood calibrated"),
     (["--likelihood", "ci", "--flip-prior", "0", "9"], "--flip-prior"),
     (["--likelihood", "ci", "--flip-prior", "nan", "9"], "--flip-prior"),
 ])
@@ -218,7 +218,7 @@ def test_an_activity_named_with_a_bang_is_no_negation_in_the_readable_map(tmp_pa
                                                          "accepted"),
         ("c3", ["order", "ship"], "rejected"), ("c4", ["ship", "order"], "rejected")])
     args = ["fit", str(path), "--label", "outcome", "--pos-label", "accepted",
-            "--subtasks", "order", "!late", "ship"]
+            "--subtasks", "order", "!late", "ship", "--likelihood", "cb"]
     for extra in ([], ["--no-negations"]):
         assert main(args + extra) == 0
         out = capsys.readouterr().out

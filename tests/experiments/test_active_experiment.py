@@ -30,7 +30,9 @@ def test_entropy_strategy_asks_the_most_uncertain(data):
     from bsi_sklearn.active import vote_entropy
 
     curve = active_learning_curve(data, "entropy", first=0, n_queries=1)
-    clf = BSIClassifier(**data.roles, random_state=0).fit([data.traces[0]], data.labels[[0]])
+    # the experiment's likelihood: the paper's (CB)
+    clf = BSIClassifier(**data.roles, likelihood="cb", random_state=0).fit(
+        [data.traces[0]], data.labels[[0]])
     h = vote_entropy(clf, data.traces)
     h[0] = -1
     assert curve["queried"].iloc[0] == int(np.argmax(h))

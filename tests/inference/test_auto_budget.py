@@ -73,7 +73,7 @@ def test_auto_is_exact_up_to_the_fallback_cost(monkeypatch):
     X, y, truth, model = _problem()
     work = exact_posterior(truth, y, model).work
     params = dict(global_candidates=[4], subtasks=[0, 1, 2, 3], conditions={}, n_samples=200,
-                  random_state=0)
+                  likelihood="cb", random_state=0)  # the model above
     count = sampling_count(truth, y, model, n_chains=4, n_samples=200, burn_in=100)
     monkeypatch.setattr(auto_budget, "AUTO_EXACT_WORK", 0.0)
     monkeypatch.setattr(auto_budget, "SAMPLING_TO_EXACT", work / count)

@@ -53,7 +53,8 @@ def test_the_sampler_starts_past_the_barrier():
     X = [np.ones((2, 44), dtype=int) for _ in range(20)]
     X[0][1, 30:] = 0
     roles = dict(global_candidates=list(range(44)), subtasks=[], conditions={})
-    clf = BSIClassifier(inference="mcmc", random_state=0, **roles).fit(X, np.ones(20, int))
+    clf = BSIClassifier(inference="mcmc", likelihood="cb", random_state=0, **roles).fit(
+        X, np.ones(20, int))
     assert clf.map_specification_.globals == frozenset(range(44))
     assert clf.mcmc_diagnostics_["optimum_gap"] == pytest.approx(0.0)
 

@@ -145,8 +145,8 @@ def test_no_convergence_warning_when_the_reported_posterior_agrees():
     assert diag["rhat"] < 1.05 and diag["max_missed_mass"] < 0.05 and diag["optimum_gap"] <= 0
     assert total_variation(exact.posterior_, clf.posterior_) < 0.01
     assert caught == []
-    one, caught = _fit_recording(X, y, inference="mcmc", n_samples=10, n_chains=1,
-                                 random_state=0, **roles)
+    one, caught = _fit_recording(X, y, inference="mcmc", likelihood="cb", n_samples=10,
+                                 n_chains=1, random_state=0, **roles)
     assert one.mcmc_diagnostics_["max_missed_mass"] == 0.0 and caught == []
 
 

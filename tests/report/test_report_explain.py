@@ -269,7 +269,7 @@ def test_rejected_by_vote_only(tmp_path):
     Xs = [np.array([[1, 1, 0]]), np.array([[0, 1, 1], [0, 0, 1], [1, 0, 1]]),
           np.array([[0, 1, 1]]), np.array([[0, 0, 0], [0, 0, 0], [0, 1, 0]])]
     clf = BSIClassifier(global_candidates=[0], subtasks=[1, 2], p_global=0.3,
-                        p_eventual=0.3).fit(Xs, [1, 1, 1, 0])
+                        p_eventual=0.3, likelihood="cb").fit(Xs, [1, 1, 1, 0])
     rep = explain(clf, [np.array([[0, 1, 0]])])
     assert rep.ltl == "F(1) & (!2 U 1)"
     assert rep.map_probability < 0.5
