@@ -13,8 +13,10 @@ import pytest
 from bsi_sklearn.inference._negligible import NEGLIGIBLE_MASS, common_burn_in, negligible_margin
 from bsi_sklearn.inference.mcmc import (
     ChainRun,
+    _run_rounds,
     deduplicate_demos,
     deterministic_optimum,
+    score_states,
     temperature_ladder,
 )
 from bsi_sklearn.model import make_model
@@ -100,3 +102,27 @@ def test_a_restarted_chain_is_a_fresh_chain_from_the_row_with_the_same_generator
     assert np.array_equal(a.trace_lp, b.trace_lp)
     assert a.n_burned == b.n_burned + old.result().n_burned + 100
     assert a.n_updates == b.n_updates + old.result().n_updates
+
+
+def test_a_chain_stuck_below_the_bound_goes_on_from_the_best_state():
+    # 60 acceptable demonstrations, 80 global candidates; the first violates 40 of them. CB's
+    # optimum keeps all 80 and gives the first up; a chain started from the 40 others, keeping
+    # it, would have to add 40 clauses one at a time, each costing |log eps| until the last:
+    # 1,442 nats below, where the bound is 95. Untempered, it never gets there.
+    n_g, n_v = 80, 40
+    truth = np.ones((60, n_g), dtype=np.uint8)
+    truth[0, n_g - n_v:] = 0
+    model = make_model(prior="sets_of_chains", likelihood="cb", n_globals=n_g, n_subtasks=0)
+    demos = deduplicate_demos(truth, np.ones(60, dtype=np.int64))
+    optimum, lp = deterministic_optimum(demos, model)
+    stuck = optimum.astype(np.int64).copy()
+    stuck[n_g - n_v:n_g] = 0
+    assert lp - score_states(stuck[None, :].astype(np.int16), demos, model)[0] > \
+        negligible_margin(n_g, 0)
+    runs = [ChainRun(s, demos, model, np.ones(1), optimum if s else stuck) for s in range(3)]
+    results, visited, counts, _, visited_lp, stopping, _, _ = _run_rounds(
+        runs, [200], demos, model, 1, 0)
+    assert stopping["restarted"] and stopping["lost_chains"] == []
+    assert len(results) == 3 and all(len(r.trace_lp) == 200 for r in results)
+    assert visited_lp.min() >= visited_lp.max() - negligible_margin(n_g, 0)
+    assert results[0].n_burned == 200 and counts.sum() == 600
