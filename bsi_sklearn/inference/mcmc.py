@@ -234,10 +234,10 @@ class ChainRun:
 
         Its sweeps so far count as burned; its record is dropped.
         """
-        sweep = int(self.loop.counters[0])
+        sweep, _, _, _, updates, _ = self.loop.counters.tolist()
         run = ChainRun(self.rng, self.demos, self.model, self.betas, row, burn_in=0)
-        run.pilot_sweeps = self.pilot_sweeps + sweep
-        run.pilot_updates = self.result().n_updates
+        run.pilot_sweeps = self.pilot_sweeps + int(sweep)
+        run.pilot_updates = self.pilot_updates + int(updates) * len(self.betas)
         return run
 
     def discard(self):
@@ -359,15 +359,18 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             if bar is not None:
                 bar.update(len(runs) * (total - done))
             done = total
-            results, live = [run.result() for run in runs], None
-            visited, counts, per_chain, visited_lp = _scored_record(results, scored, demos,
-                                                                    model)
             # Samples provably without mass (far below the best found) are burn-in; a chain
-            # that stays there is left out (:mod:`._negligible`).
-            skip, live = common_burn_in(per_chain, [r.counts for r in results], visited_lp,
-                                        margin)
-            if not live.all() and not restarted:
-                # Once: the chains left behind go on from the best state found, every chain's
+            # that stays there is restarted from the best state once, or left out
+            # (:mod:`._negligible`).
+            while True:
+                results = [run.result() for run in runs]
+                visited, counts, per_chain, visited_lp = _scored_record(results, scored,
+                                                                        demos, model)
+                skip, live = common_burn_in(per_chain, [r.counts for r in results],
+                                            visited_lp, margin)
+                if live.all() or restarted:
+                    break
+                # The chains left behind go on from the best state found, every chain's
                 # record so far is burn-in, and the round is run again.
                 best = visited[int(np.argmax(visited_lp))].astype(np.int64)
                 runs = [run.discard() if ok else run.restarted_at(best)
@@ -376,11 +379,6 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
                 parallel(delayed(run.advance)(total) for run in runs)
                 if bar is not None:
                     bar.update(len(runs) * total)
-                results = [run.result() for run in runs]
-                visited, counts, per_chain, visited_lp = _scored_record(results, scored, demos,
-                                                                        model)
-                skip, live = common_burn_in(per_chain, [r.counts for r in results],
-                                            visited_lp, margin)
             if skip or not live.all():
                 results = [run.result(skip) for run, ok in zip(runs, live) if ok]
                 visited, counts, per_chain, visited_lp = _scored_record(results, scored,
