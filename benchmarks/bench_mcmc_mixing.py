@@ -16,11 +16,13 @@ the default settings (4 chains, ``n_samples="auto"``: 500 to 10,000 sweeps recor
   on 9 files and TV 0.023 on ``perfect_class/abscence/0047``), all demonstrations, every
   proposition and its negation as
   candidates of every role (``NegationAugmenter``, no screening: 6 x 6, 1.7e7 hypotheses);
-* **7 propositions, no roles** (no target): the first four samples2LTL files with 7
-  propositions (``disjunctionOfExistence``), every proposition a global candidate and a
-  subtask (7 x 7, 6.2e8 hypotheses).
+* **7 propositions, no roles** (no TV target; the warning's): the first four samples2LTL
+  files with 7 propositions (``disjunctionOfExistence``), every proposition a global
+  candidate and a subtask (7 x 7, 6.2e8 hypotheses).
 
-Reported per fit: total variation of the reported posterior to exact, split-R-hat, the
+Reported per fit: total variation of the reported posterior to exact, the largest error of a
+clause's posterior inclusion (where the samples report a posterior too diffuse to list, marked
+"sampled", TV says nothing: each state's share is a sampling estimate), split-R-hat, the
 ``ConvergenceWarning``s raised, and the wall and process CPU seconds of the MCMC fit (the
 chains are threads of the process; a warm-up fit first, so no compilation is timed). Only
 public API is used, so the same script measures an older checkout
@@ -101,8 +103,10 @@ def seven_files(data=DEFAULT_DATA, n=4):
     return out
 
 
-def fit_pair(X, y, roles, **mcmc_params):
+def fit_pair(X, y, roles, likelihood=None, **mcmc_params):
     """Exact and default-MCMC fits of one problem; the MCMC fit's numbers."""
+    if likelihood is not None:
+        roles = dict(roles, likelihood=likelihood)
     exact = BSIClassifier(inference="exact", max_exact_hypotheses=10**12, **roles).fit(X, y)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -110,6 +114,9 @@ def fit_pair(X, y, roles, **mcmc_params):
         mcmc = BSIClassifier(inference="mcmc", random_state=0, **roles, **mcmc_params).fit(X, y)
         wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     diag = mcmc.mcmc_diagnostics_
+    exact_inclusion = exact.posterior_.clause_marginals()
+    inclusion_error = float((mcmc.posterior_.clause_marginals().reindex(exact_inclusion.index)
+                             - exact_inclusion).abs().max())
     kinds = []
     for w in caught:
         if issubclass(w.category, ConvergenceWarning):
@@ -119,6 +126,7 @@ def fit_pair(X, y, roles, **mcmc_params):
                          "rhat" if "R-hat" in text else "other")
     return {
         "n_demos": len(y), "tv": total_variation(exact.posterior_, mcmc.posterior_),
+        "inclusion_error": inclusion_error,
         "rhat": float(diag["rhat"]), "max_missed_mass": float(diag["max_missed_mass"]),
         "optimum_gap": float(diag.get("optimum_gap", np.nan)),
         "typical_gap": float(diag.get("typical_gap", np.nan)),
@@ -153,23 +161,32 @@ def measure(problems, **mcmc_params):
 
 def _table(rows):
     return md_table(
-        ["problem", "demos", "TV to exact", "split-R-hat", "max missed", "optimum gap",
-         "rungs", "burn-in (max)", "sweeps", "ConvergenceWarning", "wall", "CPU"],
-        [[r["problem"], r["n_demos"], f"{r['tv']:.4f}", f"{r['rhat']:.3f}",
+        ["problem", "demos", "TV to exact", "inclusion error", "split-R-hat", "max missed",
+         "optimum gap", "rungs", "burn-in (max)", "sweeps", "ConvergenceWarning", "wall", "CPU"],
+        [[r["problem"], r["n_demos"], f"{r['tv']:.4f}" + (" (sampled)" if r["sampled"] else ""),
+          f"{r['inclusion_error']:.4f}", f"{r['rhat']:.3f}",
           f"{r['max_missed_mass']:.3f}", f"{r['optimum_gap']:.2f}", r["n_temperatures"],
           r["burn_in_max"], f"{r['n_samples']:,}", ", ".join(r["warnings"]) or "-",
           fmt_s(r["wall_s"]),
           fmt_s(r["cpu_s"])] for r in rows])
 
 
-def targets(lfe, s2l):
+def _error(row):
+    # How far a fit's report lies from exact: TV where it lists the posterior; where its
+    # samples report it (too diffuse to list) TV says nothing (every state's share is a
+    # sampling estimate), the largest error of a clause's inclusion does.
+    return row["inclusion_error"] if row["sampled"] else row["tv"]
+
+
+def targets(lfe, s2l, seven=()):
     """Issue 19's targets as rows of the targets table."""
-    silent = [r for r in lfe + s2l if r["tv"] > TV_LFE and not r["warnings"]]
+    silent = [r for r in [*lfe, *s2l, *seven] if _error(r) > TV_LFE and not r["warnings"]]
     rows = [
         target("LFE with roles, 18/36/72 missions x MO1-3: TV to exact", f"<= {TV_LFE}",
                f"max {max(r['tv'] for r in lfe):.4f}",
                all(r["tv"] <= TV_LFE for r in lfe)),
-        target("no fit with TV > 0.05 without a ConvergenceWarning", "none",
+        target("no fit off exact by more than 0.05 (TV where listed, a clause's inclusion "
+               "where sampled) without a ConvergenceWarning", "none",
                f"{len(silent)}", not silent),
         target("samples2LTL (16 files, negations): split-R-hat", f"< {RHAT}",
                f"max {max(r['rhat'] for r in s2l):.3f}", all(r["rhat"] < RHAT for r in s2l)),
@@ -179,15 +196,17 @@ def targets(lfe, s2l):
     return rows
 
 
-def run(cfg):
-    """The section for ``benchmarks/run.py`` (``--quick``: one LFE cell, four files)."""
+def run(cfg, likelihood=None):
+    """The section for ``benchmarks/run.py`` (``--quick``: one LFE cell, four files;
+    ``likelihood``: the exact and MCMC fits', the classifier's default if None)."""
     sec = Section("mcmc_mixing", "MCMC mixing against exact (issue 19)")
     cells = cfg.pick(LFE_CELLS, LFE_CELLS[:1])
     files = s2l_files()
     files = cfg.pick(files, files[:4])
-    lfe = measure(lfe_problems(cells))
-    s2l = measure(s2l_problems(files))
-    seven = measure(s2l_problems(seven_files(n=cfg.pick(4, 1)), negations=False))
+    lfe = measure(lfe_problems(cells), likelihood=likelihood)
+    s2l = measure(s2l_problems(files), likelihood=likelihood)
+    seven = measure(s2l_problems(seven_files(n=cfg.pick(4, 1)), negations=False),
+                    likelihood=likelihood)
     sec.add(__doc__.split("\n\n", 2)[2].split("Only public")[0].strip())
     sec.add("**LFE with roles**\n\n" + _table(lfe))
     sec.add("**samples2LTL, every proposition and its negation**\n\n" + _table(s2l))
@@ -195,7 +214,8 @@ def run(cfg):
     walls = [r["wall_s"] for r in lfe + s2l]
     sec.add(f"Default MCMC fit: median {fmt_s(float(np.median(walls)))} wall, "
             f"max {fmt_s(max(walls))}.")
-    sec.data = {"lfe": lfe, "samples2ltl": s2l, "seven": seven, "targets": targets(lfe, s2l)}
+    sec.data = {"lfe": lfe, "samples2ltl": s2l, "seven": seven,
+                "targets": targets(lfe, s2l, seven)}
     return sec
 
 
@@ -204,13 +224,17 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true", help="one LFE cell, four files")
     parser.add_argument("--out", default=str(HERE / "RESULTS_mcmc_mixing.md"))
+    parser.add_argument("--likelihood", default=None,
+                        help="the fits' likelihood (default: the classifier's default)")
     args = parser.parse_args(argv)
     from _common import Config
 
     t0 = time.perf_counter()
-    sec = run(Config(quick=args.quick))
+    sec = run(Config(quick=args.quick), likelihood=args.likelihood)
     text = [f"# {sec.title}", "", f"Generated by `python benchmarks/bench_mcmc_mixing.py"
-            f"{' --quick' if args.quick else ''}` in {fmt_s(time.perf_counter() - t0)}.", ""]
+            f"{' --quick' if args.quick else ''}"
+            f"{' --likelihood ' + args.likelihood if args.likelihood else ''}` in "
+            f"{fmt_s(time.perf_counter() - t0)}.", ""]
     text += [chunk + "\n" for chunk in sec.text]
     text.append(md_table(["target", "wanted", "measured", "status"],
                          [[t["name"], t["target"], t["measured"], "met" if t["ok"] else "missed"]

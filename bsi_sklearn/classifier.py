@@ -236,8 +236,11 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
           ``unseen_mass``: the share of the samples whose state was sampled once (the
           Good-Turing estimate of the mass in states never visited). Above log 20 and 0.05
           the posterior is too diffuse to list and ``sampled`` is ``True``, as it is where
-          the states found fail the missed mass's check while as much is unseen and the
-          chains agree: the probabilities are the sample frequencies, and
+          as much is unseen and the states found fail the missed mass's check while the
+          chains agree, or where their posterior's inclusion of a clause lies beyond the
+          samples' noise from the samples', by more than 0.01 (``listing_gap``: the
+          largest such gap, 0.0 where none is or where little is unseen): the
+          probabilities are the sample frequencies, and
           ``inclusion_rhat``, the largest split-R-hat of a clause's inclusion across the
           chains, says whether they agree (else ``None``);
         - ``betas``: the tempering ladder the chains recorded on; ``ladder``: with
@@ -271,8 +274,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     exact posterior restricted to that support, renormalised, which is far closer to the exact
     posterior than sample frequencies (kept in ``mcmc_diagnostics_``), except where the
     posterior is too diffuse for a support to hold it (``typical_gap`` above log 20, or the
-    support fails its own check, ``max_missed_mass`` above 5 %, while the chains agree on every
-    clause's inclusion; either only where ``unseen_mass`` is above 5 %): there they are the
+    support fails its own check, ``max_missed_mass`` above 5 % while the chains agree on every
+    clause's inclusion, or it does not report what the chains sample, ``listing_gap`` above
+    0.01; each only where ``unseen_mass`` is above 5 %): there they are the
     sample frequencies
     (``mcmc_diagnostics_["sampled"]``), listed most often sampled first, and the MAP is still
     the most probable specification found (``posterior_.map_index``; the deterministic

@@ -8,8 +8,9 @@ from bsi_sklearn.model.clauses import clause_masks, clause_sums, n_clauses
 from bsi_sklearn.model.state_layout import split_states
 
 __all__ = ["split_rhat", "missed_mass", "typical_gap", "unseen_mass", "too_diffuse",
-           "weighted_inclusion", "inclusion_rhat", "total_variation", "disagreement_problems",
-           "RHAT_WARN", "MISSED_WARN", "MODE_WARN", "DIFFUSE_GAP"]
+           "weighted_inclusion", "half_inclusions", "inclusion_rhat", "listing_gap",
+           "total_variation", "disagreement_problems", "RHAT_WARN", "MISSED_WARN", "MODE_WARN",
+           "DIFFUSE_GAP", "LISTING_TOL", "LISTING_Z"]
 
 #: Split-R-hat of the chains' log posteriors above which the chains have not mixed.
 RHAT_WARN = 1.05
@@ -23,6 +24,11 @@ MODE_WARN = math.log(20.0)
 #: A posterior whose visited states, reweighted exactly, lie this far (log 20) above the
 #: chains' own log posterior on average is too diffuse to list (:func:`typical_gap`).
 DIFFUSE_GAP = math.log(20.0)
+#: A listed posterior whose inclusion of a clause lies more than ``LISTING_TOL`` (a vote moved by
+#: a hundredth) and more than ``LISTING_Z`` standard errors from the chains' samples' does not
+#: report what they sample (:func:`listing_gap`).
+LISTING_TOL = 0.01
+LISTING_Z = 4.0
 #: States whose clause bitsets :func:`weighted_inclusion` holds at once (200 propositions'
 #: 40,000 clause slots: 20 MB).
 INCLUSION_BLOCK = 4096
@@ -303,9 +309,37 @@ def inclusion_rhat(states, chain_rows, chain_counts, n_g, n):
     >>> inclusion_rhat(states, [np.array([0]), np.array([1])], [np.array([20])] * 2, 1, 0)
     inf
     """
+    halves = half_inclusions(states, chain_rows, chain_counts, n_g, n)
+    if halves is None:
+        return float("nan")
+    means, half = halves
+    # A binary indicator's variance within a half is its mean times one less it (ddof=1).
+    within = np.mean(means * (1.0 - means), axis=0) * half / (half - 1)
+    noise = 1e-12
+    flat = within <= noise
+    if np.any(flat & (np.ptp(means, axis=0) > noise)):
+        return float("inf")
+    return float(_rhat(means[:, ~flat], within[~flat], half).max(initial=1.0))
+
+
+def half_inclusions(states, chain_rows, chain_counts, n_g, n):
+    """Each clause's inclusion in each half of each chain's samples.
+
+    Parameters are :func:`inclusion_rhat`'s.
+
+    Returns
+    -------
+    means : ndarray of shape (2 n_chains, n_clauses)
+        Row ``2 k`` the first half of chain ``k``'s samples, row ``2 k + 1`` the second (the
+        halves as long as the shortest chain's, a run across the middle split).
+    half : int
+        Samples in each half.
+
+    ``None`` with fewer than 4 samples a chain.
+    """
     half = min(int(np.sum(c)) for c in chain_counts) // 2
     if half < 2:
-        return float("nan")
+        return None
     weights = np.zeros((2 * len(chain_rows), len(states)))
     for k, (rows, counts) in enumerate(zip(chain_rows, chain_counts)):
         counts = np.asarray(counts, dtype=np.int64)
@@ -314,14 +348,50 @@ def inclusion_rhat(states, chain_rows, chain_counts, n_g, n):
         late = np.clip(2 * half - start, 0, counts) - early
         np.add.at(weights[2 * k], rows, early / half)
         np.add.at(weights[2 * k + 1], rows, late / half)
-    means = weighted_inclusion(states, weights, n_g, n)[:, :n_clauses(n_g, n)]
-    # A binary indicator's variance within a half is its mean times one less it (ddof=1).
-    within = np.mean(means * (1.0 - means), axis=0) * half / (half - 1)
-    noise = 1e-12
-    flat = within <= noise
-    if np.any(flat & (np.ptp(means, axis=0) > noise)):
-        return float("inf")
-    return float(_rhat(means[:, ~flat], within[~flat], half).max(initial=1.0))
+    return weighted_inclusion(states, weights, n_g, n)[:, :n_clauses(n_g, n)], half
+
+
+def listing_gap(listed, halves):
+    """How far a listed posterior's clause inclusions lie from its chains' samples'.
+
+    Where the chains sample the posterior, the share of their samples holding a clause
+    estimates its inclusion without bias, whatever the states never visited; the listed
+    posterior (the exact one restricted to the states found) is biased where the states not
+    found hold mass unevenly across clauses: a flat posterior of half a million
+    specifications, whose many-clause states are too many to find, listed with each clause's
+    inclusion up to 0.08 off while the samples were within 0.01. A gap counts where it is
+    more than ``LISTING_Z`` standard errors of the samples' estimate (the spread of the
+    chains' halves' inclusions, :func:`half_inclusions`, which allows for their
+    autocorrelation); the listing does not report the posterior where a counted gap exceeds
+    ``LISTING_TOL``.
+
+    Parameters
+    ----------
+    listed : ndarray of shape (n_clauses,)
+        Each clause's inclusion under the listed posterior.
+    halves : ndarray of shape (n_halves, n_clauses)
+        Each clause's inclusion in each chain half's samples.
+
+    Returns
+    -------
+    float
+        The largest counted gap; 0.0 where none is beyond the samples' noise.
+
+    Examples
+    --------
+    Four halves that include a clause about half the time, a listing that says 0.505 (within
+    their noise), and one that says 0.7:
+
+    >>> import numpy as np
+    >>> halves = np.array([[0.49], [0.51], [0.50], [0.50]])
+    >>> listing_gap(np.array([0.505]), halves), round(listing_gap(np.array([0.7]), halves), 6)
+    (0.0, 0.2)
+    """
+    halves = np.asarray(halves, dtype=float)
+    pooled = halves.mean(axis=0)
+    error = halves.std(axis=0, ddof=1) / math.sqrt(len(halves))
+    gap = np.abs(np.asarray(listed, dtype=float) - pooled)
+    return float(gap[gap > LISTING_Z * error].max(initial=0.0))
 
 
 def total_variation(p, q):

@@ -45,13 +45,18 @@ from bsi_sklearn.inference._local_search import beam_search, complete_support
 from bsi_sklearn.inference._negligible import common_burn_in, negligible_margin
 from bsi_sklearn.inference._reach import visited_shares
 from bsi_sklearn.inference.diagnostics import (
+    LISTING_TOL,
     MISSED_WARN,
     MODE_WARN,
     RHAT_WARN,
+    half_inclusions,
     inclusion_rhat,
+    listing_gap,
     missed_mass,
     split_rhat,
     too_diffuse,
+    unseen_mass,
+    weighted_inclusion,
 )
 from bsi_sklearn.inference.stopping import MAX_SAMPLES, inclusion_by_chain, rounds, should_stop
 from bsi_sklearn.model.clauses import n_clauses, pack_rows
@@ -412,6 +417,18 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             if near is None:  # the closure is past its budget: the support cannot be listed
                 shares, probs = visited_shares(visited, visited_lp, model, per_chain)
                 inclusion = inclusion_by_chain(visited, probs, shares, model.n_g, model.n)
+                if _listing_gap(inclusion[0], counts, visited, per_chain, results,
+                                model) > LISTING_TOL:
+                    # The states found are too few to weigh: the samples report the posterior
+                    # and the chains stop when they agree on it, as where it is too diffuse.
+                    shares = probs = None
+                    sampled = inclusion_rhat(visited, per_chain, [r.counts for r in results],
+                                             model.n_g, model.n)
+                    stop, detail = should_stop(None, None, None, traces, sampled=sampled)
+                    record.append(dict(detail, n_samples=done))
+                    if stop:
+                        break
+                    continue
             else:
                 probs, first, keys = found_states(visited, visited_lp, first, near)
                 shares = found_by_chain(closure, visited, per_chain, keys)
@@ -425,6 +442,18 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
                 "negligible_burn_in": int(skip),
                 "restarted": restarted, "lost_chains": [int(k) for k in np.flatnonzero(~live)]}
     return results, visited, counts, (shares, probs), visited_lp, stopping, near, per_chain
+
+
+def _listing_gap(listed, counts, visited, per_chain, results, model):
+    # How far the posterior restricted to the states found (each clause's inclusion under it:
+    # ``listed``) lies from what the chains sample (diagnostics.listing_gap; above LISTING_TOL
+    # it misreports them); asked only where the samples say it misses mass (unseen_mass
+    # above MISSED_WARN), 0.0 elsewhere.
+    halves = (half_inclusions(visited, per_chain, [r.counts for r in results], model.n_g,
+                              model.n) if unseen_mass(counts) > MISSED_WARN else None)
+    if halves is None:
+        return 0.0
+    return listing_gap(listed[:n_clauses(model.n_g, model.n)], halves[0])
 
 
 def _scored_record(results, scored, demos, model):
@@ -468,9 +497,11 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     over far more states than the chains visit, each visited about once: ``unseen_mass``, the
     share of samples whose state was sampled once, above ``MISSED_WARN``), that restriction
     would pile the mass onto the most probable states found; the probabilities are then the
-    sample frequencies of the visited states (``sampled``; so too where the restriction fails
-    its own check, a chain missing more than ``MISSED_WARN`` of the mass found, while the
-    samples leave as much unseen and the chains agree on every clause's inclusion), the
+    sample frequencies of the visited states (``sampled``; so too where the samples leave
+    more than ``MISSED_WARN`` unseen and the restriction fails its own check, a chain missing
+    more than ``MISSED_WARN`` of the mass found while the chains agree on every clause's
+    inclusion, or does not report what they sample, a clause's inclusion under it beyond the
+    samples' noise from theirs, ``listing_gap`` above ``LISTING_TOL``), the
     most often sampled first (ties: the most probable); the most probable state found (the
     MAP, ``map_index``) is listed too, with probability 0 if never sampled: in so flat a
     posterior every state's mass is tiny, and the most often sampled one is no better an
@@ -550,6 +581,13 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     uniq, counts, scores = uniq[order], counts[order], scores[order]
     traces = np.stack([r.trace_lp for r in results])
     sampled, gap, unseen = too_diffuse(scores, counts, traces)
+    listed_gap = 0.0
+    if not sampled:
+        # The listing must report what the chains sample.
+        weights = np.exp(scores - scores.max())
+        listed = weighted_inclusion(uniq, (weights / weights.sum())[None, :], n_g, n)[0]
+        listed_gap = _listing_gap(listed, counts, visited, per_chain, results, model)
+        sampled = listed_gap > LISTING_TOL
     if sampled:
         missed = np.full(len(results), np.nan)  # weighs states exactly: says nothing here
     else:
@@ -608,6 +646,7 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         "n_added": len(uniq) - len(visited),
         "typical_gap": gap,
         "unseen_mass": unseen,
+        "listing_gap": listed_gap,
         "sampled": bool(sampled),
         "inclusion_rhat": inclusion if sampled else None,
         "sample_frequencies": counts / counts.sum(),
