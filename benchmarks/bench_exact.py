@@ -36,7 +36,8 @@ def run(cfg):
         X, y, roles = make_demos(n_demos - 5, 200, n_subtasks=n, n_globals=n_g, n_negative=5,
                                  seed=5)
         n_hyp = count_hypotheses(prior, n_g, n)
-        clf = BSIClassifier(**problem_roles(roles), prior=prior, inference="exact",
+        clf = BSIClassifier(**problem_roles(roles), prior=prior, likelihood="cb",
+                            inference="exact",
                             max_exact_hypotheses=LIMIT)
         wall, cpu, _, _ = time_call(lambda c=clf, X=X, y=y: c.fit(X, y),
                                     1 if n_hyp > 2_000_000 else cfg.pick(3, 1))

@@ -37,7 +37,8 @@ _MEMORY_CHILD = textwrap.dedent("""
     X, y, roles = make_demos(71, 200, n_subtasks={n}, n_globals={n_g}, n_negative=20, seed=3)
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     clf = BSIClassifier(global_candidates=roles["global_candidates"], subtasks=roles["subtasks"],
-                        conditions=roles["conditions"], prior={prior!r}, inference="exact",
+                        conditions=roles["conditions"], prior={prior!r}, likelihood="cb",
+                        inference="exact",
                         max_exact_hypotheses=10**13)
     clf.fit(X[:5], y[:5])  # compile
     mid = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
@@ -85,7 +86,7 @@ def run(cfg):
                                             seed=3)))
     for name, prior, make in problems:
         X, y, roles = make()
-        kw = dict(problem_roles(roles), prior=prior)
+        kw = dict(problem_roles(roles), prior=prior, likelihood="cb")  # as recorded
         n_hyp = count_hypotheses(prior, len(roles["global_candidates"]), len(roles["subtasks"]))
         auto = BSIClassifier(**kw).fit(X, y)
         exact = BSIClassifier(**kw, inference="exact")

@@ -37,9 +37,10 @@ def run(cfg):
         X, labels = _missions(n, seed)
         for mo in cfg.pick(("MO1", "MO2", "MO3"), ("MO1",)):
             y = labels[mo].to_numpy()
-            auto = BSIClassifier(roles="all", random_state=0)
+            auto = BSIClassifier(roles="all", likelihood="cb", random_state=0)
             t_auto, _, _, _ = time_call(lambda c=auto, X=X, y=y: c.fit(X, y), reps)
-            exact = BSIClassifier(roles="all", inference="exact", max_exact_hypotheses=10**30)
+            exact = BSIClassifier(roles="all", likelihood="cb", inference="exact",
+                                  max_exact_hypotheses=10**30)
             t_exact, _, _, _ = time_call(lambda c=exact, X=X, y=y: c.fit(X, y), reps)
             tv = total_variation(auto.posterior_, exact.posterior_)
             cells.append({"missions": n, "seed": seed, "objective": mo,
@@ -52,8 +53,9 @@ def run(cfg):
             "missions 1), `LFEPropositionExtractor().fit_transform`, labels of one objective; "
             "`roles=\"all\"`: every proposition is a global candidate and a subtask "
             f"({cells[0]['hypotheses']:.2g} hypotheses, Prior 2, CB). `default fit` is "
-            "`BSIClassifier(roles=\"all\", random_state=0).fit` (whatever `auto` chose), "
-            "`exact fit` is `BSIClassifier(roles=\"all\", inference=\"exact\", "
+            "`BSIClassifier(roles=\"all\", likelihood=\"cb\", random_state=0).fit` (whatever "
+            "`auto` chose; CB was the default until 2026-12-07), `exact fit` is "
+            "`BSIClassifier(roles=\"all\", likelihood=\"cb\", inference=\"exact\", "
             "max_exact_hypotheses=10**30).fit`; median of "
             f"{reps} warm calls each, validation and clause truth included. TV: total variation "
             "between the two posteriors; `kept`: specifications the exact posterior lists.")

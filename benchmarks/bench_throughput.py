@@ -11,7 +11,7 @@ from bsi_sklearn import BSIClassifier
 def run(cfg):
     sec = Section("throughput", "MCMC throughput: coordinate updates (MH steps) per second")
     X, _, roles, source = poi_demos(50, seed=0)
-    kw = problem_roles(roles)
+    kw = dict(problem_roles(roles), likelihood="cb")  # as recorded: the paper's
     n_samples = cfg.pick(10_000, 2_000)
     sec.add(f"50 demonstrations from `{source}` (5 globals x 5 subtasks). One *sample* is a "
             "Gibbs sweep that updates every block of every tempered replica once (5 inclusion "
