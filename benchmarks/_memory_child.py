@@ -49,7 +49,8 @@ def main(spec):
 
     X, _, roles = make_demos(spec["n_demos"], spec["n_steps"], n_subtasks=spec["n_subtasks"],
                              n_globals=spec["n_globals"], seed=11)
-    kw = problem_roles(roles)
+    # CB, as recorded (the default until 2026-12-07): these fits are positive-only.
+    kw = dict(problem_roles(roles), likelihood="cb")
     params = dict(spec.get("params", {}))
     # Warm-up on a tiny problem of the same shape: loads (or compiles) every numba kernel.
     small, _, _ = make_demos(3, 5, n_subtasks=spec["n_subtasks"], n_globals=spec["n_globals"])
