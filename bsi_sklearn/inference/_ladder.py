@@ -51,7 +51,9 @@ def temperature_ladder(demos, model, n_temperatures="auto"):
     scale = step_scale(model.likelihood, model.log_eps, demos.n_pos, demos.n_neg,
                        model.flip_a, model.flip_b)
     if n_temperatures == "auto":
-        n_rungs = 1 if scale <= 1.0 else 1 + math.ceil(math.log(scale) / -math.log(LADDER_RATIO))
+        if scale <= 1.0:  # one rung, at beta = 1 (1 / scale, above 1, would sharpen the target)
+            return np.ones(1)
+        n_rungs = 1 + math.ceil(math.log(scale) / -math.log(LADDER_RATIO))
         return np.maximum(LADDER_RATIO ** np.arange(n_rungs), 1.0 / scale)
     n_rungs = int(n_temperatures)
     if n_rungs == 1 or scale <= 1.0:

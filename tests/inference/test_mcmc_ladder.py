@@ -121,3 +121,28 @@ def test_adapted_sampler_is_reproducible_and_agrees_with_exact(seed, epsilon):
 
     assert total_variation(as_dict(exact, np.exp(exact.log_prob)),
                            as_dict(a, a.probabilities)) <= 0.02
+
+
+def test_a_likelihood_of_steps_under_a_nat_gets_one_rung_at_beta_one():
+    # CI with epsilon = 0.4: a demonstration changing side moves the likelihood by |log 0.4|
+    # = 0.92 nats, under one, so no tempering is needed. The ladder was [1 / 0.92] = [1.09]:
+    # one replica at beta above 1, sampling a sharpened posterior (its sample frequencies
+    # 0.06 off exact in a clause's inclusion after 10,000 sweeps, hidden where the states
+    # found are reweighted exactly).
+    from poi_problems import make_poi_problem
+
+    from bsi_sklearn import BSIClassifier
+
+    X, y, roles = make_poi_problem(n_demos=18, n_threats=2, n_pois=4, chain=(0, 2),
+                                   n_negative=6, seed=3, always_violated=(1,))
+    kw = dict(roles, likelihood="ci", epsilon=0.4)
+    model = make_model(prior="sets_of_chains", likelihood="ci", n_globals=2, n_subtasks=4,
+                       epsilon=0.4)
+    demos = deduplicate_demos(np.eye(3, 8, dtype=np.uint8), np.array([1.0, 0.0, 1.0]))
+    assert temperature_ladder(demos, model).tolist() == [1.0]
+    exact = BSIClassifier(inference="exact", **kw).fit(X, y)
+    clf = BSIClassifier(inference="mcmc", n_samples=10_000, random_state=0, **kw).fit(X, y)
+    assert clf.mcmc_diagnostics_["betas"].tolist() == [1.0]
+    post = clf.posterior_
+    sampled = clf.mcmc_diagnostics_["sample_frequencies"] @ post.clause_matrix()
+    np.testing.assert_allclose(sampled, exact.posterior_.clause_marginals(), atol=0.02)
