@@ -417,18 +417,6 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             if near is None:  # the closure is past its budget: the support cannot be listed
                 shares, probs = visited_shares(visited, visited_lp, model, per_chain)
                 inclusion = inclusion_by_chain(visited, probs, shares, model.n_g, model.n)
-                if _listing_gap(inclusion[0], counts, visited, per_chain, results,
-                                model) > LISTING_TOL:
-                    # The states found are too few to weigh: the samples report the posterior
-                    # and the chains stop when they agree on it, as where it is too diffuse.
-                    shares = probs = None
-                    sampled = inclusion_rhat(visited, per_chain, [r.counts for r in results],
-                                             model.n_g, model.n)
-                    stop, detail = should_stop(None, None, None, traces, sampled=sampled)
-                    record.append(dict(detail, n_samples=done))
-                    if stop:
-                        break
-                    continue
             else:
                 probs, first, keys = found_states(visited, visited_lp, first, near)
                 shares = found_by_chain(closure, visited, per_chain, keys)
@@ -582,8 +570,10 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     traces = np.stack([r.trace_lp for r in results])
     sampled, gap, unseen = too_diffuse(scores, counts, traces)
     listed_gap = 0.0
-    if not sampled and unseen > MISSED_WARN:
-        # The listing must report what the chains sample (asked where it may miss mass).
+    if not sampled and unseen > MISSED_WARN and near is None:
+        # The listing must report what the chains sample: asked where it may miss mass and no
+        # closure completed it (a fixed n_samples, or the closure past its budget; within
+        # it, the rounds stop once the states first found late hold at most STOP_LATE).
         weights = np.exp(scores - scores.max())
         listed = weighted_inclusion(uniq, (weights / weights.sum())[None, :], n_g, n)[0]
         listed_gap = _listing_gap(listed, counts, visited, per_chain, results, model)

@@ -40,9 +40,7 @@ was 0.30 after 500 sweeps and still 0.16 after 10,000, the chains' largest inclu
 after 500; the held-out predictions of 500 and 10,000 sweeps score alike.
 
 A posterior too diffuse to list at all (its visited states, reweighted exactly, far above the
-chains' own log posterior: :func:`bsi_sklearn.inference.diagnostics.typical_gap`; or, past the
-closure's budget, restricted to them, a clause's inclusion beyond the samples' noise from the
-samples': :func:`bsi_sklearn.inference.diagnostics.listing_gap`) is reported
+chains' own log posterior: :func:`bsi_sklearn.inference.diagnostics.typical_gap`) is reported
 by the chains' samples, and they stop when they agree on what the samples report: the
 split-R-hat of every clause's inclusion, and of their log posteriors, at most ``STOP_RHAT``.
 
