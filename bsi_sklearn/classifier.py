@@ -90,10 +90,15 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         exactly; ``"unary"``, ``"declare"``, ``"all"``: the catalogue's templates of one slot,
         its Declare templates, all of it
         (:data:`bsi_sklearn.specification.templates.TEMPLATE_SETS`).
-    p_global : float, default=0.8
-        Prior inclusion probability of each ``G`` clause.
-    p_eventual : float, default=0.8
-        Prior inclusion probability of each eventual clause.
+    p_global : float or "learned", default=0.8
+        Prior inclusion probability of each ``G`` clause. ``"learned"``: unknown, uniform on
+        (0, 1) and integrated out (Scott and Berger's multiplicity correction, 2010): every
+        number of clauses is equally probable a priori, so among many candidates each one
+        more costs about ``log(candidates / clauses)`` nats, and a clause the data do not ask
+        for is left out (``docs/likelihoods.md``).
+    p_eventual : float or "learned", default=0.8
+        Prior inclusion probability of each eventual clause; ``"learned"`` as for
+        ``p_global``.
     p_patterns : float or dict, default=None
         Prior inclusion probability of each pattern clause: one for all, or a dict from
         template family (``"relation"``) or name (``"Response"``) to one. ``None`` (and the
@@ -384,8 +389,8 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         "conditions": "no_validation",
         "roles": [StrOptions({"all", "infer"})],
         "templates": [StrOptions({"paper", *TEMPLATE_SETS}), list, tuple],
-        "p_global": [Interval(Real, 0.0, 1.0, closed="both")],
-        "p_eventual": [Interval(Real, 0.0, 1.0, closed="both")],
+        "p_global": [Interval(Real, 0.0, 1.0, closed="both"), StrOptions({"learned"})],
+        "p_eventual": [Interval(Real, 0.0, 1.0, closed="both"), StrOptions({"learned"})],
         "p_patterns": [None, Satisfies(check_p_patterns, "a probability in (0, 1) or a mapping "
                                                          "from template family or name to one")],
         "p_part": [Interval(Real, 0.0, 1.0, closed="both")],

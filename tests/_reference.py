@@ -159,7 +159,12 @@ def brute_force_posterior(X, y, names, globals_, subtasks, conditions, prior, li
                 lp0 = math.log(p_order)
                 for bits, p in ((tau, p_global), (w1, p_eventual)):
                     k = sum(bits)
-                    lp0 += k * math.log(p) + (len(bits) - k) * math.log(1 - p)
+                    if p == "learned":  # the integral of p^k (1 - p)^(m - k) over (0, 1)
+                        m = len(bits)
+                        lp0 += math.log(math.factorial(k) * math.factorial(m - k)
+                                        / math.factorial(m + 1))
+                    else:
+                        lp0 += k * math.log(p) + (len(bits) - k) * math.log(1 - p)
                 for pbits in itertools.product([0, 1], repeat=len(patterns)):
                     chosen = [k for k, b in enumerate(pbits) if b]
                     spec = Specification(paper.globals, paper.eventuals, paper.orders,

@@ -38,11 +38,12 @@ from bsi_sklearn.model.likelihood import cb_rejected, log_likelihood
 from bsi_sklearn.model.priors import (
     global_inclusion,
     is_forest,
-    log_inclusion,
     log_prior,
     log_prior_globals,
     log_prior_structure,
     log_prior_subset,
+    n_plain_globals,
+    subset_inclusion,
 )
 from bsi_sklearn.model.state_layout import max_conjuncts, split_state, state_width
 
@@ -274,24 +275,33 @@ def _sweep(r, beta, state, demos, model, bufs, cache, u0):
     tau, w1, parent, viol = state.tau[r], state.w1[r], state.parent[r], bufs.viol[r]
     ubuf, old_parent = bufs.ubuf, bufs.old_parent
     n_g, n = model.n_g, model.n
-    le_in, le_out = log_inclusion(model.p_eventual)
+    n_gp = n_g - model.pat_in.shape[0]
+    # Included G slots and W1 bits: a learned inclusion probability weighs one more by them.
+    k_g = n_plain_globals(tau, model)
+    k_w = 0
+    for w in range(n):
+        k_w += w1[w]
     upos = u0
     moved = 0
     fmask = bufs.fmask
     flip_masks(viol, fmask)
     for j in range(n_g):
-        lg_in, lg_out = global_inclusion(j, model)
+        plain = j < n_gp
+        lg_in, lg_out = global_inclusion(j, model, k_g - tau[j] if plain else 0)
         new, ll[r], used = flip_move(j, tau[j], lg_in, lg_out, viol, fmask, n_conj[r], demos,
                                      model, ubuf[upos], beta)
         upos += used
         if new != tau[j]:
             n_conj[r] += 1 if new else -1
             lp_sub[r] += (lg_in - lg_out) if new else (lg_out - lg_in)
+            if plain:
+                k_g += 1 if new else -1
             tau[j] = new
             moved += 1
             bufs.version[r] += 1
     if n <= 1:
         for w in range(n):
+            le_in, le_out = subset_inclusion(k_w - w1[w], n, model.p_eventual)
             new, ll[r], used = flip_move(clause_index_eventual(w, n_g), w1[w], le_in, le_out,
                                          viol, fmask, n_conj[r], demos, model, ubuf[upos],
                                          beta)
@@ -299,6 +309,7 @@ def _sweep(r, beta, state, demos, model, bufs, cache, u0):
             if new != w1[w]:
                 n_conj[r] += 1 if new else -1
                 lp_sub[r] += (le_in - le_out) if new else (le_out - le_in)
+                k_w += 1 if new else -1
                 w1[w] = new
                 moved += 1
         return upos - u0, moved
@@ -326,7 +337,9 @@ def _sweep(r, beta, state, demos, model, bufs, cache, u0):
         upos += 1  # a structure move always draws
         changed = w1[v] != old_w
         if changed:
+            le_in, le_out = subset_inclusion(k_w - old_w, n, model.p_eventual)
             lp_sub[r] += (le_in - le_out) if w1[v] else (le_out - le_in)
+            k_w += 1 if w1[v] else -1
         for u in range(n):
             if parent[u] != old_parent[u]:
                 changed = True

@@ -30,7 +30,7 @@ from numba import njit
 from bsi_sklearn.inference._row_counts import bit_sums, flip_masks, mask_sums, zero_mask
 from bsi_sklearn.model.clauses import clause_index_eventual, clause_index_order
 from bsi_sklearn.model.likelihood import log_likelihood, log_likelihood_cb
-from bsi_sklearn.model.priors import log_inclusion
+from bsi_sklearn.model.priors import subset_inclusion
 
 __all__ = ["add_pair", "draw", "flip_move", "chain_move", "chain_candidates", "chain_apply",
            "forest_move", "forest_candidates", "forest_apply"]
@@ -108,10 +108,20 @@ def flip_move(c, inc, lp_in, lp_out, viol, masks, n_conj, demos, model, u, beta)
 
 
 @njit(cache=True, nogil=True, inline="always")
+def _eventual_inclusion(v, w1, model):
+    # F(v)'s log prior weights in and out, the other W1 bits as they are.
+    k_others = 0
+    for u in range(w1.shape[0]):
+        if u != v:
+            k_others += w1[u]
+    return subset_inclusion(k_others, w1.shape[0], model.p_eventual)
+
+
+@njit(cache=True, nogil=True, inline="always")
 def _push_pair(bufs, k, lp, sums, n_conj, demos, model, beta, le_in, le_out):
     # Two candidates of a structure move at one place: k without F(v), k + 1 with it.
     # sums = (ps_out, ns_out, ps_in, ns_in) from flip_sums; n_conj excludes F(v);
-    # (le_in, le_out) = log_inclusion(p_eventual), computed once per move.
+    # (le_in, le_out): F(v)'s inclusion weights (:func:`_eventual_inclusion`), once per move.
     if model.likelihood == 0:  # CB, its log1p by number of conjuncts from the table
         ll_out = log_likelihood_cb(sums[0], sums[1], demos.n_pos, demos.n_neg, n_conj,
                                    model.log_eps, bufs.cb_rejected[n_conj])
@@ -159,7 +169,7 @@ def chain_candidates(v, parent, w1, viol, n_conj, demos, model, bufs, beta):
     truth_t = demos.truth_t
     n = model.n
     cv = clause_index_eventual(v, model.n_g)
-    le_in, le_out = log_inclusion(model.p_eventual)
+    le_in, le_out = _eventual_inclusion(v, w1, model)
     lp_chains = model.lp_chains
     cand_head, cand_pos, child = bufs.cand_head, bufs.cand_pos, bufs.child
     if w1[v]:
@@ -304,7 +314,7 @@ def forest_candidates(v, parent, w1, viol, n_conj, demos, model, bufs, beta):
     truth_t = demos.truth_t
     n = model.n
     cv = clause_index_eventual(v, model.n_g)
-    le_in, le_out = log_inclusion(model.p_eventual)
+    le_in, le_out = _eventual_inclusion(v, w1, model)
     g, g_const = model.forest_g, model.forest_const
     cand_head, in_s, size = bufs.cand_head, bufs.in_s, bufs.size
     if w1[v]:

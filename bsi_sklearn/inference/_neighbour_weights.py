@@ -30,10 +30,11 @@ from bsi_sklearn.model.likelihood import log_likelihood
 from bsi_sklearn.model.priors import (
     global_inclusion,
     is_forest,
-    log_inclusion,
     log_prior_globals,
     log_prior_structure,
     log_prior_subset,
+    n_plain_globals,
+    subset_inclusion,
 )
 from bsi_sklearn.model.state_layout import parent_offset, state_width, w1_offset
 
@@ -181,13 +182,17 @@ def _weigh(source, demos, model, floor, bufs, work, scratch, out, out_lp):
         return m, scored
     n_conj = fill_viol(viol, tau, w1, parent, demos.truth_t, model)
     cut = floor - MARGIN
-    le = log_inclusion(model.p_eventual)
+    n_gp = n_g - model.pat_in.shape[0]
+    k_g = n_plain_globals(tau, model)
     # One inclusion bit: tau's, and W1's too when there is no order to move them with.
     n_bits = n_g + (n if n <= 1 else 0)
     for b in range(n_bits):
         c = b if b < n_g else clause_index_eventual(b - n_g, n_g)
         inc = source[b]
-        l_in, l_out = global_inclusion(b, model) if b < n_g else le
+        if b < n_g:
+            l_in, l_out = global_inclusion(b, model, k_g - inc if b < n_gp else 0)
+        else:
+            l_in, l_out = subset_inclusion(n_w1 - inc, n, model.p_eventual)
         ps_out, ns_out, ps_in, ns_in = flip_sums(viol, demos.truth_t, c, inc, demos.w_pos,
                                                  demos.w_neg)
         if inc:  # the neighbour leaves the clause out
@@ -220,6 +225,7 @@ def _weigh(source, demos, model, floor, bufs, work, scratch, out, out_lp):
             _, k, _ = forest_candidates(v, parent, w1, viol, n_conj, demos, model, bufs, 1.0)
         else:
             _, k = chain_candidates(v, parent, w1, viol, n_conj, demos, model, bufs, 1.0)
+        le = subset_inclusion(n_w1 - keep_w1[v], n, model.p_eventual)
         rest = lp_sub - (le[0] if keep_w1[v] else le[1])
         for i in range(k):
             if rest + bufs.lw[i] < cut:

@@ -12,7 +12,7 @@ from typing import NamedTuple
 import numpy as np
 
 from bsi_sklearn.model.likelihood import likelihood_code, resolve_flip_prior, resolve_log_epsilon
-from bsi_sklearn.model.priors import prior_code, prior_tables
+from bsi_sklearn.model.priors import LEARNED, prior_code, prior_tables
 
 __all__ = ["Model", "make_model", "describe_globals"]
 
@@ -53,7 +53,10 @@ def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_even
     likelihood : {"cb", "ci", "calibrated"}
     n_globals, n_subtasks : int
         Numbers of global slots (the ``G`` candidates, then the pattern clauses) and subtasks.
-    p_global, p_eventual, p_part, n_new : float
+    p_global, p_eventual : float or "learned"
+        Prior inclusion probabilities (see :class:`~bsi_sklearn.BSIClassifier`); ``"learned"``
+        is held as :data:`~bsi_sklearn.model.priors.LEARNED`.
+    p_part, n_new : float
         Prior parameters (see :class:`~bsi_sklearn.BSIClassifier`).
     epsilon : float or None
         Likelihood of a misclassified demonstration; ``None`` for the paper's default.
@@ -84,13 +87,19 @@ def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_even
     forest, lp_chains, forest_g, forest_const = prior_tables(prior, n, float(p_part),
                                                              float(n_new))
     return Model(
-        n_g=n_g, n=n, prior=prior_code(prior), forest=bool(forest), p_global=float(p_global),
-        p_eventual=float(p_eventual), p_part=float(p_part), n_new=float(n_new),
+        n_g=n_g, n=n, prior=prior_code(prior), forest=bool(forest),
+        p_global=_inclusion(p_global), p_eventual=_inclusion(p_eventual), p_part=float(p_part),
+        n_new=float(n_new),
         log_eps=float(resolve_log_epsilon(epsilon, n_g, n)),
         likelihood=likelihood_code(likelihood, flip_prior), lp_chains=lp_chains,
         forest_g=forest_g, forest_const=float(forest_const), flip_a=flip_a, flip_b=flip_b,
         pat_in=np.log(pat_p), pat_out=np.log1p(-pat_p),
     )
+
+
+def _inclusion(p):
+    # A subset's inclusion probability as the kernels read it: LEARNED where it is learned.
+    return LEARNED if isinstance(p, str) and p == "learned" else float(p)
 
 
 def describe_globals(model):

@@ -44,7 +44,10 @@ __all__ = [
     "log_prior_subset",
     "log_prior_globals",
     "global_inclusion",
+    "n_plain_globals",
     "log_inclusion",
+    "subset_inclusion",
+    "LEARNED",
     "prior_tables",
     "count_structures",
     "count_hypotheses",
@@ -57,6 +60,11 @@ __all__ = [
 ]
 
 PRIORS = ("linear_chain", "sets_of_chains", "forest")
+
+#: The inclusion probability of a subset's items (``p_global``, ``p_eventual``) as the model
+#: bundle holds it where it is learned: unknown, uniform on (0, 1) and integrated out (Scott
+#: and Berger 2010), so that a subset of ``k`` of ``n`` items has prior ``1 / ((n + 1) C(n, k))``.
+LEARNED = -1.0
 
 
 def prior_code(prior):
@@ -182,11 +190,22 @@ def sample_order_structure(prior, n, rng, p_part=0.3, n_new=5.0):
 
 def sample_hypothesis(prior, n_globals, n_subtasks, rng, p_global=0.8, p_eventual=0.8,
                       p_part=0.3, n_new=5.0):
-    """Draw ``(tau, w1, parent)`` from the full prior (SampleSubset for both subsets)."""
-    tau = rng.random(n_globals) < p_global
-    w1 = rng.random(n_subtasks) < p_eventual
+    """Draw ``(tau, w1, parent)`` from the full prior (SampleSubset for both subsets).
+
+    An inclusion probability of ``LEARNED`` (negative) is drawn uniformly first, once for the
+    items that share it.
+    """
+    tau = rng.random(n_globals) < _drawn(p_global, rng)
+    w1 = rng.random(n_subtasks) < _drawn(p_eventual, rng)
     parent = sample_order_structure(prior, n_subtasks, rng, p_part, n_new)
     return tau, w1, parent
+
+
+def _drawn(p, rng):
+    # SampleSubset's probability, drawn from its uniform prior where it is learned.
+    if np.any(np.asarray(p) < 0):
+        return np.where(np.asarray(p) < 0, rng.random(), p)
+    return p
 
 
 def draw_hypothesis(model, rng):
@@ -212,7 +231,13 @@ def _xlog(k, p):
 
 @njit(cache=True, nogil=True)
 def log_prior_subset(k, n, p):
-    """log-probability that SampleSubset(n items, p) returns one given subset of size ``k``."""
+    """log-probability that SampleSubset(n items, p) returns one given subset of size ``k``.
+
+    With ``p = LEARNED``, ``p`` uniform on (0, 1) and integrated out: ``log B(k + 1, n - k +
+    1)``, which puts the same mass, ``1 / (n + 1)``, on every size.
+    """
+    if p < 0.0:
+        return math.lgamma(k + 1.0) + math.lgamma(n - k + 1.0) - math.lgamma(n + 2.0)
     return _xlog(k, p) + _xlog(n - k, 1.0 - p)
 
 
@@ -243,6 +268,29 @@ def log_inclusion(p):
     lin = math.log(p) if p > 0 else -np.inf
     lout = math.log1p(-p) if p < 1 else -np.inf
     return lin, lout
+
+
+@register_jitable
+def subset_inclusion(k_others, n, p):
+    """Log prior weights of including / leaving out one of ``n`` items.
+
+    ``k_others`` of the others are in. The two weights differ by the change of
+    :func:`log_prior_subset` from the subset without the item to the subset with it. A fixed
+    ``p`` gives :func:`log_inclusion`'s, whatever the others; a learned one (``LEARNED``)
+    ``(log(k_others + 1), log(n - k_others))``: the more items in, the likelier one more.
+
+    Examples
+    --------
+    >>> import math
+    >>> k, n = 2, 5
+    >>> lin, lout = subset_inclusion(k, n, LEARNED)
+    >>> math.isclose(lin - lout, log_prior_subset(k + 1, n, LEARNED)
+    ...              - log_prior_subset(k, n, LEARNED))
+    True
+    """
+    if p < 0.0:
+        return math.log(k_others + 1.0), math.log(float(n - k_others))
+    return log_inclusion(p)
 
 
 @njit(cache=True, nogil=True)
@@ -340,12 +388,25 @@ def log_prior_globals(tau, model):
 
 
 @register_jitable
-def global_inclusion(j, model):
-    """``(log p, log(1 - p))`` of including / leaving out global slot ``j``."""
+def global_inclusion(j, model, k_others):
+    """Log prior weights of including / leaving out global slot ``j``.
+
+    A ``G`` slot's by :func:`subset_inclusion` (``k_others``: the other ``G`` slots included),
+    a pattern slot's its own.
+    """
     n_gp = model.n_g - model.pat_in.shape[0]
     if j < n_gp:
-        return log_inclusion(model.p_global)
+        return subset_inclusion(k_others, n_gp, model.p_global)
     return model.pat_in[j - n_gp], model.pat_out[j - n_gp]
+
+
+@register_jitable
+def n_plain_globals(tau, model):
+    """How many of the ``G`` slots (not the pattern slots) ``tau`` includes."""
+    k = 0
+    for j in range(model.n_g - model.pat_in.shape[0]):
+        k += tau[j]
+    return k
 
 
 @njit(cache=True, nogil=True)
