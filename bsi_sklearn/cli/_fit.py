@@ -177,6 +177,12 @@ def add_arguments(parser):
                              "(calibrated), the paper's complexity-based likelihood (cb, the "
                              "size principle) or the complexity-independent one (ci) "
                              "(default: %(default)s)")
+    for name, clauses in (("global", "G"), ("eventual", "F(w)")):
+        parser.add_argument(f"--p-{name}", type=_inclusion, default=0.8, metavar="P",
+                            help=f"prior inclusion probability of each {clauses} clause, or "
+                                 "learned: unknown, uniform and integrated out, so that a "
+                                 "clause the data do not ask for is left out "
+                                 "(default: %(default)s)")
     parser.add_argument("--flip-prior", nargs=2, type=float, default=None, metavar=("A", "B"),
                         help="with --likelihood ci: the rate at which labels are wrong is "
                              "unknown, Beta(A, B) distributed and integrated out (B > A: "
@@ -243,12 +249,25 @@ def _n_samples(token):
         raise argparse.ArgumentTypeError(f"must be 'auto' or an integer, got {token!r}") from None
 
 
+def _inclusion(token):
+    """``--p-global``, ``--p-eventual``: ``learned`` or a number (its range checked later)."""
+    if token == "learned":
+        return token
+    try:
+        return float(token)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be 'learned' or a number in [0, 1], got "
+                                         f"{token!r}") from None
+
+
 def _option_constraints():
     from bsi_sklearn.classifier import BSIClassifier
     from bsi_sklearn.param_validation import Interval
 
     return {
         "n_samples": BSIClassifier._parameter_constraints["n_samples"],
+        "p_global": BSIClassifier._parameter_constraints["p_global"],
+        "p_eventual": BSIClassifier._parameter_constraints["p_eventual"],
         "top": [Interval(Integral, 1, None, closed="left")],
         "seed": [Interval(Integral, 0, 2**32 - 1, closed="both")],
     }
@@ -390,7 +409,9 @@ def run(args):
         pos_label = None if is_log else _pos_label(args.pos_label, y)
         flip = None if args.flip_prior is None else tuple(args.flip_prior)
         clf = BSIClassifier(prior=args.prior, likelihood=args.likelihood, roles=args.roles,
-                            flip_prior=flip, inference=args.inference, n_samples=args.n_samples,
+                            flip_prior=flip, p_global=args.p_global,
+                            p_eventual=args.p_eventual, inference=args.inference,
+                            n_samples=args.n_samples,
                             random_state=args.seed, pos_label=pos_label,
                             templates=_templates(args.templates),
                             **_roles(args, names, path))

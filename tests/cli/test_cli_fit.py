@@ -134,6 +134,30 @@ def test_flip_prior_prints_the_flip_rate_of_the_classifier(csv_file, capsys):
     assert "flip rate" not in capsys.readouterr().out
 
 
+def test_inclusion_probabilities_are_the_classifiers(csv_file, capsys):
+    from bsi_sklearn import BSIClassifier
+    from bsi_sklearn.io import read_traces_csv
+
+    X, y = read_traces_csv(csv_file)[:2]
+    for value, param in (("learned", "learned"), ("0.3", 0.3)):
+        argv = ["fit", str(csv_file), "--globals", "safe", "--subtasks", "picked", "placed",
+                "--p-global", value, "--p-eventual", value, "--top", "1"]
+        assert main(argv) == 0
+        out = capsys.readouterr().out
+        clf = BSIClassifier(global_candidates=["safe"], subtasks=["picked", "placed"],
+                            p_global=param, p_eventual=param, random_state=0).fit(X, y)
+        assert clf.map_specification_.to_ltl() in out
+
+
+def test_bad_inclusion_probabilities_exit_2_naming_the_option(csv_file, capsys):
+    assert main(["fit", str(csv_file), "--p-global", "1.5"]) == 2
+    assert "--p-global must be" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as exc:  # argparse's own exit for a value it cannot read
+        main(["fit", str(csv_file), "--p-eventual", "learnt"])
+    assert exc.value.code == 2
+    assert "--p-eventual: must be 'learned' or a number" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("argv, message", [
     (["--flip-prior", "1", "9"], "--flip-prior applies to --likelihood ci only, got "
                                  "--likelihood calibrated"),
