@@ -239,25 +239,22 @@ def add_arguments(parser):
                              "share a name)")
 
 
-def _n_samples(token):
-    """``--n-samples``: ``auto`` or an integer (its range is checked with the others)."""
-    if token == "auto":
-        return token
-    try:
-        return int(token)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be 'auto' or an integer, got {token!r}") from None
+def _word_or(word, cast, what):
+    """An option's type: the keyword ``word`` or a ``cast`` value (its range checked later)."""
+    def read(token):
+        if token == word:
+            return token
+        try:
+            return cast(token)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be '{word}' or {what}, got "
+                                             f"{token!r}") from None
+    return read
 
 
-def _inclusion(token):
-    """``--p-global``, ``--p-eventual``: ``learned`` or a number (its range checked later)."""
-    if token == "learned":
-        return token
-    try:
-        return float(token)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be 'learned' or a number in [0, 1], got "
-                                         f"{token!r}") from None
+#: ``--n-samples``; ``--p-global``, ``--p-eventual``.
+_n_samples = _word_or("auto", int, "an integer")
+_inclusion = _word_or("learned", float, "a number in [0, 1]")
 
 
 def _option_constraints():

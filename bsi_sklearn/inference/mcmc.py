@@ -55,7 +55,6 @@ from bsi_sklearn.inference.diagnostics import (
     missed_mass,
     split_rhat,
     too_diffuse,
-    unseen_mass,
     weighted_inclusion,
 )
 from bsi_sklearn.inference.stopping import MAX_SAMPLES, inclusion_by_chain, rounds, should_stop
@@ -432,18 +431,6 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
     return results, visited, counts, (shares, probs), visited_lp, stopping, near, per_chain
 
 
-def _listing_gap(listed, counts, visited, per_chain, results, model):
-    # How far the posterior restricted to the states found (each clause's inclusion under it:
-    # ``listed``) lies from what the chains sample (diagnostics.listing_gap; above LISTING_TOL
-    # it misreports them); asked only where the samples say it misses mass (unseen_mass
-    # above MISSED_WARN), 0.0 elsewhere.
-    halves = (half_inclusions(visited, per_chain, [r.counts for r in results], model.n_g,
-                              model.n) if unseen_mass(counts) > MISSED_WARN else None)
-    if halves is None:
-        return 0.0
-    return listing_gap(listed[:n_clauses(model.n_g, model.n)], halves[0])
-
-
 def _scored_record(results, scored, demos, model):
     # The chains' unique visited states, their sample counts, each chain's record as indices
     # into them, and their exact log posteriors (scored once: ``scored`` caches by row bytes).
@@ -569,14 +556,18 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     uniq, counts, scores = uniq[order], counts[order], scores[order]
     traces = np.stack([r.trace_lp for r in results])
     sampled, gap, unseen = too_diffuse(scores, counts, traces)
+    # The listing: the exact posterior restricted to the support.
+    probs = np.exp(scores - scores.max())
+    probs /= probs.sum()
     listed_gap = 0.0
-    if not sampled and unseen > MISSED_WARN and near is None:
+    halves = (half_inclusions(visited, per_chain, [r.counts for r in results], n_g, n)
+              if not sampled and unseen > MISSED_WARN and near is None else None)
+    if halves is not None:
         # The listing must report what the chains sample: asked where it may miss mass and no
         # closure completed it (a fixed n_samples, or the closure past its budget; within
         # it, the rounds stop once the states first found late hold at most STOP_LATE).
-        weights = np.exp(scores - scores.max())
-        listed = weighted_inclusion(uniq, (weights / weights.sum())[None, :], n_g, n)[0]
-        listed_gap = _listing_gap(listed, counts, visited, per_chain, results, model)
+        listed = weighted_inclusion(uniq, probs[None, :], n_g, n)[0, :n_clauses(n_g, n)]
+        listed_gap = listing_gap(listed, halves[0])
         sampled = listed_gap > LISTING_TOL
     if sampled:
         missed = np.full(len(results), np.nan)  # weighs states exactly: says nothing here
@@ -610,8 +601,6 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         probs = counts / counts.sum()
     else:
         map_index = 0
-        probs = np.exp(scores - scores.max())
-        probs /= probs.sum()
     moves = np.array([r.move_rate for r in results])
     best_visited = float(visited_lp.max())
     diagnostics = {

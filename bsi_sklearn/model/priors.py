@@ -378,10 +378,7 @@ def log_prior_globals(tau, model):
     """
     n_pat = model.pat_in.shape[0]
     n_gp = tau.shape[0] - n_pat
-    k = 0
-    for j in range(n_gp):
-        k += tau[j]
-    lp = log_prior_subset(k, n_gp, model.p_global)
+    lp = log_prior_subset(n_plain_globals(tau, model), n_gp, model.p_global)
     for i in range(n_pat):
         lp += model.pat_in[i] if tau[n_gp + i] else model.pat_out[i]
     return lp
