@@ -105,8 +105,13 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         families and names a dict leaves out): the family's default,
         :data:`bsi_sklearn.model.pattern_candidates.FAMILY_P` (0.2 for existence and
         absence, 0.1 for relations and choices, 0.05 for orderings, negations and scopes).
-    p_part : float, default=0.3
-        Probability of starting a new chain after each subtask (Prior 2).
+    p_part : float or "learned", default=0.3
+        Probability of starting a new chain after each subtask (Prior 2). ``"learned"``:
+        unknown, uniform on (0, 1) and integrated out, so that every number of chains is
+        equally probable a priori; where few subtasks are ordered, the first order costs
+        ``log(n (n - 1))`` nats among ``n`` subtasks (0.3: ``log(n / 2.33)``), so that an order
+        the data do not ask for is left out, as ``"learned"`` does for ``p_eventual``
+        (``docs/likelihoods.md``).
     n_new : float, default=5.0
         Weight of a new tree (Prior 3).
     epsilon : float, default=None
@@ -393,7 +398,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         "p_eventual": [Interval(Real, 0.0, 1.0, closed="both"), StrOptions({"learned"})],
         "p_patterns": [None, Satisfies(check_p_patterns, "a probability in (0, 1) or a mapping "
                                                          "from template family or name to one")],
-        "p_part": [Interval(Real, 0.0, 1.0, closed="both")],
+        "p_part": [Interval(Real, 0.0, 1.0, closed="both"), StrOptions({"learned"})],
         "n_new": [Interval(Real, 0.0, math.inf, closed="neither")],
         "epsilon": [Interval(Real, 0.0, 1.0, closed="neither"), None],
         "flip_prior": [None, Satisfies(is_flip_prior, "a pair (a, b) of positive numbers")],

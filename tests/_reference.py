@@ -1,6 +1,7 @@
 """Independent reference implementations used by several test modules."""
 
 import itertools
+import math
 from collections import Counter
 
 import numpy as np
@@ -24,7 +25,12 @@ def program_distribution(prior, n, p_part=0.3, n_new=5.0):
                     parent[a] = last
                     last = -1 if (i < n - 1 and cuts[i]) else a
                 k = sum(cuts)
-                dist[tuple(parent)] += base * p_part**k * (1 - p_part) ** (n - 1 - k)
+                j = max(n - 1 - k, 0)  # the places not cut
+                if p_part == "learned":  # the integral of p^k (1 - p)^j over (0, 1)
+                    w = math.factorial(k) * math.factorial(j) / math.factorial(k + j + 1)
+                else:
+                    w = p_part**k * (1 - p_part) ** j
+                dist[tuple(parent)] += base * w
         else:
             for parent, p in _forest_paths(perm, n, n_new):
                 dist[tuple(parent)] += base * p

@@ -104,7 +104,57 @@ def test_clauses_no_demonstration_tests_keep_the_prior_over_their_number():
     assert len(learned.map_specification_.globals) in (0, 10)
 
 
+@pytest.mark.parametrize("n", [1, 2, 5, 12])
+def test_learned_chains_make_every_number_of_chains_equally_probable(n):
+    # Prior 2 with p_part learned: m chains of n subtasks, of which there are the Lah number
+    # n! / m! C(n - 1, m - 1) structures, have prior mass 1 / n together.
+    model = make_model(prior="sets_of_chains", likelihood="cb", n_globals=0, n_subtasks=n,
+                       p_part="learned")
+    mass = [math.factorial(n) / math.factorial(m) * math.comb(n - 1, m - 1)
+            * math.exp(model.lp_chains[m]) for m in range(1, n + 1)]
+    np.testing.assert_allclose(mass, 1.0 / n, rtol=1e-10)
+    fixed = make_model(prior="sets_of_chains", likelihood="cb", n_globals=0, n_subtasks=n)
+    assert math.fsum(math.factorial(n) / math.factorial(m) * math.comb(n - 1, m - 1)
+                     * math.exp(fixed.lp_chains[m]) for m in range(1, n + 1)) == \
+        pytest.approx(1.0, rel=1e-10)
+
+
+def test_drawn_structures_have_every_number_of_chains_alike():
+    model = make_model(prior="sets_of_chains", likelihood="cb", n_globals=0, n_subtasks=4,
+                       p_part="learned")
+    rng = np.random.default_rng(1)
+    chains = np.bincount([int((draw_hypothesis(model, rng)[2] < 0).sum()) for _ in range(4000)],
+                         minlength=5)[1:]
+    # 1,000 expected of each of the 4 numbers; binomial sd about 27
+    assert np.abs(chains - 1000).max() < 120, chains
+
+
+@pytest.mark.parametrize("likelihood", ["cb", "calibrated"])
+def test_learned_chains_exact_matches_first_principles(likelihood):
+    X, y, roles = _problem()
+    names = list(X[0].columns)
+    ref = brute_force_posterior(X, y, names, roles["global_candidates"], roles["subtasks"],
+                                roles["conditions"], "sets_of_chains", likelihood,
+                                p_eventual="learned", p_part="learned")
+    clf = BSIClassifier(likelihood=likelihood, inference="exact", tol=0.0,
+                        p_eventual="learned", p_part="learned", **roles).fit(X, y)
+    assert clf.n_hypotheses_ == len(ref)
+    assert total_variation(clf.posterior_, ref) < 1e-9
+
+
+def test_learned_chains_the_sampler_agrees_with_exact():
+    X, y, roles = _problem(seed=5)
+    params = dict(likelihood="calibrated", p_eventual="learned", p_part="learned", **roles)
+    exact = BSIClassifier(inference="exact", **params).fit(X, y)
+    mcmc = BSIClassifier(inference="mcmc", random_state=0, **params).fit(X, y)
+    assert total_variation(exact.posterior_, mcmc.posterior_) < 0.02
+    np.testing.assert_allclose(mcmc.posterior_.clause_marginals(),
+                               exact.posterior_.clause_marginals(), atol=0.02)
+
+
 def test_learned_is_validated_like_a_probability():
     X, y, roles = _problem()
     with pytest.raises(ValueError, match="p_eventual"):
         BSIClassifier(p_eventual="learnt", **roles).fit(X, y)
+    with pytest.raises(ValueError, match="p_part"):
+        BSIClassifier(p_part="Learned", **roles).fit(X, y)

@@ -183,6 +183,11 @@ def add_arguments(parser):
                                  "learned: unknown, uniform and integrated out, so that a "
                                  "clause the data do not ask for is left out "
                                  "(default: %(default)s)")
+    parser.add_argument("--p-part", type=_inclusion, default=0.3, metavar="P",
+                        help="with --prior sets_of_chains: probability of starting a new chain "
+                             "after each subtask, or learned: unknown, uniform and integrated "
+                             "out, so that an order the data do not ask for is left out "
+                             "(default: %(default)s)")
     parser.add_argument("--flip-prior", nargs=2, type=float, default=None, metavar=("A", "B"),
                         help="with --likelihood ci: the rate at which labels are wrong is "
                              "unknown, Beta(A, B) distributed and integrated out (B > A: "
@@ -252,7 +257,7 @@ def _word_or(word, cast, what):
     return read
 
 
-#: ``--n-samples``; ``--p-global``, ``--p-eventual``.
+#: ``--n-samples``; ``--p-global``, ``--p-eventual``, ``--p-part``.
 _n_samples = _word_or("auto", int, "an integer")
 _inclusion = _word_or("learned", float, "a number in [0, 1]")
 
@@ -265,6 +270,7 @@ def _option_constraints():
         "n_samples": BSIClassifier._parameter_constraints["n_samples"],
         "p_global": BSIClassifier._parameter_constraints["p_global"],
         "p_eventual": BSIClassifier._parameter_constraints["p_eventual"],
+        "p_part": BSIClassifier._parameter_constraints["p_part"],
         "top": [Interval(Integral, 1, None, closed="left")],
         "seed": [Interval(Integral, 0, 2**32 - 1, closed="both")],
     }
@@ -407,7 +413,8 @@ def run(args):
         flip = None if args.flip_prior is None else tuple(args.flip_prior)
         clf = BSIClassifier(prior=args.prior, likelihood=args.likelihood, roles=args.roles,
                             flip_prior=flip, p_global=args.p_global,
-                            p_eventual=args.p_eventual, inference=args.inference,
+                            p_eventual=args.p_eventual, p_part=args.p_part,
+                            inference=args.inference,
                             n_samples=args.n_samples,
                             random_state=args.seed, pos_label=pos_label,
                             templates=_templates(args.templates),

@@ -56,8 +56,11 @@ def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_even
     p_global, p_eventual : float or "learned"
         Prior inclusion probabilities (see :class:`~bsi_sklearn.BSIClassifier`); ``"learned"``
         is held as :data:`~bsi_sklearn.model.priors.LEARNED`.
-    p_part, n_new : float
-        Prior parameters (see :class:`~bsi_sklearn.BSIClassifier`).
+    p_part : float or "learned"
+        Prior 2's probability of a new chain (see :class:`~bsi_sklearn.BSIClassifier`);
+        ``"learned"`` is held as :data:`~bsi_sklearn.model.priors.LEARNED`.
+    n_new : float
+        Prior 3's weight of a new tree.
     epsilon : float or None
         Likelihood of a misclassified demonstration; ``None`` for the paper's default.
     flip_prior : tuple of float or None
@@ -84,11 +87,11 @@ def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_even
         raise ValueError(f"p_patterns must hold at most n_globals = {n_g} probabilities in "
                          f"(0, 1), got {pat_p.tolist()}")
     flip_a, flip_b = resolve_flip_prior(likelihood, flip_prior, epsilon)
-    forest, lp_chains, forest_g, forest_const = prior_tables(prior, n, float(p_part),
+    forest, lp_chains, forest_g, forest_const = prior_tables(prior, n, _inclusion(p_part),
                                                              float(n_new))
     return Model(
         n_g=n_g, n=n, prior=prior_code(prior), forest=bool(forest),
-        p_global=_inclusion(p_global), p_eventual=_inclusion(p_eventual), p_part=float(p_part),
+        p_global=_inclusion(p_global), p_eventual=_inclusion(p_eventual), p_part=_inclusion(p_part),
         n_new=float(n_new),
         log_eps=float(resolve_log_epsilon(epsilon, n_g, n)),
         likelihood=likelihood_code(likelihood, flip_prior), lp_chains=lp_chains,

@@ -147,7 +147,8 @@ def sample_order_structure(prior, n, rng, p_part=0.3, n_new=5.0):
         Number of subtasks.
     rng : numpy.random.Generator
     p_part : float
-        Probability of starting a new chain after each element (Prior 2).
+        Probability of starting a new chain after each element (Prior 2); ``LEARNED``: drawn
+        uniformly first.
     n_new : float
         Weight of a new tree (Prior 3).
 
@@ -157,6 +158,7 @@ def sample_order_structure(prior, n, rng, p_part=0.3, n_new=5.0):
     """
     perm = rng.permutation(n)
     parent = np.full(n, -1, dtype=np.int64)
+    p_part = _drawn(p_part, rng)
     if prior == "linear_chain":
         for i in range(1, n):
             parent[perm[i]] = perm[i - 1]
@@ -300,8 +302,10 @@ def _log_prior_chains(n, m, code, p_part):
         if m != 1:
             return -np.inf
         return -math.lgamma(n + 1.0)
+    # The chains are the cuts among the n - 1 places between the permutation's elements: a
+    # subset of them, with probability p_part each (or learned, integrated out).
     return (math.lgamma(m + 1.0) - math.lgamma(n + 1.0)
-            + _xlog(m - 1, p_part) + _xlog(n - m, 1.0 - p_part))
+            + log_prior_subset(m - 1, n - 1, p_part))
 
 
 @njit(cache=True, nogil=True)
