@@ -141,17 +141,20 @@ def test_inclusion_probabilities_are_the_classifiers(csv_file, capsys):
     X, y = read_traces_csv(csv_file)[:2]
     for value, param in (("learned", "learned"), ("0.3", 0.3)):
         argv = ["fit", str(csv_file), "--globals", "safe", "--subtasks", "picked", "placed",
-                "--p-global", value, "--p-eventual", value, "--top", "1"]
+                "--p-global", value, "--p-eventual", value, "--p-part", value, "--top", "1"]
         assert main(argv) == 0
         out = capsys.readouterr().out
         clf = BSIClassifier(global_candidates=["safe"], subtasks=["picked", "placed"],
-                            p_global=param, p_eventual=param, random_state=0).fit(X, y)
+                            p_global=param, p_eventual=param, p_part=param,
+                            random_state=0).fit(X, y)
         assert clf.map_specification_.to_ltl() in out
 
 
 def test_bad_inclusion_probabilities_exit_2_naming_the_option(csv_file, capsys):
     assert main(["fit", str(csv_file), "--p-global", "1.5"]) == 2
     assert "--p-global must be" in capsys.readouterr().err
+    assert main(["fit", str(csv_file), "--p-part", "-0.1"]) == 2
+    assert "--p-part must be" in capsys.readouterr().err
     with pytest.raises(SystemExit) as exc:  # argparse's own exit for a value it cannot read
         main(["fit", str(csv_file), "--p-eventual", "learnt"])
     assert exc.value.code == 2
