@@ -37,7 +37,7 @@ def test_readme_every_python_block_runs(capsys):
             written = "LocalCluster(n_workers=2)"
             assert written in block
             block = block.replace(written, "LocalCluster(n_workers=2, processes=False, "
-                                           "dashboard_address=None, silence_logs=40)")
+                                           "dashboard_address=':0', silence_logs=40)")
         with warnings.catch_warnings():
             warnings.simplefilter("error", ConvergenceWarning)  # the README's fits are clean
             exec(compile(block, "README.md", "exec"), namespace)
@@ -49,7 +49,7 @@ def test_readme_names_setup_main_and_test_commands():
     text = README.read_text()
     assert "pip install torch==2.13.0" in text
     assert 'pip install -e ".[test]"' in text
-    assert "python -m pytest -q" in text
+    assert "python -m pytest -q -n 2 --dist loadfile" in text
 
 
 ROOT = README.parent
@@ -76,7 +76,8 @@ def test_scripts_install_cpu_torch_first_then_run_the_readme_commands():
     assert '-m bsi_sklearn.compile' in setup
     assert 'exec "$ROOT/.venv/bin/bsi-lfe" compare --out results/ "$@"' in (
         ROOT / "run").read_text()
-    assert 'exec "$ROOT/.venv/bin/python" -m pytest -q "$@"' in (ROOT / "test").read_text()
+    assert ('exec "$ROOT/.venv/bin/python" -m pytest -q -n "${BSI_TEST_WORKERS:-2}" '
+            '--dist loadfile "$@"') in (ROOT / "test").read_text()
     for name in ("run", "test"):
         assert '"$ROOT/scripts/ensure-venv"' in (ROOT / name).read_text()
     ci = (ROOT / ".ci" / "run").read_text()

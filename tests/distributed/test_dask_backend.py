@@ -13,8 +13,10 @@ joblib = pytest.importorskip("joblib")
 
 @pytest.fixture(scope="module")
 def cluster_client():
+    # ":0": any free port, so that clusters in parallel test workers never both ask for 8787
+    # (None still binds the scheduler's HTTP server there).
     cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                       dashboard_address=None, silence_logs=40)
+                                       dashboard_address=":0", silence_logs=40)
     client = distributed.Client(cluster)
     yield client
     client.close()

@@ -259,7 +259,7 @@ def test_dask_local_cluster_matches_local(tiny_run, tmp_path):
     out, _ = tiny_run
     config = json.loads((out / "config.json").read_text())
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None, silence_logs=40) as cluster, \
+                                  dashboard_address=":0", silence_logs=40) as cluster, \
             distributed.Client(cluster) as client:
         with joblib.parallel_backend("dask"):
             study(sizes=config["sizes"], repeats=config["repeats"],
