@@ -35,6 +35,7 @@ from bsi_sklearn.model.likelihood import log_likelihood
 from bsi_sklearn.model.priors import (
     is_forest,
     log_prior,
+    log_prior_chains,
     log_prior_structure,
     log_prior_subset,
 )
@@ -276,7 +277,9 @@ def prepare_moves(row, v, viol, n_conj, demos, model, moves):
     # For the structure moves of subtask v of `row` (violation counts `viol`, `n_conj`
     # conjuncts): its place detached (moves.work), and the rows that violate nothing once v's
     # eventual clause and the orders across the moved set are out (a move only adds such
-    # clauses back; every other clause of the row stays). Returns the conjuncts left.
+    # clauses back; every other clause of the row stays). Returns the conjuncts left and the
+    # four prior terms a chain move can have (score_moved's): its W1 term with F(v) out and
+    # in, its structure term with v in a chain of the others and as a chain of its own.
     n_g, n = model.n_g, model.n
     detach(row, v, model, moves.work)
     rest = moves.viol
@@ -285,19 +288,32 @@ def prepare_moves(row, v, viol, n_conj, demos, model, moves):
     if row[w1_offset(n_g) + v]:
         add_pair(rest, demos.truth_t, clause_index_eventual(v, n_g), np.int64(-1))
         n_conj -= 1
-    _, _, parent = split_state(row, n_g, n)
+    _, row_w1, parent = split_state(row, n_g, n)
     n_conj -= cross_pairs(parent, moves.work[2], True, rest, moves.mask, demos, model)
     zero_mask(rest, moves.zrest)
-    return n_conj
+    k_rest = 0
+    m_rest = 0
+    for w in range(n):
+        if w != v:
+            k_rest += row_w1[w]
+            if moves.work[0, w] < 0:
+                m_rest += 1
+    return (n_conj, log_prior_subset(k_rest, n, model.p_eventual),
+            log_prior_subset(k_rest + 1, n, model.p_eventual),
+            log_prior_chains(m_rest, model), log_prior_chains(m_rest + 1, model))
 
 
 @helper
-def score_moved(row, move, lp_g, n_conj_rest, demos, model, scratch, moves):
+def score_moved(row, move, lp_g, rest, demos, model, scratch, moves):
     # _score of the row structure move `move` makes of `row`, prepared by prepare_moves
-    # (`n_conj_rest` conjuncts left, the row's global clauses' log prior `lp_g`): the same
+    # (`rest`: what it returns; the row's global clauses' log prior `lp_g`): the same
     # number, bit for bit (log_prior's sum in its order; the satisfied counts are whole
     # numbers, equal as bitset popcounts), in O(orders across the move x words) instead of
-    # O(D x conjuncts), the row never written out.
+    # O(D x conjuncts), the row never written out. Chains in O(that) alone: the prior from
+    # the counts, the orders across the move walked from v; forests (a subtree moves) in O(n).
+    n_conj_rest = rest[0]
+    if not is_forest(model):
+        return _score_chain_move(move, lp_g, rest, demos, model, moves)
     n_g, n = model.n_g, model.n
     w1, parent, mask = scratch.w1, scratch.parent, moves.mask
     v, g = move[1], move[3]
@@ -319,6 +335,55 @@ def score_moved(row, move, lp_g, n_conj_rest, demos, model, scratch, moves):
             mask[0, w] &= demos.bits[c, w]
         n_conj += 1
     n_conj += cross_pairs(parent, moves.work[2], False, moves.viol, mask, demos, model)
+    ps = 0
+    ns = 0
+    for w in range(mask.shape[1]):
+        word = mask[0, w]
+        if word != 0:
+            ps += weighted_popcount(word, demos.pos_planes, w)
+            ns += weighted_popcount(word, demos.neg_planes, w)
+    return lp + log_likelihood(float(ps), float(ns), demos.n_pos, demos.n_neg, n_conj,
+                               model.log_eps, model.likelihood, model.flip_a, model.flip_b)
+
+
+@helper
+def _score_chain_move(move, lp_g, terms, demos, model, moves):
+    # score_moved for chains: v put after u (or at the head of u's chain, or as a chain of
+    # its own) in detach's structure (moves.work). Its prior from prepare_moves' terms (the
+    # same calls on the same counts: F(v) in or out, one chain more only as a chain of its
+    # own); the orders across the move are v's new ancestors (u and up) and descendants (u's
+    # old successor, or u itself at the head, and down): the pairs cross_pairs finds, in
+    # another order (AND and counts commute).
+    n_g, n = model.n_g, model.n
+    rest, succ, mask = moves.work[0], moves.work[1], moves.mask
+    v, u, g = move[1], move[2], move[3]
+    head = (g & 2) != 0
+    lp = (lp_g + (terms[2] if g & 1 else terms[1])) + (terms[4] if u < 0 else terms[3])
+    if lp == -np.inf:
+        return lp
+    n_conj_rest = terms[0]
+    for w in range(mask.shape[1]):
+        mask[0, w] = moves.zrest[0, w]
+    n_conj = n_conj_rest
+    if g & 1:
+        c = clause_index_eventual(v, n_g)
+        for w in range(mask.shape[1]):
+            mask[0, w] &= demos.bits[c, w]
+        n_conj += 1
+    a = -1 if head else u
+    while a >= 0:
+        c = clause_index_order(a, v, n_g, n)
+        for w in range(mask.shape[1]):
+            mask[0, w] &= demos.bits[c, w]
+        n_conj += 1
+        a = rest[a]
+    d = u if head else (succ[u] if u >= 0 else -1)
+    while d >= 0:
+        c = clause_index_order(v, d, n_g, n)
+        for w in range(mask.shape[1]):
+            mask[0, w] &= demos.bits[c, w]
+        n_conj += 1
+        d = succ[d]
     ps = 0
     ns = 0
     for w in range(mask.shape[1]):

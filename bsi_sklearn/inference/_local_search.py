@@ -198,13 +198,13 @@ def _beam_search(start, demos, model, width, max_steps, scratch, bufs, moves, fl
                 pool_lp[j] = score_flip(j - m, n_conj, demos, model, scratch, flips)
             lp_g = log_prior_globals(scratch.tau, model)
             v = -1
-            n_conj_rest = 0
+            rest = (np.int64(0), 0.0, 0.0, 0.0, 0.0)
             for j in range(m + n_bits, k):
                 if pool[j, 1] != v:
                     v = pool[j, 1]
-                    n_conj_rest = prepare_moves(beam[i], v, viol, n_conj, demos, model, moves)
-                pool_lp[j] = score_moved(beam[i], pool[j], lp_g, n_conj_rest, demos, model,
-                                         scratch, moves)
+                    rest = prepare_moves(beam[i], v, viol, n_conj, demos, model, moves)
+                pool_lp[j] = score_moved(beam[i], pool[j], lp_g, rest, demos, model, scratch,
+                                         moves)
             m = k
         # The best `width` distinct rows, in decreasing order (the first of ties).
         taken[:m] = False
