@@ -311,9 +311,9 @@ def score_moved(row, move, lp_g, rest, demos, model, scratch, moves):
     # numbers, equal as bitset popcounts), in O(orders across the move x words) instead of
     # O(D x conjuncts), the row never written out. Chains in O(that) alone: the prior from
     # the counts, the orders across the move walked from v; forests (a subtree moves) in O(n).
-    n_conj_rest = rest[0]
     if not is_forest(model):
         return _score_chain_move(move, lp_g, rest, demos, model, moves)
+    n_conj_rest = rest[0]
     n_g, n = model.n_g, model.n
     w1, parent, mask = scratch.w1, scratch.parent, moves.mask
     v, g = move[1], move[3]
@@ -361,10 +361,9 @@ def _score_chain_move(move, lp_g, terms, demos, model, moves):
     lp = (lp_g + (terms[2] if g & 1 else terms[1])) + (terms[4] if u < 0 else terms[3])
     if lp == -np.inf:
         return lp
-    n_conj_rest = terms[0]
     for w in range(mask.shape[1]):
         mask[0, w] = moves.zrest[0, w]
-    n_conj = n_conj_rest
+    n_conj = terms[0]
     if g & 1:
         c = clause_index_eventual(v, n_g)
         for w in range(mask.shape[1]):
