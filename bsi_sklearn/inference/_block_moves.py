@@ -330,20 +330,10 @@ def score_moved(row, move, lp_g, rest, demos, model, scratch, moves):
         mask[0, w] = moves.zrest[0, w]
     n_conj = n_conj_rest
     if w1[v]:
-        c = clause_index_eventual(v, n_g)
-        for w in range(mask.shape[1]):
-            mask[0, w] &= demos.bits[c, w]
+        _and_clause(mask, demos, clause_index_eventual(v, n_g))
         n_conj += 1
     n_conj += cross_pairs(parent, moves.work[2], False, moves.viol, mask, demos, model)
-    ps = 0
-    ns = 0
-    for w in range(mask.shape[1]):
-        word = mask[0, w]
-        if word != 0:
-            ps += weighted_popcount(word, demos.pos_planes, w)
-            ns += weighted_popcount(word, demos.neg_planes, w)
-    return lp + log_likelihood(float(ps), float(ns), demos.n_pos, demos.n_neg, n_conj,
-                               model.log_eps, model.likelihood, model.flip_a, model.flip_b)
+    return _masked_score(mask, lp, n_conj, demos, model)
 
 
 @helper
@@ -365,24 +355,31 @@ def _score_chain_move(move, lp_g, terms, demos, model, moves):
         mask[0, w] = moves.zrest[0, w]
     n_conj = terms[0]
     if g & 1:
-        c = clause_index_eventual(v, n_g)
-        for w in range(mask.shape[1]):
-            mask[0, w] &= demos.bits[c, w]
+        _and_clause(mask, demos, clause_index_eventual(v, n_g))
         n_conj += 1
     a = -1 if head else u
     while a >= 0:
-        c = clause_index_order(a, v, n_g, n)
-        for w in range(mask.shape[1]):
-            mask[0, w] &= demos.bits[c, w]
+        _and_clause(mask, demos, clause_index_order(a, v, n_g, n))
         n_conj += 1
         a = rest[a]
     d = u if head else (succ[u] if u >= 0 else -1)
     while d >= 0:
-        c = clause_index_order(v, d, n_g, n)
-        for w in range(mask.shape[1]):
-            mask[0, w] &= demos.bits[c, w]
+        _and_clause(mask, demos, clause_index_order(v, d, n_g, n))
         n_conj += 1
         d = succ[d]
+    return _masked_score(mask, lp, n_conj, demos, model)
+
+
+@helper
+def _and_clause(mask, demos, c):
+    # The rows of `mask` that also satisfy clause c.
+    for w in range(mask.shape[1]):
+        mask[0, w] &= demos.bits[c, w]
+
+
+@helper
+def _masked_score(mask, lp, n_conj, demos, model):
+    # lp plus the log-likelihood of a formula of n_conj conjuncts satisfied by the rows of mask.
     ps = 0
     ns = 0
     for w in range(mask.shape[1]):

@@ -91,8 +91,8 @@ def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_even
                                                              float(n_new))
     return Model(
         n_g=n_g, n=n, prior=prior_code(prior), forest=bool(forest),
-        p_global=_inclusion(p_global), p_eventual=_inclusion(p_eventual), p_part=_inclusion(p_part),
-        n_new=float(n_new),
+        p_global=_inclusion(p_global), p_eventual=_inclusion(p_eventual),
+        p_part=_inclusion(p_part), n_new=float(n_new),
         log_eps=float(resolve_log_epsilon(epsilon, n_g, n)),
         likelihood=likelihood_code(likelihood, flip_prior), lp_chains=lp_chains,
         forest_g=forest_g, forest_const=float(forest_const), flip_a=flip_a, flip_b=flip_b,
