@@ -49,6 +49,12 @@ with event.install_listener("numba:compile", Record()):
         BSIClassifier(inference="mcmc", n_samples=200, burn_in=20, random_state=0,
                       **roles).fit(good + bad, [1, 1, 0])
         BSIClassifier(inference="mcmc", random_state=0, **roles).fit(good + bad, [1, 1, 0])
+        # An event log with flipped labels: the optimum's moves about one demonstration.
+        from bsi_sklearn.datasets import make_process_log
+        from bsi_sklearn.io import EventLogEncoder
+        log = make_process_log(8, 80, rule="template", noise=0.1, random_state=0)
+        X = EventLogEncoder().fit_transform(log.cases())
+        BSIClassifier(inference="mcmc", n_samples=100, random_state=0).fit(X, log.labels)
 signatures = {}
 for name, module in list(sys.modules.items()):
     if name.startswith("bsi_sklearn") and module is not None:
