@@ -370,7 +370,7 @@ def log_prior_structure(parent, model):
     for v in range(n):
         if n_children[v] > 1:
             return -np.inf
-    return log_prior_chains(n_roots, model)
+    return _log_prior_chains(n, n_roots, model.prior, model.p_part)
 
 
 @njit(cache=True, nogil=True)
@@ -378,7 +378,7 @@ def log_prior_chains(m, model):
     """Log prior of a chain structure (Priors 1, 2) of ``m`` chains: all it depends on.
 
     What :func:`log_prior_structure` returns for any set of ``m`` chains over the model's
-    subtasks, to the bit (it calls this); ``-inf`` where the prior has no such structure.
+    ``n`` subtasks, to the bit (the same call); ``-inf`` where the prior has no such structure.
     """
     return _log_prior_chains(model.n, m, model.prior, model.p_part)
 
