@@ -35,7 +35,6 @@ from bsi_sklearn.model.likelihood import log_likelihood
 from bsi_sklearn.model.priors import (
     is_forest,
     log_prior,
-    log_prior_chains,
     log_prior_structure,
     log_prior_subset,
 )
@@ -300,7 +299,7 @@ def prepare_moves(row, v, viol, n_conj, demos, model, moves):
                 m_rest += 1
     return (n_conj, log_prior_subset(k_rest, n, model.p_eventual),
             log_prior_subset(k_rest + 1, n, model.p_eventual),
-            log_prior_chains(m_rest, model), log_prior_chains(m_rest + 1, model))
+            model.lp_chains[m_rest], model.lp_chains[m_rest + 1])
 
 
 @helper
@@ -339,9 +338,9 @@ def score_moved(row, move, lp_g, rest, demos, model, scratch, moves):
 @helper
 def _score_chain_move(move, lp_g, terms, demos, model, moves):
     # score_moved for chains: v put after u (or at the head of u's chain, or as a chain of
-    # its own) in detach's structure (moves.work). Its prior from prepare_moves' terms (the
-    # same calls on the same counts: F(v) in or out, one chain more only as a chain of its
-    # own); the orders across the move are v's new ancestors (u and up) and descendants (u's
+    # its own) in detach's structure (moves.work). Its prior from prepare_moves' terms (F(v)
+    # in or out; the model's table by number of chains, one more only as a chain of its own,
+    # the values log_prior_structure gives, bit for bit: tested); the orders across the move are v's new ancestors (u and up) and descendants (u's
     # old successor, or u itself at the head, and down): the pairs cross_pairs finds, in
     # another order (AND and counts commute).
     n_g, n = model.n_g, model.n

@@ -41,7 +41,6 @@ __all__ = [
     "draw_hypothesis",
     "log_prior",
     "log_prior_structure",
-    "log_prior_chains",
     "log_prior_subset",
     "log_prior_globals",
     "global_inclusion",
@@ -371,16 +370,6 @@ def log_prior_structure(parent, model):
         if n_children[v] > 1:
             return -np.inf
     return _log_prior_chains(n, n_roots, model.prior, model.p_part)
-
-
-@njit(cache=True, nogil=True)
-def log_prior_chains(m, model):
-    """Log prior of a chain structure (Priors 1, 2) of ``m`` chains: all it depends on.
-
-    What :func:`log_prior_structure` returns for any set of ``m`` chains over the model's
-    ``n`` subtasks, to the bit (the same call); ``-inf`` where the prior has no such structure.
-    """
-    return _log_prior_chains(model.n, m, model.prior, model.p_part)
 
 
 @register_jitable
