@@ -340,9 +340,9 @@ def _score_chain_move(move, lp_g, terms, demos, model, moves):
     # score_moved for chains: v put after u (or at the head of u's chain, or as a chain of
     # its own) in detach's structure (moves.work). Its prior from prepare_moves' terms (F(v)
     # in or out; the model's table by number of chains, one more only as a chain of its own,
-    # the values log_prior_structure gives, bit for bit: tested); the orders across the move are v's new ancestors (u and up) and descendants (u's
-    # old successor, or u itself at the head, and down): the pairs cross_pairs finds, in
-    # another order (AND and counts commute).
+    # the values log_prior_structure gives, bit for bit: tested); the orders across the move
+    # are v's new ancestors (u and up) and descendants (u's old successor, or u itself at the
+    # head, and down): the pairs cross_pairs finds, in another order (AND and counts commute).
     n_g, n = model.n_g, model.n
     rest, succ, mask = moves.work[0], moves.work[1], moves.mask
     v, u, g = move[1], move[2], move[3]
