@@ -118,8 +118,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         Likelihood of a misclassified demonstration, in (0, 1). ``None`` uses the paper's
         ``log eps = -4 log(2) (|T| + |Omega| + |Omega|(|Omega|-1)/2)``.
     flip_prior : (float, float), default=None
-        ``(a, b)``: with ``"ci"`` only, the flip rate ``epsilon`` has a Beta(a, b) prior and
-        is integrated out (``docs/likelihoods.md``; e.g. ``(1, 9)``: keep ``b > a``).
+        ``(a, b)``: with ``"ci"`` or ``"calibrated"``, labels are flipped at a rate with a
+        Beta(a, b) prior, integrated out (``docs/likelihoods.md``; e.g. ``(1, 9)``: keep
+        ``b > a``). With ``"calibrated"`` a flipped label then costs about ``log(n / v)``
+        nats (``v`` of ``n`` labels misclassified), not ``epsilon``'s penalty.
     vote : {"predictive", "satisfaction"}, default="predictive"
         What :meth:`predict_proba` returns. ``"predictive"``: P(label = acceptable | X, data),
         over the formulas *and* the label noise (a formula's violators are labelled acceptable

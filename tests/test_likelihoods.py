@@ -33,7 +33,8 @@ from bsi_sklearn.model.likelihood import (
 from bsi_sklearn.model.priors import PRIORS
 
 #: (likelihood, flip_prior) of the new settings.
-NEW = [("calibrated", None), ("ci", (1.0, 9.0)), ("ci", (2.5, 0.7))]
+NEW = [("calibrated", None), ("ci", (1.0, 9.0)), ("calibrated", (1.0, 9.0)), ("ci", (2.5, 0.7)),
+       ("calibrated", (2.5, 0.7))]
 
 
 def _kernel(sat, y, n_conj, log_eps, likelihood, flip_prior):
@@ -74,6 +75,34 @@ def test_integrated_flip_rate_is_the_integral_over_epsilon(a, b):
         value, _ = integrate.quad(integrand, 0, 1, epsabs=0, epsrel=1e-12, limit=200)
         got = _kernel(sat, y, 3, -5.0, "ci", (a, b))
         assert got == pytest.approx(math.log(value), rel=1e-8, abs=1e-8)
+        # Calibrated: each demonstration's label right with 1 - eps, and its density 1 / m
+        # on ext(phi), 1 / (1 - m) off it, m = (s + 1) / (n + 2), whatever the label.
+        m = (sat.sum() + 1.0) / (n + 2.0)
+        density = sat.sum() * -math.log(m) + (n - sat.sum()) * -math.log1p(-m)
+        got = _kernel(sat, y, 3, -5.0, "calibrated", (a, b))
+        assert got == pytest.approx(math.log(value) + density, rel=1e-8, abs=1e-8)
+
+
+def test_calibrated_flips_are_a_model_of_the_labels():
+    # Given eps, the calibrated flip model is a density of each demonstration given its label
+    # that integrates to one over the population: ext(phi) holds mass m, its complement 1 - m.
+    m, eps = 0.3, 0.07
+    for label in (0, 1):
+        on = (1 - eps) / m if label == 1 else eps / m
+        off = eps / (1 - m) if label == 1 else (1 - eps) / (1 - m)
+        assert m * on + (1 - m) * off == pytest.approx(1.0)
+    # And a flipped label costs about log(n / v) nats, not epsilon's penalty: one clause
+    # that moves a flipped unacceptable demonstration out of ext(phi) gains a few nats.
+    y = np.array([1] * 140 + [0] * 60)
+    sat = y == 1
+    sat[140:150] = True  # ten unacceptable demonstrations the formula satisfies (flipped)
+    fixed = sat.copy()
+    fixed[140] = False
+    gain = (_kernel(fixed, y, 3, -9.0, "calibrated", (1.0, 9.0))
+            - _kernel(sat, y, 3, -9.0, "calibrated", (1.0, 9.0)))
+    assert 2.0 < gain < 5.0
+    assert (_kernel(fixed, y, 3, -200.0, "calibrated", None)
+            - _kernel(sat, y, 3, -200.0, "calibrated", None)) > 200.0
 
 
 def test_calibrated_does_not_depend_on_conjuncts_and_a_vacuous_clause_earns_nothing():
@@ -101,7 +130,7 @@ def _small_problem(seed=3):
 
 
 @pytest.mark.parametrize("prior", PRIORS)
-@pytest.mark.parametrize("likelihood, flip_prior", NEW[:2])
+@pytest.mark.parametrize("likelihood, flip_prior", NEW[:3])
 def test_exact_matches_first_principles(prior, likelihood, flip_prior):
     X, y, roles = _small_problem()
     names = list(X[0].columns)
@@ -250,7 +279,7 @@ def poi():
     return make_poi_problem(n_demos=50, n_negative=10, seed=11)
 
 
-@pytest.mark.parametrize("likelihood, flip_prior", NEW[:2])
+@pytest.mark.parametrize("likelihood, flip_prior", NEW[:3])
 def test_mcmc_agrees_with_exact(poi, likelihood, flip_prior):
     X, y, roles = poi
     kw = dict(prior="sets_of_chains", likelihood=likelihood, flip_prior=flip_prior, **roles)
@@ -267,8 +296,8 @@ def test_mcmc_agrees_with_exact(poi, likelihood, flip_prior):
 
 
 @pytest.mark.parametrize("params, match", [
-    (dict(likelihood="cb", flip_prior=(1, 9)), "likelihood='ci' only"),
-    (dict(likelihood="calibrated", flip_prior=(1, 9)), "likelihood='ci' only"),
+    (dict(likelihood="cb", flip_prior=(1, 9)), "'ci' and 'calibrated', not likelihood='cb'"),
+    (dict(likelihood="calibrated", flip_prior=(1, 9), epsilon=0.1), "leave epsilon=None"),
     (dict(likelihood="ci", flip_prior=(1, 9), epsilon=0.1), "leave epsilon=None"),
     (dict(likelihood="ci", flip_prior=(0, 9)), "flip_prior must be"),
     (dict(likelihood="ci", flip_prior=(1, 2, 3)), "flip_prior must be"),
@@ -285,7 +314,7 @@ def test_bad_flip_prior_is_a_clear_error(params, match):
 
 def test_new_settings_are_reproducible_and_pickle():
     X, y, roles = _small_problem(seed=1)
-    for likelihood, flip_prior in NEW[:2]:
+    for likelihood, flip_prior in NEW[:3]:
         for inference in ("exact", "mcmc"):
             kw = dict(likelihood=likelihood, flip_prior=flip_prior, inference=inference,
                       n_samples=1000, random_state=3, **roles)

@@ -2,7 +2,8 @@
 
 Complexity-based (CB, code 0) and complexity-independent (CI, code 1) as in the paper; CI with
 the flip rate integrated over a Beta prior (code 2); the size principle calibrated by the data
-(code 3). Codes 2 and 3 depend on the satisfied positives and negatives jointly.
+(code 3), and the same with label flips as a model and their rate integrated (code 4). Codes 2
+to 4 depend on the satisfied positives and negatives jointly.
 """
 
 import math
@@ -24,6 +25,8 @@ LIKELIHOODS = ("cb", "ci", "calibrated")
 _LIKELIHOOD_CODE = {"cb": 0, "ci": 1, "calibrated": 3}
 #: Code of ``"ci"`` with a Beta prior on the flip rate (``flip_prior=(a, b)``).
 _CI_FLIP_CODE = 2
+#: Code of ``"calibrated"`` with a Beta prior on the flip rate.
+_CALIBRATED_FLIP_CODE = 4
 
 
 def default_log_epsilon(n_globals, n_subtasks):
@@ -52,7 +55,7 @@ def likelihood_code(likelihood, flip_prior=None):
     """Integer code of a likelihood name (and flip prior) for the kernels."""
     if flip_prior is not None:
         resolve_flip_prior(likelihood, flip_prior)
-        return _CI_FLIP_CODE
+        return _CI_FLIP_CODE if likelihood == "ci" else _CALIBRATED_FLIP_CODE
     return _LIKELIHOOD_CODE[likelihood]
 
 
@@ -76,10 +79,9 @@ def resolve_flip_prior(likelihood, flip_prior, epsilon=None):
     Raises
     ------
     ValueError
-        When the prior is given with another likelihood than ``"ci"`` (CB and the calibrated
-        likelihood are not normalised over the labels, so a prior on their epsilon has no
-        meaning), together with ``epsilon`` (which it replaces), or is not a pair of positive
-        finite numbers.
+        When the prior is given with CB (not normalised over the labels, so a prior on its
+        epsilon has no meaning), together with ``epsilon`` (which it replaces), or is not a
+        pair of positive finite numbers.
 
     Examples
     --------
@@ -90,11 +92,11 @@ def resolve_flip_prior(likelihood, flip_prior, epsilon=None):
     """
     if flip_prior is None:
         return 0.0, 0.0
-    if likelihood != "ci":
+    if likelihood not in ("ci", "calibrated"):
         raise ValueError(
-            f"flip_prior applies to likelihood='ci' only, got likelihood={likelihood!r}: the "
-            "CB and calibrated likelihoods are not normalised over the labels, so their "
-            "epsilon is a penalty, not a flip rate with a prior")
+            f"flip_prior applies to the likelihoods 'ci' and 'calibrated', not "
+            f"likelihood={likelihood!r}: CB is not normalised over the labels, so its epsilon "
+            "is a penalty, not a flip rate with a prior")
     if epsilon is not None:
         raise ValueError(f"flip_prior={flip_prior!r} integrates the flip rate out: leave "
                          f"epsilon=None (got epsilon={epsilon!r})")
@@ -124,14 +126,15 @@ def step_scale(code, log_eps, n_pos, n_neg, flip_a, flip_b):
     for a demonstration changing side; for CB also ``n_pos log 2`` for a conjunct; with the
     flip rate integrated, the first violation costs ``log((b + n - 1) / a)``; the calibrated
     likelihood also moves every correctly classified demonstration by up to ``log(n + 2)``
-    when one demonstration changes side.
+    when one demonstration changes side (code 4: every demonstration).
     """
     n = n_pos + n_neg
     if code == 0:
         return max(-log_eps, n_pos * math.log(2.0))
-    if code == _CI_FLIP_CODE:
-        return max(abs(math.log(max(flip_b + n - 1.0, 1e-300) / flip_a)),
-                   abs(math.log(max(flip_a + n - 1.0, 1e-300) / flip_b)))
+    if code in (_CI_FLIP_CODE, _CALIBRATED_FLIP_CODE):
+        flips = max(abs(math.log(max(flip_b + n - 1.0, 1e-300) / flip_a)),
+                    abs(math.log(max(flip_a + n - 1.0, 1e-300) / flip_b)))
+        return flips if code == _CI_FLIP_CODE else flips + math.log(n + 2.0)
     if code == 3:
         return -log_eps + math.log(n + 2.0)
     return -log_eps
@@ -187,9 +190,9 @@ def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code, flip_a
         ``log(epsilon)`` (unused by code 2).
     code : int
         0 ``"cb"``, 1 ``"ci"``, 2 ``"ci"`` with the flip rate integrated over a Beta(a, b)
-        prior, 3 ``"calibrated"``.
+        prior, 3 ``"calibrated"``, 4 ``"calibrated"`` with the flip rate integrated.
     flip_a, flip_b : float
-        The Beta prior of code 2 (unused by the others).
+        The Beta prior of codes 2 and 4 (unused by the others).
 
     Returns
     -------
@@ -208,11 +211,22 @@ def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code, flip_a
         # The flip rate integrated over its Beta(a, b) prior: B(a + v, b + n - v) / B(a, b).
         return (_log_beta(flip_a + wrong, flip_b + pos_sat + neg_viol)
                 - _log_beta(flip_a, flip_b))
+    log_n2 = math.log(n_pos + n_neg + 2.0)
+    sat = pos_sat + neg_sat
+    if code == 4:
+        # Calibrated with flips as a model: a demonstration is a draw from ext(phi) (density
+        # 1 / m) or from its complement (1 / (1 - m)), whatever its label; its label is
+        # flipped with a rate integrated over Beta(a, b).
+        out = (_log_beta(flip_a + wrong, flip_b + pos_sat + neg_viol)
+               - _log_beta(flip_a, flip_b))
+        if sat > 0.0:
+            out += sat * (log_n2 - math.log(sat + 1.0))
+        if sat < n_pos + n_neg:
+            out += (n_pos + n_neg - sat) * (log_n2 - math.log(n_pos + n_neg - sat + 1.0))
+        return out
     # Calibrated size principle: the mass of ext(phi) estimated from every demonstration,
     # m = (s + 1) / (n + 2); an accepted satisfying demonstration earns 1 / m, a rejected
     # violating one 1 / (1 - m), a misclassified one epsilon.
-    log_n2 = math.log(n_pos + n_neg + 2.0)
-    sat = pos_sat + neg_sat
     out = wrong * log_eps
     if pos_sat > 0.0:
         out += pos_sat * (log_n2 - math.log(sat + 1.0))
@@ -234,9 +248,10 @@ def log_likelihood_reference(satisfied, y, n_conj, log_eps, likelihood, flip_pri
     log_eps : float
     likelihood : {"cb", "ci", "calibrated"}
     flip_prior : tuple of float, default=None
-        ``(a, b)``: with ``"ci"``, the flip rate integrated over a Beta(a, b) prior (as the
-        product of the sequential predictive probabilities of each demonstration being
-        classified correctly, Polya's urn).
+        ``(a, b)``: the flip rate integrated over a Beta(a, b) prior (as the product of the
+        sequential predictive probabilities of each demonstration being classified correctly,
+        Polya's urn); with ``"calibrated"``, times each demonstration's density ``1 / m`` or
+        ``1 / (1 - m)`` by the side of the formula it lies on.
 
     Returns
     -------
@@ -244,6 +259,7 @@ def log_likelihood_reference(satisfied, y, n_conj, log_eps, likelihood, flip_pri
     """
     sat_all = np.asarray(satisfied, bool)
     labels = np.asarray(y)
+    m = (sat_all.sum() + 1.0) / (len(sat_all) + 2.0)
     if flip_prior is not None:
         a, b = flip_prior
         total, wrong = 0.0, 0
@@ -251,8 +267,9 @@ def log_likelihood_reference(satisfied, y, n_conj, log_eps, likelihood, flip_pri
             bad = bool(s) != (label == 1)
             total += math.log(((a + wrong) if bad else (b + i - wrong)) / (a + b + i))
             wrong += bad
+            if likelihood == "calibrated":
+                total -= math.log(m) if s else math.log1p(-m)
         return total
-    m = (sat_all.sum() + 1.0) / (len(sat_all) + 2.0)
     total = 0.0
     for s, label in zip(sat_all, labels):
         if likelihood == "cb":

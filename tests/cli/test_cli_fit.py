@@ -162,8 +162,8 @@ def test_bad_inclusion_probabilities_exit_2_naming_the_option(csv_file, capsys):
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["--flip-prior", "1", "9"], "--flip-prior applies to --likelihood ci only, got "
-                                 "--likelihood calibrated"),
+    (["--likelihood", "cb", "--flip-prior", "1", "9"],
+     "--flip-prior applies to the likelihoods 'ci' and 'calibrated', not --likelihood cb"),
     (["--likelihood", "ci", "--flip-prior", "0", "9"], "--flip-prior"),
     (["--likelihood", "ci", "--flip-prior", "nan", "9"], "--flip-prior"),
 ])
