@@ -75,24 +75,18 @@ def test_integrated_flip_rate_is_the_integral_over_epsilon(a, b):
         value, _ = integrate.quad(integrand, 0, 1, epsabs=0, epsrel=1e-12, limit=200)
         got = _kernel(sat, y, 3, -5.0, "ci", (a, b))
         assert got == pytest.approx(math.log(value), rel=1e-8, abs=1e-8)
-        # Calibrated: each demonstration's label right with 1 - eps, and its density 1 / m
-        # on ext(phi), 1 / (1 - m) off it, m = (s + 1) / (n + 2), whatever the label.
+        # Calibrated: each label right with 1 - eps, flipped with eps, and each correctly
+        # classified demonstration's density 1 / m on ext(phi), 1 / (1 - m) off it.
         m = (sat.sum() + 1.0) / (n + 2.0)
-        density = sat.sum() * -math.log(m) + (n - sat.sum()) * -math.log1p(-m)
+        ok = sat == (y == 1)
+        density = (ok & sat).sum() * -math.log(m) + (ok & ~sat).sum() * -math.log1p(-m)
         got = _kernel(sat, y, 3, -5.0, "calibrated", (a, b))
         assert got == pytest.approx(math.log(value) + density, rel=1e-8, abs=1e-8)
 
 
-def test_calibrated_flips_are_a_model_of_the_labels():
-    # Given eps, the calibrated flip model is a density of each demonstration given its label
-    # that integrates to one over the population: ext(phi) holds mass m, its complement 1 - m.
-    m, eps = 0.3, 0.07
-    for label in (0, 1):
-        on = (1 - eps) / m if label == 1 else eps / m
-        off = eps / (1 - m) if label == 1 else (1 - eps) / (1 - m)
-        assert m * on + (1 - m) * off == pytest.approx(1.0)
-    # And a flipped label costs about log(n / v) nats, not epsilon's penalty: one clause
-    # that moves a flipped unacceptable demonstration out of ext(phi) gains a few nats.
+def test_calibrated_flips_cost_what_the_flip_rate_says():
+    # A flipped label costs about log(n / v) nats, not epsilon's penalty: one clause that
+    # moves a flipped unacceptable demonstration out of ext(phi) gains a few nats.
     y = np.array([1] * 140 + [0] * 60)
     sat = y == 1
     sat[140:150] = True  # ten unacceptable demonstrations the formula satisfies (flipped)
@@ -103,6 +97,14 @@ def test_calibrated_flips_are_a_model_of_the_labels():
     assert 2.0 < gain < 5.0
     assert (_kernel(fixed, y, 3, -200.0, "calibrated", None)
             - _kernel(sat, y, 3, -200.0, "calibrated", None)) > 200.0
+    # Acceptable demonstrations only: violating v of them costs about v log(n / v) nats
+    # (the size principle's gain pays for none of it), more for every one more up to a flip
+    # rate of a quarter.
+    y = np.ones(200, int)
+    lls = [_kernel(np.arange(200) >= v, y, 3, -9.0, "calibrated", (1.0, 9.0))
+           for v in range(0, 51, 10)]
+    assert np.all(np.diff(lls) < -5.0)
+    assert lls[1] - lls[0] < -10 * math.log(200 / 10) + 10
 
 
 def test_calibrated_does_not_depend_on_conjuncts_and_a_vacuous_clause_earns_nothing():

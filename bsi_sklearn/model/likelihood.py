@@ -213,21 +213,15 @@ def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code, flip_a
                 - _log_beta(flip_a, flip_b))
     log_n2 = math.log(n_pos + n_neg + 2.0)
     sat = pos_sat + neg_sat
-    if code == 4:
-        # Calibrated with flips as a model: a demonstration is a draw from ext(phi) (density
-        # 1 / m) or from its complement (1 / (1 - m)), whatever its label; its label is
-        # flipped with a rate integrated over Beta(a, b).
-        out = (_log_beta(flip_a + wrong, flip_b + pos_sat + neg_viol)
-               - _log_beta(flip_a, flip_b))
-        if sat > 0.0:
-            out += sat * (log_n2 - math.log(sat + 1.0))
-        if sat < n_pos + n_neg:
-            out += (n_pos + n_neg - sat) * (log_n2 - math.log(n_pos + n_neg - sat + 1.0))
-        return out
     # Calibrated size principle: the mass of ext(phi) estimated from every demonstration,
     # m = (s + 1) / (n + 2); an accepted satisfying demonstration earns 1 / m, a rejected
-    # violating one 1 / (1 - m), a misclassified one epsilon.
-    out = wrong * log_eps
+    # violating one 1 / (1 - m), a misclassified one epsilon (code 3) or, code 4, each label
+    # is right with 1 - eps and flipped with eps, eps integrated over Beta(a, b).
+    if code == 4:
+        out = (_log_beta(flip_a + wrong, flip_b + pos_sat + neg_viol)
+               - _log_beta(flip_a, flip_b))
+    else:
+        out = wrong * log_eps
     if pos_sat > 0.0:
         out += pos_sat * (log_n2 - math.log(sat + 1.0))
     if neg_viol > 0.0:
@@ -250,8 +244,8 @@ def log_likelihood_reference(satisfied, y, n_conj, log_eps, likelihood, flip_pri
     flip_prior : tuple of float, default=None
         ``(a, b)``: the flip rate integrated over a Beta(a, b) prior (as the product of the
         sequential predictive probabilities of each demonstration being classified correctly,
-        Polya's urn); with ``"calibrated"``, times each demonstration's density ``1 / m`` or
-        ``1 / (1 - m)`` by the side of the formula it lies on.
+        Polya's urn); with ``"calibrated"``, times the density ``1 / m`` or ``1 / (1 - m)`` of
+        each correctly classified demonstration.
 
     Returns
     -------
@@ -267,7 +261,7 @@ def log_likelihood_reference(satisfied, y, n_conj, log_eps, likelihood, flip_pri
             bad = bool(s) != (label == 1)
             total += math.log(((a + wrong) if bad else (b + i - wrong)) / (a + b + i))
             wrong += bad
-            if likelihood == "calibrated":
+            if likelihood == "calibrated" and not bad:
                 total -= math.log(m) if s else math.log1p(-m)
         return total
     total = 0.0
