@@ -116,17 +116,18 @@ def test_roles_option_and_the_roles_line(tmp_path):
     assert bad.returncode == 2 and "--roles" in bad.stderr
 
 
-def test_flip_prior_prints_the_flip_rate_of_the_classifier(csv_file, capsys):
+@pytest.mark.parametrize("likelihood", ["ci", "calibrated"])
+def test_flip_prior_prints_the_flip_rate_of_the_classifier(csv_file, capsys, likelihood):
     from bsi_sklearn import BSIClassifier
     from bsi_sklearn.io import read_traces_csv
 
     argv = ["fit", str(csv_file), "--globals", "safe", "--subtasks", "picked", "placed",
-            "--likelihood", "ci", "--flip-prior", "1", "9"]
+            "--likelihood", likelihood, "--flip-prior", "1", "9"]
     assert main(argv) == 0
     out = capsys.readouterr().out
     X, y = read_traces_csv(csv_file)[:2]
     clf = BSIClassifier(global_candidates=["safe"], subtasks=["picked", "placed"],
-                        likelihood="ci", flip_prior=(1.0, 9.0), random_state=0).fit(X, y)
+                        likelihood=likelihood, flip_prior=(1.0, 9.0), random_state=0).fit(X, y)
     low, high = clf.flip_rate_interval_
     assert (f"flip rate  : {clf.flip_rate_:.3f} [{low:.3f}, {high:.3f}] (posterior mean, "
             "95 % interval)") in out
