@@ -5,7 +5,8 @@ probabilities of ``BSIClassifier`` read three ways from the *same* fit -- the pa
 (``vote="satisfaction"``, the posterior mass satisfied), the predictive with the likelihood's
 ``epsilon`` (``label_noise="likelihood"``) and the predictive with each formula's flip rate
 learned from the training labels (``label_noise="learned"``, the default) -- under the default
-likelihood (CB with the paper's epsilon), and under ``likelihood="ci", flip_prior=(1, 9)``
+likelihood (the calibrated size principle with the paper's epsilon since 2026-12-07, CB before:
+the rows named ``Default``), and under ``likelihood="ci", flip_prior=(1, 9)``
 (the flip prior the documentation suggests: the noise learned inside the likelihood). The
 classifier is fitted as a new user fits it: ``BSIClassifier(random_state=...)``, no roles
 (inferred), every other default. Missions come from the study's simulator
@@ -83,7 +84,7 @@ from lfe.study import (  # noqa: E402
 
 #: BSI settings: name -> (parameters on top of ``random_state``, no roles: inferred; the
 #: readings of each fit, below).
-SETTINGS = {"CB (default)": ({}, ("satisfaction", "predictive, epsilon", "predictive, learned")),
+SETTINGS = {"Default": ({}, ("satisfaction", "predictive, epsilon", "predictive, learned")),
             "CI, flip_prior=(1, 9)": ({"likelihood": "ci", "flip_prior": (1, 9)},
                                       ("satisfaction", "predictive"))}
 #: How one fit is read (parameters read at prediction time, so one fit gives every reading):
@@ -217,13 +218,13 @@ def summary(runs):
 
 
 #: Paired differences: (name, row, minus row).
-PAIRS = [("CB: predictive, learned - satisfaction", "CB (default), predictive, learned",
-          "CB (default), satisfaction"),
-         ("CB: predictive, learned - predictive, epsilon", "CB (default), predictive, learned",
-          "CB (default), predictive, epsilon"),
+PAIRS = [("Default: predictive, learned - satisfaction", "Default, predictive, learned",
+          "Default, satisfaction"),
+         ("Default: predictive, learned - predictive, epsilon", "Default, predictive, learned",
+          "Default, predictive, epsilon"),
          ("CI flip prior: predictive - satisfaction", "CI, flip_prior=(1, 9), predictive",
           "CI, flip_prior=(1, 9), satisfaction"),
-         ("CB: predictive, learned - logistic regression", "CB (default), predictive, learned",
+         ("Default: predictive, learned - logistic regression", "Default, predictive, learned",
           REFERENCE)]
 
 
@@ -255,7 +256,7 @@ def worst_gap(bins, min_share=0.05):
 
 
 #: The rows drawn in the reliability figure (the epsilon reading lies on the vote).
-FIGURE_ROWS = ("CB (default), satisfaction", "CB (default), predictive, learned",
+FIGURE_ROWS = ("Default, satisfaction", "Default, predictive, learned",
                "CI, flip_prior=(1, 9), predictive", REFERENCE)
 
 
@@ -364,7 +365,7 @@ def report(runs, table, diffs, gaps, config, seconds, command):
               "many under the vote.",
               "- `predictive, learned` (the default) labels with each formula's flip rate "
               "given the training missions it misclassifies, `(1 + v) / (n + 2)` (uniform "
-              "prior, `docs/likelihoods.md`); the posterior over formulas is CB's, unchanged, "
+              "prior, `docs/likelihoods.md`); the posterior over formulas is the default's, unchanged, "
               "so the decisions are the vote's wherever the posterior's formulas misclassify "
               "equally many training missions.",
               "- With the flip prior the posterior is nearly flat: the exact enumeration lists "
@@ -379,7 +380,7 @@ def report(runs, table, diffs, gaps, config, seconds, command):
 
 def add_templates(template_set):
     """The default fit with ``templates=template_set`` in place of the CI fit."""
-    add_variant({"templates": template_set}, f"CB, templates={template_set!r}",
+    add_variant({"templates": template_set}, f"Default, templates={template_set!r}",
                 f"templates={template_set!r} - paper's template (predictive, learned)")
 
 
@@ -394,9 +395,9 @@ def add_variant(params, name=None, pair=None):
         + (REFERENCE,)
     PAIRS[:] = [p for p in PAIRS if not p[1].startswith("CI")]
     PAIRS.append((pair or f"{name} - default (predictive, learned)",
-                  f"{name}, predictive, learned", "CB (default), predictive, learned"))
+                  f"{name}, predictive, learned", "Default, predictive, learned"))
     PAIRS.append((f"{name} - logistic regression", f"{name}, predictive, learned", REFERENCE))
-    FIGURE_ROWS = ("CB (default), predictive, learned", f"{name}, predictive, learned",
+    FIGURE_ROWS = ("Default, predictive, learned", f"{name}, predictive, learned",
                    REFERENCE)
 
 

@@ -75,13 +75,13 @@ def test_a_variant_takes_the_ci_fits_place_and_is_paired_with_the_default(monkey
     monkeypatch.setattr(bench, "FIGURE_ROWS", bench.FIGURE_ROWS)
     bench.add_variant({"likelihood": "calibrated", "p_global": 0.2})
     name = "likelihood='calibrated', p_global=0.2"
-    assert list(bench.SETTINGS) == ["CB (default)", name]
+    assert list(bench.SETTINGS) == ["Default", name]
     assert bench.SETTINGS[name] == ({"likelihood": "calibrated", "p_global": 0.2},
                                     ("predictive, learned",))
     assert f"{name}, predictive, learned" in bench.ROWS
     assert not any(row.startswith("CI") for row in bench.ROWS)
     assert (f"{name} - default (predictive, learned)", f"{name}, predictive, learned",
-            "CB (default), predictive, learned") in bench.PAIRS
+            "Default, predictive, learned") in bench.PAIRS
     assert (f"{name} - logistic regression", f"{name}, predictive, learned",
             bench.REFERENCE) in bench.PAIRS
 
