@@ -68,8 +68,9 @@ def test_weighed_neighbours_are_the_scored_ones(prior, likelihood, seed):
 
 @pytest.mark.parametrize("prior", PRIORS)
 def test_weighed_neighbours_with_a_flip_prior_and_with_one_subtask(prior):
-    for n, flip_prior in ((4, (1.0, 9.0)), (1, None), (0, None)):
-        model, demos, rows = _problem(prior, "ci", 3, n, 7, flip_prior)
+    for n, flip_prior, likelihood in ((4, (1.0, 9.0), "ci"), (4, (1.0, 9.0), "calibrated"),
+                                      (1, None, "ci"), (0, None, "ci")):
+        model, demos, rows = _problem(prior, likelihood, 3, n, 7, flip_prior)
         ref_rows, ref_lp = neighbourhood(rows, demos, model, -np.inf)
         sources = {r.tobytes() for r in rows}
         want = _as_dict(ref_rows, ref_lp, drop=sources)
