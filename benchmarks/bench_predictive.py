@@ -365,8 +365,9 @@ def report(runs, table, diffs, gaps, config, seconds, command):
               "many under the vote.",
               "- `predictive, learned` (the default) labels with each formula's flip rate "
               "given the training missions it misclassifies, `(1 + v) / (n + 2)` (uniform "
-              "prior, `docs/likelihoods.md`); the posterior over formulas is the default's, unchanged, "
-              "so the decisions are the vote's wherever the posterior's formulas misclassify "
+              "prior, `docs/likelihoods.md`); the posterior over formulas is the default's, "
+              "unchanged, so the decisions are the vote's wherever the posterior's formulas "
+              "misclassify "
               "equally many training missions.",
               "- With the flip prior the posterior is nearly flat: the exact enumeration lists "
               "at most 1,000,000 specifications (`inference.exact.MAX_KEPT`) and renormalises "

@@ -189,9 +189,10 @@ def add_arguments(parser):
                              "out, so that an order the data do not ask for is left out "
                              "(default: %(default)s)")
     parser.add_argument("--flip-prior", nargs=2, type=float, default=None, metavar=("A", "B"),
-                        help="with --likelihood ci or calibrated: the rate at which labels are wrong is "
-                             "unknown, Beta(A, B) distributed and integrated out (B > A: "
-                             "mostly right labels); prints its posterior mean and interval")
+                        help="with --likelihood ci or calibrated: the rate at which labels "
+                             "are wrong is unknown, Beta(A, B) distributed and integrated out "
+                             "(B > A: mostly right labels); prints its posterior mean and "
+                             "interval")
     parser.add_argument("--inference", choices=["auto", "exact", "mcmc"], default="auto",
                         help="exact enumeration, MCMC, or auto: exact when the support is "
                              "small enough (default: %(default)s)")
