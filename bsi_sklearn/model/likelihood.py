@@ -126,7 +126,7 @@ def step_scale(code, log_eps, n_pos, n_neg, flip_a, flip_b):
     for a demonstration changing side; for CB also ``n_pos log 2`` for a conjunct; with the
     flip rate integrated, the first violation costs ``log((b + n - 1) / a)``; the calibrated
     likelihood also moves every correctly classified demonstration by up to ``log(n + 2)``
-    when one demonstration changes side (code 4: every demonstration).
+    when one demonstration changes side (code 4: that on top of the flips' step).
     """
     n = n_pos + n_neg
     if code == 0:
@@ -187,7 +187,7 @@ def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code, flip_a
     n_conj : int
         Number of conjuncts ``N`` of the formula.
     log_eps : float
-        ``log(epsilon)`` (unused by code 2).
+        ``log(epsilon)`` (unused by codes 2 and 4).
     code : int
         0 ``"cb"``, 1 ``"ci"``, 2 ``"ci"`` with the flip rate integrated over a Beta(a, b)
         prior, 3 ``"calibrated"``, 4 ``"calibrated"`` with the flip rate integrated.
