@@ -153,6 +153,13 @@ def _log_beta(a, b):
     return math.lgamma(a) + math.lgamma(b) - math.lgamma(a + b)
 
 
+@helper
+def _log_flips(wrong, right, flip_a, flip_b):
+    # The labels' flip rate integrated over its Beta(a, b) prior (codes 2 and 4):
+    # B(a + v, b + n - v) / B(a, b), v = wrong, n - v = right.
+    return _log_beta(flip_a + wrong, flip_b + right) - _log_beta(flip_a, flip_b)
+
+
 @njit(cache=True, nogil=True)
 def cb_rejected(n_conj):
     """CB's log-likelihood of an unacceptable demonstration the formula violates.
@@ -208,9 +215,7 @@ def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code, flip_a
         return (pos_sat + neg_viol) * log1m_eps + (pos_viol + neg_sat) * log_eps
     wrong = pos_viol + neg_sat
     if code == 2:
-        # The flip rate integrated over its Beta(a, b) prior: B(a + v, b + n - v) / B(a, b).
-        return (_log_beta(flip_a + wrong, flip_b + pos_sat + neg_viol)
-                - _log_beta(flip_a, flip_b))
+        return _log_flips(wrong, pos_sat + neg_viol, flip_a, flip_b)
     log_n2 = math.log(n_pos + n_neg + 2.0)
     sat = pos_sat + neg_sat
     # Calibrated size principle: the mass of ext(phi) estimated from every demonstration,
@@ -218,8 +223,7 @@ def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code, flip_a
     # violating one 1 / (1 - m), a misclassified one epsilon (code 3) or, code 4, each label
     # is right with 1 - eps and flipped with eps, eps integrated over Beta(a, b).
     if code == 4:
-        out = (_log_beta(flip_a + wrong, flip_b + pos_sat + neg_viol)
-               - _log_beta(flip_a, flip_b))
+        out = _log_flips(wrong, pos_sat + neg_viol, flip_a, flip_b)
     else:
         out = wrong * log_eps
     if pos_sat > 0.0:
