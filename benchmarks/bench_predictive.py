@@ -367,8 +367,7 @@ def report(runs, table, diffs, gaps, config, seconds, command):
               "given the training missions it misclassifies, `(1 + v) / (n + 2)` (uniform "
               "prior, `docs/likelihoods.md`); the posterior over formulas is the default's, "
               "unchanged, so the decisions are the vote's wherever the posterior's formulas "
-              "misclassify "
-              "equally many training missions.",
+              "misclassify equally many training missions.",
               "- With the flip prior the posterior is nearly flat: the exact enumeration lists "
               "at most 1,000,000 specifications (`inference.exact.MAX_KEPT`) and renormalises "
               "them; *largest dropped mass* is what it left out, so those rows' probabilities "
