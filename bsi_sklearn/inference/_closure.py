@@ -108,6 +108,8 @@ class Closure:
         self._weigher = None  # its scratch space, allocated at the first state weighed
         self._exchanger = None
         self._exchanged = set()  # the weighed states whose lists hold their exchanges too
+        # The states the last completed update traversed and its floor (see `complete`).
+        self._traversed, self._traversed_floor = frozenset(), np.inf
 
     def _charge(self, spent, tied):
         # A tie's work is charged to the ties' budget while it lasts.
@@ -120,7 +122,7 @@ class Closure:
         # Weigh the neighbours of a state not weighed yet; False past the budget.
         if self._weigher is None:
             self._weigher = NeighbourWeigher(self.demos, self.model)
-        near, lps, _, _, spent = self._weigher.within(row[None, :], floor)
+        near, lps, spent = self._weigher.one(row.astype(np.int64), floor)
         self._charge(spent, tied)
         keys = self._keys_of(near, tied)
         if self.left < 0 or self.bytes_left < 0:
@@ -170,6 +172,17 @@ class Closure:
         self.given_up = True
         self._near.clear()
         self._held.clear()
+        self._traversed, self._traversed_floor = frozenset(), np.inf
+
+    def complete(self, floor):
+        """The keys of states whose every neighbour at or above ``floor`` the last update found.
+
+        The states that update traversed: it kept each of their neighbours at or above its
+        own floor among the states it returned, so where ``floor`` is no lower, a caller
+        holding those states need not weigh their neighbours again. Empty where the floor is
+        lower, or once the closure is given up.
+        """
+        return self._traversed if floor >= self._traversed_floor else frozenset()
 
     def _exchange(self, key, floor):
         # Add to a weighed state's list the states that exchange two of its subtasks' places
@@ -251,6 +264,7 @@ class Closure:
                             pending.add(k)
                 elif k not in lp_of:
                     lp_of[k] = lp
+        self._traversed, self._traversed_floor = frozenset(done), floor
         found = list(lp_of)
         width = visited.shape[1]
         return (np.frombuffer(b"".join(found), dtype=np.int16).reshape(len(found), width),

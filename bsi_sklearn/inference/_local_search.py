@@ -22,6 +22,7 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn._jit import helper
+from bsi_sklearn._unique_rows import row_keys
 from bsi_sklearn.inference._block_moves import (
     N_MOVE,
     enumerate_moves,
@@ -242,13 +243,16 @@ def _beam_search(start, demos, model, width, max_steps, scratch, bufs, moves, fl
     return beam_lp[0]
 
 
-def complete_support(uniq, scores, demos, model):
+def complete_support(uniq, scores, demos, model, complete=None):
     """The one-block neighbours that complete an MCMC posterior's support where it is flat.
 
     The neighbours of the support's most probable states (those holding ``COMPLETE_MASS`` of
     it, within the caps) less than ``COMPLETE_FLOOR`` below the most probable, with their
     exact log posterior (:func:`neighbourhood`); the caller drops those already in it.
-    Returns ``(rows, log_posteriors)``.
+    ``complete(floor)``, when given, returns the keys (:func:`~bsi_sklearn._unique_rows.row_keys`)
+    of states whose neighbours at or above ``floor`` are all in the support already (the
+    closure's, :meth:`~._closure.Closure.complete`): those are not weighed again, which
+    leaves the support completed the same. Returns ``(rows, log_posteriors)``.
     """
     probs = np.exp(scores - scores.max())
     probs /= probs.sum()
@@ -257,5 +261,10 @@ def complete_support(uniq, scores, demos, model):
         demos.truth_t.shape[1]
     n_src = min(int(np.searchsorted(np.cumsum(probs[order]), COMPLETE_MASS)) + 1,
                 max(1, int(COMPLETE_WORK // cost)), COMPLETE_SOURCES, len(order))
-    sources = np.ascontiguousarray(uniq[order[:n_src]], dtype=np.int64)
-    return neighbourhood(sources, demos, model, scores.max() - COMPLETE_FLOOR)
+    floor = scores.max() - COMPLETE_FLOOR
+    picked = order[:n_src]
+    known = complete(floor) if complete is not None else frozenset()
+    if known:
+        picked = picked[[key not in known for key in row_keys(uniq[picked])]]
+    sources = np.ascontiguousarray(uniq[picked], dtype=np.int64)
+    return neighbourhood(sources, demos, model, floor)

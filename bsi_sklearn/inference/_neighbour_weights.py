@@ -125,6 +125,17 @@ class NeighbourWeigher:
         self.out = np.empty((n_neighbours_max(model.n_g, model.n), n_cols), dtype=np.int64)
         self.out_lp = np.empty(self.out.shape[0])
 
+    def one(self, row, floor):
+        """The neighbours of one row (int64, contiguous) at or above ``floor``.
+
+        ``(neighbours as int16, log_posteriors, work)``: :meth:`within` of ``row[None, :]``
+        without its per-call lists, for a caller weighing states one at a time.
+        """
+        m, weighed = _weigh(row, self.demos, self.model, float(floor), self.bufs, self.work,
+                            self.scratch, self.out, self.out_lp)
+        return (self.out[:m].astype(np.int16), self.out_lp[:m].copy(),
+                self.per_source + weighed * self.per_kept)
+
     def within(self, rows, floor, max_work=np.inf):
         """:func:`neighbours_within` of ``rows``."""
         rows = np.ascontiguousarray(rows, dtype=np.int64)

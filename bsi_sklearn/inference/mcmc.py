@@ -428,7 +428,11 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
     stopping = {"rounds": record, "stopped_early": done < plan[-1],
                 "negligible_burn_in": int(skip),
                 "restarted": restarted, "lost_chains": [int(k) for k in np.flatnonzero(~live)]}
-    return results, visited, counts, (shares, probs), visited_lp, stopping, near, per_chain
+    # What the support holds whole, the neighbours above a floor of the states the update that
+    # found `near` traversed: nothing once the closure is given up (then `near` is None).
+    complete = closure.complete if near is not None else None
+    return (results, visited, counts, (shares, probs), visited_lp, stopping, near, per_chain,
+            complete)
 
 
 def _scored_record(results, scored, demos, model):
@@ -534,8 +538,8 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     else:
         runs = [ChainRun(int(seed), demos, model, betas, optimum, burn_in=int(burn_in),
                          **chain) for seed in seeds]
-    results, visited, counts, counted, visited_lp, stopping, near, per_chain = _run_rounds(
-        runs, plan, demos, model, n_jobs, verbose)
+    (results, visited, counts, counted, visited_lp, stopping, near, per_chain,
+     complete) = _run_rounds(runs, plan, demos, model, n_jobs, verbose)
     # The support: the visited states, the optimum, what the last round found one block from
     # the visited states, and the neighbourhood of the most probable.
     support = np.concatenate([visited, optimum[None, :]])
@@ -545,7 +549,7 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         support = np.concatenate([support, near[0]])
         support_lp = np.concatenate([support_lp, near[1]])
         counts = np.concatenate([counts, np.zeros(len(near[0]), dtype=np.int64)])
-    extra, extra_lp = complete_support(support, support_lp, demos, model)
+    extra, extra_lp = complete_support(support, support_lp, demos, model, complete)
     uniq, counts, inverse = unique_states(
         np.concatenate([support, extra]),
         np.concatenate([counts, np.zeros(len(extra), dtype=np.int64)]), return_inverse=True)

@@ -8,7 +8,7 @@ the local search's from-scratch scores) and, from the ties of the best, ``exchan
 import numpy as np
 import pytest
 
-from bsi_sklearn.inference import _closure
+from bsi_sklearn.inference import _closure, _local_search
 from bsi_sklearn.inference._closure import (
     CLOSURE_EXPAND,
     CLOSURE_FLOOR,
@@ -17,6 +17,7 @@ from bsi_sklearn.inference._closure import (
     found_states,
 )
 from bsi_sklearn.inference._exchanges import ExchangeWeigher, exchange_neighbours
+from bsi_sklearn.inference._local_search import COMPLETE_FLOOR, complete_support
 from bsi_sklearn.inference._neighbour_weights import weigh_neighbours
 from bsi_sklearn.inference.mcmc import deduplicate_demos, score_states, unique_states
 from bsi_sklearn.model import make_model
@@ -148,8 +149,8 @@ def test_ties_are_weighed_beyond_the_closure_budget_within_their_own():
 def test_each_state_is_weighed_once(problem, monkeypatch):
     model, demos, rows, lp = problem
     calls = []
-    real = _closure.NeighbourWeigher.within
-    monkeypatch.setattr(_closure.NeighbourWeigher, "within",
+    real = _closure.NeighbourWeigher.one
+    monkeypatch.setattr(_closure.NeighbourWeigher, "one",
                         lambda self, r, *a: calls.append(r.tobytes()) or real(self, r, *a))
     closure = Closure(demos, model)
     closure.update(rows[:5], lp[:5], np.zeros(5, dtype=np.int64))
@@ -259,3 +260,45 @@ def test_a_plateau_too_large_for_the_budget_is_given_up_at_once():
     assert closure.given_up
     spent = 1.5 * per_tie - closure.tied_left - closure.left
     assert spent < 2 * per_tie < whole  # one tie weighed, not three
+
+
+@pytest.mark.parametrize("prior", ["sets_of_chains", "forest"])
+def test_complete_support_skips_what_the_closure_holds_whole(prior):
+    # The states the last update traversed have every neighbour above its floor among the
+    # states it found: completing the support without weighing them again (complete=) gives
+    # the same support and scores as weighing every source, and weighs fewer sources.
+    rng = np.random.default_rng(5)
+    model = make_model(prior=prior, likelihood="ci", n_globals=3, n_subtasks=4, epsilon=0.2)
+    truth = (rng.random((30, 3 + 4 + 16)) < 0.85).astype(np.uint8)
+    demos = deduplicate_demos(truth, (rng.random(30) < 0.6).astype(np.int64))
+    rows, _ = unique_states(np.array([join_state(*draw_hypothesis(model, rng))
+                                      for _ in range(8)], dtype=np.int16), np.ones(8))
+    rows = rows[np.isfinite(score_states(rows.astype(np.int64), demos, model))]
+    lp = score_states(rows.astype(np.int64), demos, model)
+    closure = Closure(demos, model)
+    near = closure.update(rows, lp, np.zeros(len(rows), dtype=np.int64))
+    support = np.concatenate([rows, near[0]])
+    support_lp = np.concatenate([lp, near[1]])
+    floor = float(support_lp.max()) - COMPLETE_FLOOR
+    assert len(closure.complete(floor)) >= len(rows)  # the visited states at least
+    # below the update's own floor (its best before it ran, less CLOSURE_FLOOR) nothing is
+    # known whole
+    below = float(lp.max()) - CLOSURE_FLOOR - 1e-6
+    assert closure.complete(below) == frozenset()
+    sources = []
+    real = _local_search.neighbourhood
+
+    def counted(src, *a):
+        sources.append(len(src))
+        return real(src, *a)
+
+    def completed(complete):
+        extra, extra_lp = complete_support(support, support_lp, demos, model, complete)
+        return {r.tobytes(): s for r, s in zip(np.concatenate([support, extra]),
+                                               np.concatenate([support_lp, extra_lp]))}
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(_local_search, "neighbourhood", counted)
+        every, skipped = completed(None), completed(closure.complete)
+    assert every == skipped
+    assert sources[1] < sources[0]

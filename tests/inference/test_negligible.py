@@ -120,7 +120,7 @@ def test_a_chain_stuck_below_the_bound_goes_on_from_the_best_state():
     assert lp - score_states(stuck[None, :].astype(np.int16), demos, model)[0] > \
         negligible_margin(n_g, 0)
     runs = [ChainRun(s, demos, model, np.ones(1), optimum if s else stuck) for s in range(3)]
-    results, visited, counts, _, visited_lp, stopping, _, _ = _run_rounds(
+    results, visited, counts, _, visited_lp, stopping, _, _, _ = _run_rounds(
         runs, [200], demos, model, 1, 0)
     assert stopping["restarted"] and stopping["lost_chains"] == []
     assert len(results) == 3 and all(len(r.trace_lp) == 200 for r in results)
