@@ -258,9 +258,11 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         - ``betas``: the tempering ladder the chains recorded on; ``ladder``: with
           ``n_temperatures="auto"``, the pilot's ``default_betas``, ``pilot_rejection`` (mean
           rejection probability of each pair's swaps over the pilot's second half, the
-          chains pooled) and ``barrier`` (their sum), else ``None``; ``swap_rate`` (chains x
-          rung pairs): accepted swaps after the pilot; ``burn_in_per_chain``: sweeps each
-          chain discarded, the pilot's included;
+          chains pooled), ``barrier`` (their sum) and ``restarted`` (the chains whose beta =
+          1 replica ended the pilot so far below the best chain's that their samples would
+          provably hold no mass: they go on from its state), else ``None``; ``swap_rate``
+          (chains x rung pairs): accepted swaps after the pilot; ``burn_in_per_chain``:
+          sweeps each chain discarded, the pilot's included;
         - ``acceptance_rate`` (and ``_per_chain``): fraction of the beta = 1 replica's block
           updates that changed its state; ``n_updates``: block updates of all replicas;
         - ``n_visited``: states the chains recorded; ``n_added``: states of ``posterior_``

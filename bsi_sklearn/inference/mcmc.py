@@ -233,16 +233,23 @@ class ChainRun:
         run.pilot_updates = self.pilot_updates + int(updates) * len(self.betas)
         return run
 
-    def restarted_at(self, row):
+    def restarted_at(self, row, betas=None):
         """A chain going on from ``row`` (every rung), with this one's generator.
 
-        Its sweeps so far count as burned; its record is dropped.
+        On the ladder ``betas`` (default: this one's). Its sweeps so far count as burned; its
+        record is dropped.
         """
         sweep, _, _, _, updates, _ = self.loop.counters.tolist()
-        run = ChainRun(self.rng, self.demos, self.model, self.betas, row, burn_in=0)
+        run = ChainRun(self.rng, self.demos, self.model,
+                       self.betas if betas is None else betas, row, burn_in=0)
         run.pilot_sweeps = self.pilot_sweeps + int(sweep)
         run.pilot_updates = self.pilot_updates + int(updates) * len(self.betas)
         return run
+
+    def coldest(self):
+        """The beta = 1 replica's hypothesis now, as one row (int64)."""
+        r = int(self.loop.slot[0])
+        return join_state(self.state.tau[r], self.state.w1[r], self.state.parent[r])
 
     def discard(self):
         """Drop the record so far; its samples count as burned."""
@@ -332,6 +339,22 @@ def _sweep_work(demos, model):
     # One sweep of one replica, as sampling_count counts it: every candidate over every row.
     n_g, n = model.n_g, model.n
     return (n_g + n + n * (n + 1)) * demos.truth_t.shape[1]
+
+
+def _after_pilot(pilots, betas, demos, model, chain):
+    # Each pilot goes on on the adapted ladder from its replicas (ChainRun.ladder_from),
+    # unless its beta = 1 replica ended more than the negligible margin below the best
+    # pilot's: then from that replica's state on every rung (restarted_at). Its samples from
+    # where it is would provably hold no mass, and the round would be run again once they did
+    # (_run_rounds' restart: on event logs, chains stuck thousands of nats below another's
+    # mode). Returns the runs and the restarted chains' indices.
+    rows = np.stack([p.coldest() for p in pilots])
+    lp = score_states(rows, demos, model)
+    floor = lp.max() - negligible_margin(model.n_g, model.n)
+    best = rows[int(np.argmax(lp))]
+    runs = [p.ladder_from(betas, burn_in=0, **chain) if v >= floor
+            else p.restarted_at(best, betas) for p, v in zip(pilots, lp.tolist())]
+    return runs, [int(i) for i in np.flatnonzero(lp < floor)]
 
 
 def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
@@ -464,7 +487,9 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     the mass (:mod:`bsi_sklearn.inference._negligible`: modes apart by misclassified
     demonstrations, thousands of nats on event logs) goes on from that state, once, after
     which the round is run again and the record so far is burn-in for every chain
-    (``diagnostics["stopping"]["restarted"]``); samples still below are burned alike, and a
+    (``diagnostics["stopping"]["restarted"]``); a chain whose beta = 1 replica ends the pilot
+    that far below the best pilot's goes on from that one's state before anything is recorded
+    (``diagnostics["ladder"]["restarted"]``); samples still below are burned alike, and a
     chain that stays there is left out (``["lost_chains"]``). The reported
     posterior is the exact posterior restricted to the states the chains recorded, the
     optimum, the neighbours of the recorded states that the stopping rule counted as found
@@ -534,7 +559,7 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         ladder = {"default_betas": betas, "pilot_rejection": rejection,
                   "barrier": float(rejection.sum())}
         betas = adapted_ladder(betas, rejection)
-        runs = [p.ladder_from(betas, burn_in=0, **chain) for p in pilots]
+        runs, ladder["restarted"] = _after_pilot(pilots, betas, demos, model, chain)
     else:
         runs = [ChainRun(int(seed), demos, model, betas, optimum, burn_in=int(burn_in),
                          **chain) for seed in seeds]

@@ -13,6 +13,7 @@ import pytest
 from bsi_sklearn.inference._negligible import NEGLIGIBLE_MASS, common_burn_in, negligible_margin
 from bsi_sklearn.inference.mcmc import (
     ChainRun,
+    _after_pilot,
     _run_rounds,
     deduplicate_demos,
     deterministic_optimum,
@@ -126,3 +127,44 @@ def test_a_chain_stuck_below_the_bound_goes_on_from_the_best_state():
     assert len(results) == 3 and all(len(r.trace_lp) == 200 for r in results)
     assert visited_lp.min() >= visited_lp.max() - negligible_margin(n_g, 0)
     assert results[0].n_burned == 200 and counts.sum() == 600
+
+
+def _stuck_problem():
+    # test_a_chain_stuck_below_the_bound_goes_on_from_the_best_state's problem: the optimum,
+    # and a state 1,442 nats below it (a chain there does not climb back untempered).
+    n_g, n_v = 80, 40
+    truth = np.ones((60, n_g), dtype=np.uint8)
+    truth[0, n_g - n_v:] = 0
+    model = make_model(prior="sets_of_chains", likelihood="cb", n_globals=n_g, n_subtasks=0)
+    demos = deduplicate_demos(truth, np.ones(60, dtype=np.int64))
+    optimum, _ = deterministic_optimum(demos, model)
+    stuck = optimum.astype(np.int64).copy()
+    stuck[n_g - n_v:n_g] = 0
+    return model, demos, optimum.astype(np.int64), stuck
+
+
+def test_a_pilot_left_below_the_bound_goes_on_from_the_best_pilot_s_state():
+    # After the pilot, a chain whose beta = 1 replica is more than the margin below the best
+    # pilot's starts the recorded sweeps from that state on every rung of the adapted
+    # ladder, with its own generator; a chain within the margin goes on from its replicas.
+    model, demos, optimum, stuck = _stuck_problem()
+    pilot_betas, betas = np.array([1.0, 0.5, 0.25]), np.array([1.0, 0.25])
+    pilots = [ChainRun(s, demos, model, pilot_betas, optimum if s else stuck)
+              for s in range(3)]
+    for p in pilots:
+        p.advance(20)
+    assert [p.coldest().tolist() for p in pilots[:1]] == [stuck.tolist()]  # still stuck
+    twin = ChainRun(0, demos, model, pilot_betas, stuck).advance(20)
+    runs, restarted = _after_pilot(pilots, betas, demos, model, {})
+    assert restarted == [0]
+    rows = np.stack([p.coldest() for p in pilots])
+    best = rows[int(np.argmax(score_states(rows, demos, model)))]
+    assert np.array_equal(runs[0].state.tau, np.tile(best[:80], (2, 1)))
+    assert runs[0].pilot_sweeps == 20 and np.array_equal(runs[0].betas, betas)
+    assert runs[0].rng.random() == twin.rng.random()  # the pilot's generator, where it was
+    for run, pilot in zip(runs[1:], pilots[1:]):
+        assert run.pilot_sweeps == 20 and np.array_equal(run.betas, betas)
+    # every pilot within the margin: nothing restarted, each goes on from its own replicas
+    runs, restarted = _after_pilot(pilots[1:], betas, demos, model, {})
+    assert restarted == [] and all(np.array_equal(r.state.tau[0], p.coldest()[:80])
+                                   for r, p in zip(runs, pilots[1:]))
