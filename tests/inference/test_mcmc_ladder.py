@@ -92,6 +92,7 @@ def test_the_pilot_adapts_the_default_ladder_only():
     assert np.array_equal(ladder["default_betas"], default)
     assert ladder["pilot_rejection"].shape == (len(default) - 1,)
     assert ladder["barrier"] == pytest.approx(ladder["pilot_rejection"].sum())
+    assert ladder["restarted"] == []  # every pilot ends within the margin of the best
     assert np.array_equal(diag["betas"], adapted_ladder(default, ladder["pilot_rejection"]))
     assert diag["swap_rate"].shape == (4, len(diag["betas"]) - 1)
     # The pilot's sweeps are burned sweeps.
