@@ -105,33 +105,12 @@ def test_a_restarted_chain_is_a_fresh_chain_from_the_row_with_the_same_generator
     assert a.n_updates == b.n_updates + old.result().n_updates
 
 
-def test_a_chain_stuck_below_the_bound_goes_on_from_the_best_state():
+def _stuck_problem():
     # 60 acceptable demonstrations, 80 global candidates; the first violates 40 of them. CB's
     # optimum keeps all 80 and gives the first up; a chain started from the 40 others, keeping
     # it, would have to add 40 clauses one at a time, each costing |log eps| until the last:
-    # 1,442 nats below, where the bound is 95. Untempered, it never gets there.
-    n_g, n_v = 80, 40
-    truth = np.ones((60, n_g), dtype=np.uint8)
-    truth[0, n_g - n_v:] = 0
-    model = make_model(prior="sets_of_chains", likelihood="cb", n_globals=n_g, n_subtasks=0)
-    demos = deduplicate_demos(truth, np.ones(60, dtype=np.int64))
-    optimum, lp = deterministic_optimum(demos, model)
-    stuck = optimum.astype(np.int64).copy()
-    stuck[n_g - n_v:n_g] = 0
-    assert lp - score_states(stuck[None, :].astype(np.int16), demos, model)[0] > \
-        negligible_margin(n_g, 0)
-    runs = [ChainRun(s, demos, model, np.ones(1), optimum if s else stuck) for s in range(3)]
-    results, visited, counts, _, visited_lp, stopping, _, _, _ = _run_rounds(
-        runs, [200], demos, model, 1, 0)
-    assert stopping["restarted"] and stopping["lost_chains"] == []
-    assert len(results) == 3 and all(len(r.trace_lp) == 200 for r in results)
-    assert visited_lp.min() >= visited_lp.max() - negligible_margin(n_g, 0)
-    assert results[0].n_burned == 200 and counts.sum() == 600
-
-
-def _stuck_problem():
-    # test_a_chain_stuck_below_the_bound_goes_on_from_the_best_state's problem: the optimum,
-    # and a state 1,442 nats below it (a chain there does not climb back untempered).
+    # 1,442 nats below, where the bound is 95. Untempered, it never gets there. Returns the
+    # model, the demonstrations, the optimum and that state (int64 rows).
     n_g, n_v = 80, 40
     truth = np.ones((60, n_g), dtype=np.uint8)
     truth[0, n_g - n_v:] = 0
@@ -141,6 +120,20 @@ def _stuck_problem():
     stuck = optimum.astype(np.int64).copy()
     stuck[n_g - n_v:n_g] = 0
     return model, demos, optimum.astype(np.int64), stuck
+
+
+def test_a_chain_stuck_below_the_bound_goes_on_from_the_best_state():
+    model, demos, optimum, stuck = _stuck_problem()
+    n_g = model.n_g
+    lp = score_states(optimum[None, :], demos, model)[0]
+    assert lp - score_states(stuck[None, :], demos, model)[0] > negligible_margin(n_g, 0)
+    runs = [ChainRun(s, demos, model, np.ones(1), optimum if s else stuck) for s in range(3)]
+    results, visited, counts, _, visited_lp, stopping, _, _, _ = _run_rounds(
+        runs, [200], demos, model, 1, 0)
+    assert stopping["restarted"] and stopping["lost_chains"] == []
+    assert len(results) == 3 and all(len(r.trace_lp) == 200 for r in results)
+    assert visited_lp.min() >= visited_lp.max() - negligible_margin(n_g, 0)
+    assert results[0].n_burned == 200 and counts.sum() == 600
 
 
 def test_a_pilot_left_below_the_bound_goes_on_from_the_best_pilot_s_state():
@@ -162,7 +155,7 @@ def test_a_pilot_left_below_the_bound_goes_on_from_the_best_pilot_s_state():
     assert np.array_equal(runs[0].state.tau, np.tile(best[:80], (2, 1)))
     assert runs[0].pilot_sweeps == 20 and np.array_equal(runs[0].betas, betas)
     assert runs[0].rng.random() == twin.rng.random()  # the pilot's generator, where it was
-    for run, pilot in zip(runs[1:], pilots[1:]):
+    for run in runs[1:]:
         assert run.pilot_sweeps == 20 and np.array_equal(run.betas, betas)
     # every pilot within the margin: nothing restarted, each goes on from its own replicas
     runs, restarted = _after_pilot(pilots[1:], betas, demos, model, {})
