@@ -139,21 +139,19 @@ class NeighbourWeigher:
     def within(self, rows, floor, max_work=np.inf):
         """:func:`neighbours_within` of ``rows``."""
         rows = np.ascontiguousarray(rows, dtype=np.int64)
-        demos, model, out, out_lp = self.demos, self.model, self.out, self.out_lp
         found, scores, sources = [], [], []
         spent, done = 0.0, 0
         for i in range(rows.shape[0]):
             if spent > max_work:
                 break
-            m, weighed = _weigh(rows[i], demos, model, float(floor), self.bufs, self.work,
-                                self.scratch, out, out_lp)
-            found.append(out[:m].astype(np.int16))
-            scores.append(out_lp[:m].copy())
-            sources.append(np.full(m, i, dtype=np.int64))
-            spent += self.per_source + weighed * self.per_kept
+            near, lps, work = self.one(rows[i], floor)
+            found.append(near)
+            scores.append(lps)
+            sources.append(np.full(len(near), i, dtype=np.int64))
+            spent += work
             done += 1
         if not found:
-            return (np.empty((0, out.shape[1]), dtype=np.int16), np.empty(0),
+            return (np.empty((0, self.out.shape[1]), dtype=np.int16), np.empty(0),
                     np.empty(0, dtype=np.int64), done, spent)
         return (np.concatenate(found), np.concatenate(scores), np.concatenate(sources), done,
                 spent)

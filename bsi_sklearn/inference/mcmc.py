@@ -451,11 +451,10 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
     stopping = {"rounds": record, "stopped_early": done < plan[-1],
                 "negligible_burn_in": int(skip),
                 "restarted": restarted, "lost_chains": [int(k) for k in np.flatnonzero(~live)]}
-    # What the support holds whole, the neighbours above a floor of the states the update that
-    # found `near` traversed: nothing once the closure is given up (then `near` is None).
-    complete = closure.complete if near is not None else None
+    # What the support holds whole: the neighbours above a floor of the states the update that
+    # found `near` traversed (none where no update ran, or once the closure is given up).
     return (results, visited, counts, (shares, probs), visited_lp, stopping, near, per_chain,
-            complete)
+            closure.complete)
 
 
 def _scored_record(results, scored, demos, model):

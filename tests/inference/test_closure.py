@@ -25,16 +25,20 @@ from bsi_sklearn.model.priors import draw_hypothesis
 from bsi_sklearn.model.state_layout import join_state
 
 
-@pytest.fixture
-def problem():
-    rng = np.random.default_rng(3)
-    model = make_model(prior="sets_of_chains", likelihood="ci", n_globals=3, n_subtasks=4,
-                       epsilon=0.2)
+def _random_problem(prior, seed):
+    # CI on 30 random demonstrations (3 globals, 4 subtasks) and 8 states drawn from the prior.
+    rng = np.random.default_rng(seed)
+    model = make_model(prior=prior, likelihood="ci", n_globals=3, n_subtasks=4, epsilon=0.2)
     truth = (rng.random((30, 3 + 4 + 16)) < 0.85).astype(np.uint8)
     demos = deduplicate_demos(truth, (rng.random(30) < 0.6).astype(np.int64))
     rows, _ = unique_states(np.array([join_state(*draw_hypothesis(model, rng))
                                       for _ in range(8)], dtype=np.int16), np.ones(8))
     return model, demos, rows, score_states(rows.astype(np.int64), demos, model)
+
+
+@pytest.fixture
+def problem():
+    return _random_problem("sets_of_chains", 3)
 
 
 def _reference(rows, lp, first, demos, model):
@@ -267,14 +271,8 @@ def test_complete_support_skips_what_the_closure_holds_whole(prior):
     # The states the last update traversed have every neighbour above its floor among the
     # states it found: completing the support without weighing them again (complete=) gives
     # the same support and scores as weighing every source, and weighs fewer sources.
-    rng = np.random.default_rng(5)
-    model = make_model(prior=prior, likelihood="ci", n_globals=3, n_subtasks=4, epsilon=0.2)
-    truth = (rng.random((30, 3 + 4 + 16)) < 0.85).astype(np.uint8)
-    demos = deduplicate_demos(truth, (rng.random(30) < 0.6).astype(np.int64))
-    rows, _ = unique_states(np.array([join_state(*draw_hypothesis(model, rng))
-                                      for _ in range(8)], dtype=np.int16), np.ones(8))
-    rows = rows[np.isfinite(score_states(rows.astype(np.int64), demos, model))]
-    lp = score_states(rows.astype(np.int64), demos, model)
+    model, demos, rows, lp = _random_problem(prior, 5)
+    rows, lp = rows[np.isfinite(lp)], lp[np.isfinite(lp)]
     closure = Closure(demos, model)
     near = closure.update(rows, lp, np.zeros(len(rows), dtype=np.int64))
     support = np.concatenate([rows, near[0]])
