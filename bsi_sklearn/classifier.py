@@ -119,9 +119,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         ``log eps = -4 log(2) (|T| + |Omega| + |Omega|(|Omega|-1)/2)``.
     flip_prior : (float, float), default=None
         ``(a, b)``: with ``"ci"`` or ``"calibrated"``, labels are flipped at a rate with a
-        Beta(a, b) prior, integrated out (``docs/likelihoods.md``; e.g. ``(1, 9)``: keep
-        ``b > a``). With ``"calibrated"`` a flipped label then costs about ``log(n / v)``
-        nats (``v`` of ``n`` labels misclassified), not ``epsilon``'s penalty.
+        Beta(a, b) prior restricted to (0, 1/2) (mostly right labels: no formula explains
+        them as mostly flipped), integrated out (``docs/likelihoods.md``; e.g. ``(1, 9)``).
+        With ``"calibrated"`` a flipped label then costs about ``log(n / v)`` nats (``v`` of
+        ``n`` labels misclassified), not ``epsilon``'s penalty.
     vote : {"predictive", "satisfaction"}, default="predictive"
         What :meth:`predict_proba` returns. ``"predictive"``: P(label = acceptable | X, data),
         over the formulas *and* the label noise (a formula's violators are labelled acceptable
@@ -131,9 +132,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     label_noise : {"learned", "likelihood"}, default="learned"
         The flip rate of each formula in the predictive (``vote="predictive"``).
         ``"learned"``: its posterior mean given the training demonstrations the formula
-        misclassifies, ``(a + v) / (a + b + n)``, with ``(a, b)`` the ``flip_prior`` or, without
-        one, the uniform prior ``(1, 1)``: the specification is inferred by the likelihood, the
-        noise from the labels given the specification (a cut model, ``docs/likelihoods.md``).
+        misclassifies, ``(a + v) / (a + b + n)`` under the uniform prior ``(a, b) = (1, 1)``
+        or, with a ``flip_prior``, the mean of its posterior restricted to (0, 1/2): the
+        specification is inferred by the likelihood, the noise from the labels given the
+        specification (a cut model, ``docs/likelihoods.md``).
         ``"likelihood"``: the likelihood's ``epsilon`` (CB's default ``epsilon`` is a penalty of
         about ``e^-55``, not a rate, so its probabilities are nearly 0 or 1). Read at
         prediction time.
@@ -471,7 +473,7 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         model = make_model(prior=self.prior, likelihood=self.likelihood, n_globals=n_g,
                            n_subtasks=n, p_global=self.p_global, p_eventual=self.p_eventual,
                            p_part=self.p_part, n_new=self.n_new, epsilon=self.epsilon,
-                           flip_prior=self.flip_prior, p_patterns=p_pat)
+                           flip_prior=self.flip_prior, p_patterns=p_pat, n_demos=len(y01))
         policy = InferencePolicy(
             inference=self.inference, prior=self.prior,
             max_exact_hypotheses=self.max_exact_hypotheses, tol=self.tol,
@@ -549,10 +551,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         ...                     flip_prior=(1, 9), random_state=0).fit(X, [1, 0])
         >>> clf.predict_proba(X).round(3)                 # the labels may be flipped
         array([[0.103, 0.897],
-               [0.845, 0.155]])
+               [0.846, 0.154]])
         >>> clf.set_params(vote="satisfaction").predict_proba(X).round(3)  # the vote
-        array([[0.02 , 0.98 ],
-               [0.903, 0.097]])
+        array([[0.019, 0.981],
+               [0.904, 0.096]])
         """
         if self._by_satisfaction():
             return self.posterior_.predict_proba(self._validated(X))

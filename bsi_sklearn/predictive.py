@@ -4,8 +4,10 @@ Every specification ``phi`` of the posterior labels a demonstration it satisfies
 with probability ``1 - rho_phi`` and one it violates acceptable with probability ``rho_phi``
 (the flip rate). ``rho_phi`` is the likelihood's ``epsilon`` for CB, CI and the calibrated
 likelihood; with ``flip_prior=(a, b)`` it is the posterior mean of the flip rate given ``phi``,
-``(a + v_phi) / (a + b + n)``, where ``v_phi`` is the number of training demonstrations
-``phi`` misclassifies. The predictive is the posterior mixture of these label models
+Beta(a + v_phi, b + n - v_phi) restricted to (0, 1/2) as the likelihood's prior is
+(:mod:`bsi_sklearn.model.flip_rate`), where ``v_phi`` is the number of training
+demonstrations ``phi`` misclassifies; without one (``label_noise="learned"``), the uniform
+prior's ``(1 + v_phi) / (2 + n)``. The predictive is the posterior mixture of these label models
 (derivation: ``docs/likelihoods.md``, "The posterior predictive").
 
 The specifications are grouped by their flip rate (one group for a fixed ``epsilon``, one per
@@ -20,6 +22,7 @@ import numpy as np
 from numba import njit
 
 from bsi_sklearn.model.clauses import pack_rows
+from bsi_sklearn.model.flip_rate import truncated_mean
 from bsi_sklearn.satisfaction import satisfied_masses, satisfies
 
 __all__ = ["LabelNoise", "LEARNED_PRIOR", "fixed_noise", "learned_noise", "misclassified",
@@ -54,21 +57,27 @@ def fixed_noise(n_specs, log_eps):
     return LabelNoise(np.zeros(n_specs, dtype=np.int64), np.array([log_eps]), np.array([log1m]))
 
 
-def learned_noise(violations, n_demos, flip_prior):
+def learned_noise(violations, n_demos, flip_prior, bounded=False):
     """Each specification's flip rate given the ``violations`` it makes on the training data.
 
     A specification misclassifying ``v`` of ``n`` demonstrations has the flip rate's posterior
     Beta(a + v, b + n - v); the probability that the next label is flipped is its mean,
-    ``(a + v) / (a + b + n)``.
+    ``(a + v) / (a + b + n)``, or with ``bounded`` (the likelihood's flip prior, which keeps
+    the rate under one half) the mean of that Beta restricted to (0, 1/2).
 
     Examples
     --------
     >>> noise = learned_noise([0, 2, 0], 8, (1.0, 9.0))
     >>> noise.group.tolist(), np.exp(noise.log_rho).round(4).tolist()
     ([0, 1, 0], [0.0556, 0.1667])
+    >>> np.exp(learned_noise([8], 8, (1.0, 9.0), bounded=True).log_rho).round(4).tolist()
+    [0.4073]
     """
     a, b = (float(x) for x in flip_prior)
     values, group = np.unique(np.asarray(violations, dtype=float), return_inverse=True)
+    if bounded:
+        rho = truncated_mean(a + values, b + n_demos - values)
+        return LabelNoise(group.ravel().astype(np.int64), np.log(rho), np.log1p(-rho))
     log_total = np.log(a + b + n_demos)
     return LabelNoise(group.ravel().astype(np.int64), np.log(a + values) - log_total,
                       np.log(b + n_demos - values) - log_total)
@@ -123,7 +132,8 @@ def label_noise(violations, n_demos, log_eps, flip_prior, mode="learned"):
 
     ``mode="learned"``: each specification's flip rate given the training demonstrations it
     misclassifies (``violations``, per specification), under the prior ``flip_prior`` where
-    the likelihood has one and the uniform Beta(1, 1) otherwise. ``mode="likelihood"``: the
+    the likelihood has one (restricted to (0, 1/2), as there) and the uniform Beta(1, 1)
+    otherwise. ``mode="likelihood"``: the
     likelihood's own, ``epsilon`` (or, with ``flip_prior``, the same as ``"learned"``).
 
     Examples
@@ -137,8 +147,9 @@ def label_noise(violations, n_demos, log_eps, flip_prior, mode="learned"):
     violations = np.asarray(violations, dtype=float)
     if mode == "likelihood" and flip_prior is None:
         return fixed_noise(len(violations), log_eps)
-    return learned_noise(violations, n_demos,
-                         LEARNED_PRIOR if flip_prior is None else flip_prior)
+    if flip_prior is None:
+        return learned_noise(violations, n_demos, LEARNED_PRIOR)
+    return learned_noise(violations, n_demos, flip_prior, bounded=True)
 
 
 def predictive_log_proba(masks, probs, truth_words, noise):

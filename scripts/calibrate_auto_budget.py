@@ -43,7 +43,7 @@ def _problem(clf, X, y):
     model = make_model(prior=clf.prior, likelihood=clf.likelihood, n_globals=roles.n_globals,
                        n_subtasks=roles.n_subtasks, p_global=clf.p_global,
                        p_eventual=clf.p_eventual, p_part=clf.p_part, n_new=clf.n_new,
-                       epsilon=clf.epsilon, flip_prior=clf.flip_prior)
+                       epsilon=clf.epsilon, flip_prior=clf.flip_prior, n_demos=len(y))
     return clause_truth(traces, roles), model
 
 

@@ -23,6 +23,7 @@ from bsi_sklearn import BSIClassifier
 from bsi_sklearn.inference.diagnostics import total_variation
 from bsi_sklearn.inference.exact import exact_posterior
 from bsi_sklearn.model import make_model
+from bsi_sklearn.model.flip_rate import log_flip_marginals
 from bsi_sklearn.model.likelihood import (
     default_log_epsilon,
     flip_rate_posterior,
@@ -39,10 +40,11 @@ NEW = [("calibrated", None), ("ci", (1.0, 9.0)), ("calibrated", (1.0, 9.0)), ("c
 
 def _kernel(sat, y, n_conj, log_eps, likelihood, flip_prior):
     sat, y = np.asarray(sat, bool), np.asarray(y)
-    a, b = flip_prior if flip_prior is not None else (0.0, 0.0)
+    flips = (log_flip_marginals(len(y), *flip_prior) if flip_prior is not None
+             else np.zeros(0))
     return log_likelihood(float((sat & (y == 1)).sum()), float((sat & (y == 0)).sum()),
                           float((y == 1).sum()), float((y == 0).sum()), n_conj, log_eps,
-                          likelihood_code(likelihood, flip_prior), a, b)
+                          likelihood_code(likelihood, flip_prior), flips)
 
 
 @pytest.mark.parametrize("likelihood, flip_prior", NEW)
@@ -61,7 +63,8 @@ def test_kernel_matches_the_per_demonstration_reference(likelihood, flip_prior):
 
 @pytest.mark.parametrize("a, b", [(1.0, 1.0), (1.0, 9.0), (0.5, 0.5), (3.0, 0.8)])
 def test_integrated_flip_rate_is_the_integral_over_epsilon(a, b):
-    # The product of per-demonstration CI likelihoods, integrated numerically over the Beta.
+    # The product of per-demonstration CI likelihoods, integrated numerically over the Beta
+    # restricted to (0, 1/2), divided by its mass there.
     rng = np.random.default_rng(int(10 * a + b))
     for _ in range(5):
         n = int(rng.integers(1, 25))
@@ -72,7 +75,8 @@ def test_integrated_flip_rate_is_the_integral_over_epsilon(a, b):
         def integrand(eps, wrong=wrong, n=n):
             return eps**wrong * (1 - eps) ** (n - wrong) * stats.beta.pdf(eps, a, b)
 
-        value, _ = integrate.quad(integrand, 0, 1, epsabs=0, epsrel=1e-12, limit=200)
+        value, _ = integrate.quad(integrand, 0, 0.5, epsabs=0, epsrel=1e-12, limit=200)
+        value /= stats.beta.cdf(0.5, a, b)
         got = _kernel(sat, y, 3, -5.0, "ci", (a, b))
         assert got == pytest.approx(math.log(value), rel=1e-8, abs=1e-8)
         # Calibrated: each label right with 1 - eps, flipped with eps, and each correctly
@@ -158,7 +162,8 @@ def test_grouped_equals_ungrouped(seed, prior, setting, n_g, n, n_demos, frac_po
     likelihood, flip_prior = setting
     truth, y, _ = _grouped_problem(seed, prior, "cb", n_g, n, n_demos, frac_pos, p_true, None)
     model = make_model(prior=prior, likelihood=likelihood, n_globals=n_g, n_subtasks=n,
-                       epsilon=None if flip_prior else epsilon, flip_prior=flip_prior)
+                       epsilon=None if flip_prior else epsilon, flip_prior=flip_prior,
+                       n_demos=len(y))
     a = exact_posterior(truth, y, model, tol=tol)
     b = exact_posterior(truth, y, model, tol=tol, grouped=False)
     _assert_same_posterior(a, b)
@@ -172,7 +177,7 @@ def test_the_likelihood_from_counts_equals_its_table(monkeypatch, setting):
     likelihood, flip_prior = setting
     truth, y, _ = _grouped_problem(7, "sets_of_chains", "cb", 2, 4, 60, 0.6, 0.8, None)
     model = make_model(prior="sets_of_chains", likelihood=likelihood, n_globals=2,
-                       n_subtasks=4, flip_prior=flip_prior)
+                       n_subtasks=4, flip_prior=flip_prior, n_demos=len(y))
     table = exact_posterior(truth, y, model)
     monkeypatch.setattr(kernels, "MAX_CELLS", 0)
     counts = exact_posterior(truth, y, model)
@@ -182,9 +187,10 @@ def test_the_likelihood_from_counts_equals_its_table(monkeypatch, setting):
 @pytest.mark.parametrize("setting", [("cb", None), ("ci", None), *NEW])
 def test_the_bound_bounds_every_pair(setting):
     likelihood, flip_prior = setting
-    model = make_model(prior="forest", likelihood=likelihood, n_globals=1, n_subtasks=3,
-                       epsilon=None if flip_prior else 0.1, flip_prior=flip_prior)
     n_pos, n_neg, max_conj = 7, 5, 10
+    model = make_model(prior="forest", likelihood=likelihood, n_globals=1, n_subtasks=3,
+                       epsilon=None if flip_prior else 0.1, flip_prior=flip_prior,
+                       n_demos=n_pos + n_neg)
     lik = kernels.likelihood_tables(n_pos, n_neg, max_conj, model)
     for k in range(max_conj + 1):
         grid = np.array([[kernels.pair_ll(lik, k, ps, ns) for ns in range(n_neg + 1)]
@@ -226,12 +232,13 @@ def test_violation_mass_is_the_posterior_of_the_misclassified_count():
 
 
 def _flip_rate_by_integration(X, y, roles, a, b):
-    # The flip rate's marginal posterior density, summed over every specification, on a grid.
+    # The flip rate's marginal posterior density, summed over every specification, on a grid
+    # over (0, 1/2), where its prior restricts it.
     names = list(X[0].columns)
     ref = brute_force_posterior(X, y, names, roles["global_candidates"], roles["subtasks"],
                                 roles["conditions"], "sets_of_chains", "ci",
                                 flip_prior=(a, b))
-    grid = np.linspace(0, 1, 200_001)[1:-1]
+    grid = np.linspace(0, 0.5, 200_001)[1:-1]
     log_dens = np.full_like(grid, -np.inf)
     labels = np.asarray(y) == 1
     log_prior_eps = stats.beta.logpdf(grid, a, b)
@@ -263,17 +270,76 @@ def test_flip_rate_posterior_against_numerical_integration(a, b):
     assert clf.flip_rate_interval_[1] == pytest.approx(hi, abs=1e-4)
 
 
+def _restricted(alpha, beta):
+    # Beta(alpha, beta) restricted to (0, 1/2): its cdf there and its mean, by scipy.
+    dist = stats.beta(alpha, beta)
+    return (lambda x: dist.cdf(x) / dist.cdf(0.5),
+            dist.expect(lambda e: e, lb=0.0, ub=0.5, conditional=True))
+
+
 def test_flip_rate_posterior_of_one_beta_and_of_a_mixture():
     mean, (lo, hi) = flip_rate_posterior([3], [1.0], 20, (2.0, 5.0))
-    dist = stats.beta(5.0, 22.0)
-    assert mean == pytest.approx(dist.mean(), rel=1e-12)
-    assert (lo, hi) == pytest.approx(dist.ppf([0.025, 0.975]), abs=1e-10)
+    cdf, want = _restricted(5.0, 22.0)
+    assert mean == pytest.approx(want, rel=1e-10)
+    assert (cdf(lo), cdf(hi)) == pytest.approx((0.025, 0.975), abs=1e-9)
     mean, (lo, hi) = flip_rate_posterior([0, 4], [0.25, 0.75], 10, (1.0, 1.0))
-    mix_cdf = lambda x: 0.25 * stats.beta.cdf(x, 1, 11) + 0.75 * stats.beta.cdf(x, 5, 7)  # noqa: E731
+    (cdf1, mean1), (cdf5, mean5) = _restricted(1, 11), _restricted(5, 7)
+    mix_cdf = lambda x: 0.25 * cdf1(x) + 0.75 * cdf5(x)  # noqa: E731
     assert mix_cdf(lo) == pytest.approx(0.025, abs=1e-9)
     assert mix_cdf(hi) == pytest.approx(0.975, abs=1e-9)
-    assert mean == pytest.approx(0.25 / 12 + 0.75 * 5 / 12, rel=1e-12)
+    assert mean == pytest.approx(0.25 * mean1 + 0.75 * mean5, rel=1e-10)
+    assert hi < 0.5
     assert flip_rate_posterior([0], [1.0], 3, None) == (None, None)
+
+
+def test_the_flip_rate_stays_under_one_half():
+    # A formula that misclassifies every demonstration would explain the labels as well as
+    # one that misclassifies none if the rate could pass one half (each label flipped): under
+    # the restricted prior it is the least likely, and its rate's posterior stays below 1/2.
+    table = log_flip_marginals(24, 1.0, 9.0)
+    assert np.all(np.diff(table) < 0)
+    assert table[24] < table[12] < table[0]
+    mean, (lo, hi) = flip_rate_posterior([24], [1.0], 24, (1.0, 9.0))
+    assert lo < mean < hi < 0.5
+    # The table against scipy where scipy's incomplete Beta function is representable.
+    from scipy.special import betainc, betaln
+    v = np.arange(25.0)
+    want = (betaln(1 + v, 9 + 24 - v) + np.log(betainc(1 + v, 9 + 24 - v, 0.5))
+            - betaln(1, 9) - np.log(betainc(1, 9, 0.5)))
+    np.testing.assert_allclose(table, want, rtol=1e-12)
+    # Far past n / 2 it is below the smallest float and still exact in log space.
+    big = log_flip_marginals(5000, 1.0, 9.0)
+    assert np.all(np.isfinite(big)) and big[-1] < -3000
+
+
+def test_a_formula_read_upside_down_is_not_the_map():
+    # G(!p) is outside the template without negations (p never holds in the acceptable
+    # demonstrations, once or more in the others); q holds throughout every demonstration.
+    # With the flip rate free on (0, 1), F(p) (every label wrong) and G(q) & F(p) won, read as
+    # "every label flipped" (0.93 of the mass under the calibrated likelihood). Restricted to
+    # (0, 1/2), a formula misclassifying most labels is no better than one that says nothing
+    # (near eps = 1/2 every formula fits alike): never the MAP, less mass than the others.
+    rng = np.random.default_rng(0)
+    X, y = [], []
+    for i in range(24):
+        t = rng.random((6, 2)) < 0.5
+        positive = i % 2 == 0
+        t[:, 0] = False if positive else t[:, 0]
+        if not positive:
+            t[int(rng.integers(6)), 0] = True
+        t[:, 1] = True
+        X.append(t.astype(int))
+        y.append(int(positive))
+    for likelihood in ("ci", "calibrated"):
+        clf = BSIClassifier(likelihood=likelihood, flip_prior=(1, 9), inference="exact",
+                            tol=0.0, global_candidates=[1], subtasks=[0],
+                            conditions={}).fit(X, y)
+        wrong = np.array([sum(spec.satisfied_by(x) != bool(label) for x, label in zip(X, y))
+                          for spec in clf.posterior_.specifications])
+        upside_down = clf.posterior_.probabilities[wrong > 12].sum()
+        assert wrong[clf.posterior_.map_index] <= 12
+        assert upside_down < 0.5 * (1 - upside_down), (likelihood, upside_down)
+        assert clf.flip_rate_interval_[1] < 0.5
 
 
 @pytest.fixture(scope="module")

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from _reference import brute_force_posterior
 from poi_problems import make_poi_problem
-from scipy import integrate
+from scipy import integrate, stats
 
 from bsi_sklearn import BSIClassifier
 from bsi_sklearn.predictive import fixed_noise, learned_noise, predictive_log_proba
@@ -111,7 +111,8 @@ def _joint_predictive(X, y, roles, prior, a, b, X_new):
     # P(y = 1 | x, D) over the joint posterior of (specification, flip rate): the prior of
     # every specification (its likelihood on no data), times the Beta(a, b) density of the
     # flip rate and the labels' likelihood given both, integrated over the flip rate by
-    # quadrature. Nothing here uses the Beta function's closed form.
+    # quadrature over (0, 1/2), where the prior restricts it (the restricted prior's
+    # normaliser is common to every term). Nothing here uses the Beta function's closed form.
     names = list(X[0].columns)
     prior_of = _reference(X[:0], y[:0], roles, prior, "ci", names=names, flip_prior=(a, b))
     labels = np.asarray(y) == 1
@@ -124,8 +125,8 @@ def _joint_predictive(X, y, roles, prior, a, b, X_new):
             return e ** (a - 1 + v) * (1 - e) ** (b - 1 + n - v) / math.gamma(a) \
                 / math.gamma(b) * math.gamma(a + b)
 
-        z = integrate.quad(weight, 0, 1, epsabs=0, epsrel=1e-12, limit=200)[0]
-        m = integrate.quad(lambda e: e * weight(e), 0, 1, epsabs=0, epsrel=1e-12,
+        z = integrate.quad(weight, 0, 0.5, epsabs=0, epsrel=1e-12, limit=200)[0]
+        m = integrate.quad(lambda e: e * weight(e), 0, 0.5, epsabs=0, epsrel=1e-12,
                            limit=200)[0]
         sat = _satisfied(spec, X_new, names)
         num += p * np.where(sat, z - m, m)
@@ -161,7 +162,10 @@ def test_flip_rates_per_specification_match_the_engines_violation_mass():
     labels = np.asarray(y) == 1
     v = np.array([(_satisfied(s, X, names) != labels).sum() for s in post.specifications])
     rho = np.exp(noise.log_rho[noise.group])
-    np.testing.assert_allclose(rho, (1.0 + v) / (5.0 + len(y)), rtol=1e-12)
+    # the mean of Beta(1 + v, 4 + n - v) restricted to (0, 1/2), by scipy's quadrature
+    want = [stats.beta(1.0 + k, 4.0 + len(y) - k).expect(lambda e: e, lb=0.0, ub=0.5,
+                                                         conditional=True) for k in v]
+    np.testing.assert_allclose(rho, want, rtol=1e-9)
     # The flip rate's posterior mean is the predictive's flip rate averaged over the posterior.
     assert float(post.probabilities @ rho) == pytest.approx(clf.flip_rate_, rel=1e-9)
 

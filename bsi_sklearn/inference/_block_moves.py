@@ -116,9 +116,9 @@ def score_flip(b, n_conj, demos, model, scratch, flips):
     ps_out, ns_out, ps_in, ns_in = mask_sums(flips.masks, c, inc, demos)
     if inc:
         return lp + log_likelihood(ps_out, ns_out, demos.n_pos, demos.n_neg, n_conj - 1,
-                                   model.log_eps, model.likelihood, model.flip_a, model.flip_b)
+                                   model.log_eps, model.likelihood, model.flips)
     return lp + log_likelihood(ps_in, ns_in, demos.n_pos, demos.n_neg, n_conj + 1,
-                               model.log_eps, model.likelihood, model.flip_a, model.flip_b)
+                               model.log_eps, model.likelihood, model.flips)
 
 
 class MoveScratch(NamedTuple):
@@ -387,7 +387,7 @@ def _masked_score(mask, lp, n_conj, demos, model):
             ps += weighted_popcount(word, demos.pos_planes, w)
             ns += weighted_popcount(word, demos.neg_planes, w)
     return lp + log_likelihood(float(ps), float(ns), demos.n_pos, demos.n_neg, n_conj,
-                               model.log_eps, model.likelihood, model.flip_a, model.flip_b)
+                               model.log_eps, model.likelihood, model.flips)
 
 
 @helper

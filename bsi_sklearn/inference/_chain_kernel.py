@@ -170,7 +170,8 @@ def _unmanaged_bundles(state, demos, model, bufs):
     model = Model(model.n_g, model.n, model.prior, model.forest, model.p_global,
                   model.p_eventual, model.p_part, model.n_new, model.log_eps, model.likelihood,
                   _unmanaged(model.lp_chains), _unmanaged(model.forest_g), model.forest_const,
-                  model.flip_a, model.flip_b, _unmanaged(model.pat_in), _unmanaged(model.pat_out))
+                  model.flip_a, model.flip_b, _unmanaged(model.pat_in), _unmanaged(model.pat_out),
+                  _unmanaged(model.flips))
     bufs = ChainBuffers(_unmanaged(bufs.ubuf), _unmanaged(bufs.viol),
                         _unmanaged(bufs.lw), _unmanaged(bufs.cand_lp), _unmanaged(bufs.cand_ll),
                         _unmanaged(bufs.cand_head), _unmanaged(bufs.cand_pos),
@@ -233,8 +234,7 @@ def score_one(tau, w1, parent, demos, model):
     viol, n_conj = init_viol(tau, w1, parent, demos.truth_t, model)
     ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
     return log_prior(tau, w1, parent, model), log_likelihood(
-        ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps, model.likelihood, model.flip_a,
-        model.flip_b)
+        ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps, model.likelihood, model.flips)
 
 
 @njit(cache=True, nogil=True)
@@ -434,8 +434,7 @@ def _init_cache(state, demos, model, bufs, loop):
         loop.lp_struct[r] = log_prior_structure(state.parent[r], model)
         ps, ns = sat_counts(viol, demos.w_pos, demos.w_neg)
         loop.ll[r] = log_likelihood(ps, ns, demos.n_pos, demos.n_neg, loop.n_conj[r],
-                                    model.log_eps, model.likelihood, model.flip_a,
-                                    model.flip_b)
+                                    model.log_eps, model.likelihood, model.flips)
 
 
 @njit(cache=True, nogil=True)

@@ -72,8 +72,7 @@ class Likelihoods(NamedTuple):
     n_neg: int
     log_eps: float         # the model's likelihood parameters, for the counts' path
     code: int
-    flip_a: float
-    flip_b: float
+    flips: np.ndarray      # the flip rate's log marginals by misclassified count (codes 2, 4)
 
 
 @njit(cache=True, nogil=True)
@@ -92,7 +91,7 @@ def _joint_ll(lik, k, ps, ns):
     if k == 0 and (ps < lik.n_pos or ns < lik.n_neg):
         return -np.inf  # no conjunct: every demonstration satisfies it
     return log_likelihood(float(ps), float(ns), float(lik.n_pos), float(lik.n_neg), k,
-                          lik.log_eps, lik.code, lik.flip_a, lik.flip_b)
+                          lik.log_eps, lik.code, lik.flips)
 
 
 def pair_ll_many(lik, k, ps, ns):
@@ -151,7 +150,7 @@ def likelihood_tables(n_pos, n_neg, max_conj, model):
         pos = neg = np.zeros((1, 1))
         bound = np.empty((max_conj + 1, n_pos + 1))
     lik = Likelihoods(pos, neg, bound, joint, int(n_pos), int(n_neg), float(model.log_eps),
-                      int(model.likelihood), float(model.flip_a), float(model.flip_b))
+                      int(model.likelihood), model.flips)
     if joint.shape[0] > 0:
         _fill_joint(lik, max_conj, np.empty((joint.shape[0], n_pos + 1)))
     return lik
@@ -188,12 +187,12 @@ def _sum_tables(n_pos, n_neg, max_conj, model, lik_pos, lik_neg, bound):
                 lik_neg[k, ns] = -np.inf  # no conjunct: every demonstration satisfies it
             else:
                 lik_neg[k, ns] = log_likelihood(0.0, float(ns), 0.0, float(n_neg), k,
-                                                model.log_eps, model.likelihood, 0.0, 0.0)
+                                                model.log_eps, model.likelihood, model.flips)
             top = max(top, lik_neg[k, ns])
         run = -np.inf
         for ps in range(n_pos + 1):
             lik_pos[k, ps] = log_likelihood(float(ps), 0.0, float(n_pos), 0.0, k,
-                                            model.log_eps, model.likelihood, 0.0, 0.0)
+                                            model.log_eps, model.likelihood, model.flips)
             run = max(run, lik_pos[k, ps] + top)
             bound[k, ps] = run
 

@@ -70,7 +70,7 @@ def _hyp_logpost_counts(s, t, e, parts_s, parts_t, parts_e, labels, model):
     n_conj = parts_s.size[s] + parts_t.size[t] + parts_e.size[e]
     lp = parts_s.lp[s] + parts_t.lp[t] + parts_e.lp[e] + log_likelihood(
         float(pos_sat), float(neg_sat), labels.n_pos, labels.n_neg, n_conj, model.log_eps,
-        model.likelihood, model.flip_a, model.flip_b
+        model.likelihood, model.flips
     )
     return lp, int(labels.n_pos) - pos_sat + neg_sat
 

@@ -157,7 +157,7 @@ def _exchanges(source, demos, model, floor, viol, parents, out, out_lp):
             ps, ns = sat_counts(viol[1], demos.w_pos, demos.w_neg)
             lp = log_prior(tau, w1, new, model) + log_likelihood(
                 ps, ns, demos.n_pos, demos.n_neg, n_conj - k_out + k_in, model.log_eps,
-                model.likelihood, model.flip_a, model.flip_b)
+                model.likelihood, model.flips)
             if lp >= floor:
                 for c in range(base):
                     out[m, c] = source[c]

@@ -85,9 +85,9 @@ def flip_move(c, inc, lp_in, lp_out, viol, masks, n_conj, demos, model, u, beta)
     ps_out, ns_out, ps_in, ns_in = mask_sums(masks, c, inc, demos)
     n_out = n_conj - inc
     ll_out = log_likelihood(ps_out, ns_out, demos.n_pos, demos.n_neg, n_out, model.log_eps,
-                            model.likelihood, model.flip_a, model.flip_b)
+                            model.likelihood, model.flips)
     ll_in = log_likelihood(ps_in, ns_in, demos.n_pos, demos.n_neg, n_out + 1, model.log_eps,
-                           model.likelihood, model.flip_a, model.flip_b)
+                           model.likelihood, model.flips)
     lw_out = lp_out + beta * ll_out
     lw_in = lp_in + beta * ll_in
     # P(in) = 1 / (1 + exp(lw_out - lw_in)), computed without overflow.
@@ -129,9 +129,9 @@ def _push_pair(bufs, k, lp, sums, n_conj, demos, model, beta, le_in, le_out):
                                   model.log_eps, bufs.cb_rejected[n_conj + 1])
     else:
         ll_out = log_likelihood(sums[0], sums[1], demos.n_pos, demos.n_neg, n_conj,
-                                model.log_eps, model.likelihood, model.flip_a, model.flip_b)
+                                model.log_eps, model.likelihood, model.flips)
         ll_in = log_likelihood(sums[2], sums[3], demos.n_pos, demos.n_neg, n_conj + 1,
-                               model.log_eps, model.likelihood, model.flip_a, model.flip_b)
+                               model.log_eps, model.likelihood, model.flips)
     bufs.cand_lp[k] = lp
     bufs.cand_lp[k + 1] = lp
     bufs.cand_ll[k] = ll_out

@@ -49,7 +49,7 @@ def temperature_ladder(demos, model, n_temperatures="auto"):
     [1.0]
     """
     scale = step_scale(model.likelihood, model.log_eps, demos.n_pos, demos.n_neg,
-                       model.flip_a, model.flip_b)
+                       model.flips)
     if n_temperatures == "auto":
         if scale <= 1.0:  # one rung, at beta = 1 (1 / scale, above 1, would sharpen the target)
             return np.ones(1)

@@ -95,7 +95,7 @@ def _score(row, demos, model, scratch):
                        model)
     ps, ns = sat_counts(scratch.viol, demos.w_pos, demos.w_neg)
     return lp + log_likelihood(ps, ns, demos.n_pos, demos.n_neg, n_conj, model.log_eps,
-                               model.likelihood, model.flip_a, model.flip_b)
+                               model.likelihood, model.flips)
 
 
 def neighbourhood(rows, demos, model, floor):

@@ -206,11 +206,11 @@ def _weigh(source, demos, model, floor, bufs, work, scratch, out, out_lp):
                                                  demos.w_neg)
         if inc:  # the neighbour leaves the clause out
             ll = log_likelihood(ps_out, ns_out, demos.n_pos, demos.n_neg, n_conj - 1,
-                                model.log_eps, model.likelihood, model.flip_a, model.flip_b)
+                                model.log_eps, model.likelihood, model.flips)
             lp = lp_struct + lp_sub - l_in + l_out + ll
         else:
             ll = log_likelihood(ps_in, ns_in, demos.n_pos, demos.n_neg, n_conj + 1,
-                                model.log_eps, model.likelihood, model.flip_a, model.flip_b)
+                                model.log_eps, model.likelihood, model.flips)
             lp = lp_struct + lp_sub - l_out + l_in + ll
         if lp >= cut:
             for col in range(n_cols):

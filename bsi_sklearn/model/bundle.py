@@ -11,6 +11,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from bsi_sklearn.model.flip_rate import log_flip_marginals
 from bsi_sklearn.model.likelihood import likelihood_code, resolve_flip_prior, resolve_log_epsilon
 from bsi_sklearn.model.priors import LEARNED, prior_code, prior_tables
 
@@ -41,10 +42,13 @@ class Model(NamedTuple):
     flip_b: float
     pat_in: np.ndarray        # log p, log(1 - p) of each pattern clause: the last
     pat_out: np.ndarray       # len(pat_in) global slots (DESIGN §12); empty for the paper's
+    flips: np.ndarray         # codes 2 and 4: the labels' log marginal likelihood by number of
+    #                           misclassified demonstrations, 0 .. n_demos; else empty
 
 
 def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_eventual=0.8,
-               p_part=0.3, n_new=5.0, epsilon=None, flip_prior=None, p_patterns=()):
+               p_part=0.3, n_new=5.0, epsilon=None, flip_prior=None, p_patterns=(),
+               n_demos=None):
     """Build the model bundle of one fit.
 
     Parameters
@@ -64,12 +68,17 @@ def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_even
     epsilon : float or None
         Likelihood of a misclassified demonstration; ``None`` for the paper's default.
     flip_prior : tuple of float or None
-        ``(a, b)``: with ``"ci"``, the flip rate integrated over a Beta(a, b) prior
-        (:func:`bsi_sklearn.model.likelihood.resolve_flip_prior` says where it applies).
+        ``(a, b)``: with ``"ci"`` or ``"calibrated"``, the flip rate integrated over a
+        Beta(a, b) prior restricted to (0, 1/2)
+        (:func:`bsi_sklearn.model.likelihood.resolve_flip_prior` says where it applies;
+        :mod:`bsi_sklearn.model.flip_rate`).
     p_patterns : array-like of float, default=()
         Inclusion probability of each pattern clause (DESIGN §12), the last
         ``len(p_patterns)`` of the ``n_globals`` global slots; the ``G`` clauses before them
         have ``p_global``. Empty: the paper's template.
+    n_demos : int, default=None
+        Number of training demonstrations: needed with ``flip_prior``, whose marginal
+        likelihood is tabled by the number of them a formula misclassifies.
 
     Returns
     -------
@@ -87,6 +96,11 @@ def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_even
         raise ValueError(f"p_patterns must hold at most n_globals = {n_g} probabilities in "
                          f"(0, 1), got {pat_p.tolist()}")
     flip_a, flip_b = resolve_flip_prior(likelihood, flip_prior, epsilon)
+    if flip_a > 0 and n_demos is None:
+        raise ValueError("make_model needs n_demos with a flip_prior: the labels' marginal "
+                         "likelihood is tabled by the number of misclassified demonstrations")
+    flips = (log_flip_marginals(int(n_demos), flip_a, flip_b) if flip_a > 0
+             else np.zeros(0))
     forest, lp_chains, forest_g, forest_const = prior_tables(prior, n, _inclusion(p_part),
                                                              float(n_new))
     return Model(
@@ -96,7 +110,7 @@ def make_model(*, prior, likelihood, n_globals, n_subtasks, p_global=0.8, p_even
         log_eps=float(resolve_log_epsilon(epsilon, n_g, n)),
         likelihood=likelihood_code(likelihood, flip_prior), lp_chains=lp_chains,
         forest_g=forest_g, forest_const=float(forest_const), flip_a=flip_a, flip_b=flip_b,
-        pat_in=np.log(pat_p), pat_out=np.log1p(-pat_p),
+        pat_in=np.log(pat_p), pat_out=np.log1p(-pat_p), flips=flips,
     )
 
 

@@ -119,12 +119,13 @@ def depends_on_conjuncts(code):
     return code == 0
 
 
-def step_scale(code, log_eps, n_pos, n_neg, flip_a, flip_b):
+def step_scale(code, log_eps, n_pos, n_neg, flips):
     """The largest change of the log-likelihood by one demonstration or one conjunct.
 
     What the MCMC's temperature ladder spans (``mcmc.temperature_ladder``): ``|log eps|``
     for a demonstration changing side; for CB also ``n_pos log 2`` for a conjunct; with the
-    flip rate integrated, the first violation costs ``log((b + n - 1) / a)``; the calibrated
+    flip rate integrated, the largest step of its table ``flips`` by one misclassified
+    demonstration more (the first costs about ``log((b + n - 1) / a)``); the calibrated
     likelihood also moves every correctly classified demonstration by up to ``log(n + 2)``
     when one demonstration changes side (code 4: that on top of the flips' step).
     """
@@ -132,9 +133,8 @@ def step_scale(code, log_eps, n_pos, n_neg, flip_a, flip_b):
     if code == 0:
         return max(-log_eps, n_pos * math.log(2.0))
     if code in (_CI_FLIP_CODE, _CALIBRATED_FLIP_CODE):
-        flips = max(abs(math.log(max(flip_b + n - 1.0, 1e-300) / flip_a)),
-                    abs(math.log(max(flip_a + n - 1.0, 1e-300) / flip_b)))
-        return flips if code == _CI_FLIP_CODE else flips + math.log(n + 2.0)
+        step = float(np.max(np.abs(np.diff(flips)))) if len(flips) > 1 else 0.0
+        return step if code == _CI_FLIP_CODE else step + math.log(n + 2.0)
     if code == 3:
         return -log_eps + math.log(n + 2.0)
     return -log_eps
@@ -149,15 +149,11 @@ def _log1mexp(x):
 
 
 @helper
-def _log_beta(a, b):
-    return math.lgamma(a) + math.lgamma(b) - math.lgamma(a + b)
-
-
-@helper
-def _log_flips(wrong, right, flip_a, flip_b):
-    # The labels' flip rate integrated over its Beta(a, b) prior (codes 2 and 4):
-    # B(a + v, b + n - v) / B(a, b), v = wrong, n - v = right.
-    return _log_beta(flip_a + wrong, flip_b + right) - _log_beta(flip_a, flip_b)
+def _log_flips(wrong, flips):
+    # The labels' flip rate integrated over its Beta(a, b) prior restricted to (0, 1/2)
+    # (codes 2 and 4), tabled by the number v = wrong of misclassified demonstrations
+    # (bsi_sklearn.model.flip_rate.log_flip_marginals): counts are whole numbers.
+    return flips[int(wrong + 0.5)]
 
 
 @njit(cache=True, nogil=True)
@@ -182,7 +178,7 @@ def log_likelihood_cb(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, rejected)
 
 
 @njit(cache=True, nogil=True)
-def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code, flip_a, flip_b):
+def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code, flips):
     """Log-likelihood of a dataset given a formula, from counts.
 
     Parameters
@@ -198,8 +194,10 @@ def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code, flip_a
     code : int
         0 ``"cb"``, 1 ``"ci"``, 2 ``"ci"`` with the flip rate integrated over a Beta(a, b)
         prior, 3 ``"calibrated"``, 4 ``"calibrated"`` with the flip rate integrated.
-    flip_a, flip_b : float
-        The Beta prior of codes 2 and 4 (unused by the others).
+    flips : ndarray of float
+        Codes 2 and 4: the labels' log marginal likelihood by number of misclassified
+        demonstrations, ``0 .. n_pos + n_neg`` (``Model.flips``:
+        :func:`bsi_sklearn.model.flip_rate.log_flip_marginals`); unused by the others.
 
     Returns
     -------
@@ -215,7 +213,7 @@ def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code, flip_a
         return (pos_sat + neg_viol) * log1m_eps + (pos_viol + neg_sat) * log_eps
     wrong = pos_viol + neg_sat
     if code == 2:
-        return _log_flips(wrong, pos_sat + neg_viol, flip_a, flip_b)
+        return _log_flips(wrong, flips)
     log_n2 = math.log(n_pos + n_neg + 2.0)
     sat = pos_sat + neg_sat
     # Calibrated size principle: the mass of ext(phi) estimated from every demonstration,
@@ -223,7 +221,7 @@ def log_likelihood(pos_sat, neg_sat, n_pos, n_neg, n_conj, log_eps, code, flip_a
     # violating one 1 / (1 - m), a misclassified one epsilon (code 3) or, code 4, each label
     # is right with 1 - eps and flipped with eps, eps integrated over Beta(a, b).
     if code == 4:
-        out = _log_flips(wrong, pos_sat + neg_viol, flip_a, flip_b)
+        out = _log_flips(wrong, flips)
     else:
         out = wrong * log_eps
     if pos_sat > 0.0:
@@ -246,28 +244,31 @@ def log_likelihood_reference(satisfied, y, n_conj, log_eps, likelihood, flip_pri
     log_eps : float
     likelihood : {"cb", "ci", "calibrated"}
     flip_prior : tuple of float, default=None
-        ``(a, b)``: the flip rate integrated over a Beta(a, b) prior (as the product of the
-        sequential predictive probabilities of each demonstration being classified correctly,
-        Polya's urn); with ``"calibrated"``, times the density ``1 / m`` or ``1 / (1 - m)`` of
-        each correctly classified demonstration.
+        ``(a, b)``: the flip rate integrated over a Beta(a, b) prior restricted to (0, 1/2)
+        (scipy's incomplete Beta function, not the kernels' table); with ``"calibrated"``,
+        times the density ``1 / m`` or ``1 / (1 - m)`` of each correctly classified
+        demonstration.
 
     Returns
     -------
     float
     """
+    from scipy.special import betainc, betaln
+
     sat_all = np.asarray(satisfied, bool)
     labels = np.asarray(y)
     m = (sat_all.sum() + 1.0) / (len(sat_all) + 2.0)
     if flip_prior is not None:
-        a, b = flip_prior
-        total, wrong = 0.0, 0
-        for i, (s, label) in enumerate(zip(sat_all, labels)):
-            bad = bool(s) != (label == 1)
-            total += math.log(((a + wrong) if bad else (b + i - wrong)) / (a + b + i))
-            wrong += bad
-            if likelihood == "calibrated" and not bad:
-                total -= math.log(m) if s else math.log1p(-m)
-        return total
+        a, b = (float(x) for x in flip_prior)
+        bad = sat_all != (labels == 1)
+        v, r = float(bad.sum()), float((~bad).sum())
+        total = (betaln(a + v, b + r) + math.log(betainc(a + v, b + r, 0.5))
+                 - betaln(a, b) - math.log(betainc(a, b, 0.5)))
+        if likelihood == "calibrated":
+            for s, wrong in zip(sat_all, bad):
+                if not wrong:
+                    total -= math.log(m) if s else math.log1p(-m)
+        return float(total)
     total = 0.0
     for s, label in zip(sat_all, labels):
         if likelihood == "cb":
@@ -289,9 +290,10 @@ def log_likelihood_reference(satisfied, y, n_conj, log_eps, likelihood, flip_pri
 def flip_rate_posterior(violations, weights, n_demos, flip_prior, level=0.95):
     """Posterior mean and central interval of the flip rate under a Beta(a, b) prior.
 
-    Given a hypothesis that misclassifies ``v`` of ``n`` demonstrations, the flip rate's
-    posterior is Beta(a + v, b + n - v); over the posterior of the hypotheses it is the
-    mixture of those Betas weighted by the posterior mass of each ``v``.
+    The prior is restricted to (0, 1/2) (:mod:`bsi_sklearn.model.flip_rate`): given a
+    hypothesis that misclassifies ``v`` of ``n`` demonstrations, the flip rate's posterior is
+    Beta(a + v, b + n - v) restricted there; over the posterior of the hypotheses it is the
+    mixture of those weighted by the posterior mass of each ``v``.
 
     Parameters
     ----------
@@ -317,10 +319,10 @@ def flip_rate_posterior(violations, weights, n_demos, flip_prior, level=0.95):
     Examples
     --------
     >>> mean, (lo, hi) = flip_rate_posterior([0], [1.0], 8, (1.0, 1.0))
-    >>> round(mean, 4), round(lo, 4), round(hi, 4)   # Beta(1, 9)
-    (0.1, 0.0028, 0.3363)
+    >>> round(mean, 4), round(lo, 4), round(hi, 4)   # Beta(1, 9) on (0, 1/2)
+    (0.0991, 0.0028, 0.3308)
     """
-    from scipy.special import betainc
+    from bsi_sklearn.model.flip_rate import HALF, log_betainc, truncated_mean
 
     if flip_prior is None:
         return None, None
@@ -329,14 +331,18 @@ def flip_rate_posterior(violations, weights, n_demos, flip_prior, level=0.95):
     w = np.asarray(weights, dtype=float)
     keep = w > 0
     v, w = v[keep], w[keep] / w[keep].sum()
+    # one mixture component per distinct v
+    v, inverse = np.unique(v, return_inverse=True)
+    w = np.bincount(inverse.ravel(), weights=w, minlength=len(v))
     alpha, beta = a + v, b + n_demos - v
-    mean = float(w @ (alpha / (alpha + beta)))
+    mean = float(w @ truncated_mean(alpha, beta))
+    log_norm = log_betainc(alpha, beta, HALF)
 
     def quantile(q):
-        lo, hi = 0.0, 1.0
+        lo, hi = 0.0, HALF
         while hi - lo > 1e-12:
             mid = 0.5 * (lo + hi)
-            if float(w @ betainc(alpha, beta, mid)) < q:
+            if float(w @ np.exp(log_betainc(alpha, beta, mid) - log_norm)) < q:
                 lo = mid
             else:
                 hi = mid

@@ -31,12 +31,12 @@ def test_log_likelihood_kernel_matches_reference(likelihood):
         ref = log_likelihood_reference(sat, y, n_conj, log_eps, likelihood)
         got = log_likelihood(float((sat & (y == 1)).sum()), float((sat & (y == 0)).sum()),
                              float((y == 1).sum()), float((y == 0).sum()), n_conj, log_eps,
-                             likelihood_code(likelihood), 0.0, 0.0)
+                             likelihood_code(likelihood), np.zeros(0))
         assert got == pytest.approx(ref, rel=1e-12, abs=1e-9)
 
 
 def test_log_likelihood_no_overflow_for_hundreds_of_conjuncts():
-    v = log_likelihood(3.0, 0.0, 3.0, 5.0, 600, -1000.0, 0, 0.0, 0.0)
+    v = log_likelihood(3.0, 0.0, 3.0, 5.0, 600, -1000.0, 0, np.zeros(0))
     assert np.isfinite(v) and v == pytest.approx(3 * 600 * math.log(2) + 5 * 2.0**-600)
     assert default_log_epsilon(5, 5) == pytest.approx(-4 * math.log(2) * 20)
 

@@ -29,7 +29,7 @@ def test_exchange_neighbours_are_the_exchanges_above_the_floor(prior, likelihood
     rng = np.random.default_rng(n)
     n_g = 2
     model = make_model(prior=prior, likelihood=likelihood, n_globals=n_g, n_subtasks=n,
-                       **({"flip_prior": (1, 9)} if likelihood == "ci" else {}))
+                       **({"flip_prior": (1, 9), "n_demos": 80} if likelihood == "ci" else {}))
     truth = (rng.random((80, n_g + n + n * n)) < 0.85).astype(np.uint8)
     demos = deduplicate_demos(truth, (rng.random(80) < 0.6).astype(np.int64))
     for _ in range(6):

@@ -23,9 +23,10 @@ from bsi_sklearn.model.state_layout import join_state
 
 def _problem(prior, likelihood, n_g, n, seed, flip_prior=None):
     rng = np.random.default_rng(seed)
-    model = make_model(prior=prior, likelihood=likelihood, n_globals=n_g, n_subtasks=n,
-                       epsilon=None if flip_prior else 0.1, flip_prior=flip_prior)
     n_demos = 40
+    model = make_model(prior=prior, likelihood=likelihood, n_globals=n_g, n_subtasks=n,
+                       epsilon=None if flip_prior else 0.1, flip_prior=flip_prior,
+                       n_demos=n_demos)
     truth = (rng.random((n_demos, n_g + n + n * n)) < 0.85).astype(np.uint8)
     demos = deduplicate_demos(truth, (rng.random(n_demos) < 0.6).astype(np.int64))
     rows = np.array([join_state(*draw_hypothesis(model, rng)) for _ in range(5)],
