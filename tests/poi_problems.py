@@ -57,3 +57,24 @@ def make_poi_problem(n_demos=50, n_threats=5, n_pois=5, chain=(0, 2, 4), n_negat
     )
     return demos, np.array(labels), roles
 
+
+
+def make_absence_problem(n_demos=24, seed=0):
+    """Demonstrations over ``p, q`` whose rule, ``G(!p)``, needs negations to be stated.
+
+    ``p`` never holds in the acceptable demonstrations (every other one) and holds at one step
+    or more in the others; ``q`` holds throughout every demonstration. Boolean arrays of 6 steps
+    (columns ``p, q``) and 0/1 labels.
+    """
+    rng = np.random.default_rng(seed)
+    X, y = [], []
+    for i in range(n_demos):
+        t = rng.random((6, 2)) < 0.5
+        positive = i % 2 == 0
+        t[:, 0] = False if positive else t[:, 0]
+        if not positive:
+            t[int(rng.integers(6)), 0] = True
+        t[:, 1] = True
+        X.append(t)
+        y.append(int(positive))
+    return X, np.array(y)

@@ -15,7 +15,7 @@ from _exact_checks import _problem as _grouped_problem
 from _reference import brute_force_posterior
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from poi_problems import make_poi_problem
+from poi_problems import make_absence_problem, make_poi_problem
 from scipy import integrate, stats
 
 import bsi_sklearn.inference._exact_kernels as kernels
@@ -319,17 +319,8 @@ def test_a_formula_read_upside_down_is_not_the_map():
     # "every label flipped" (0.93 of the mass under the calibrated likelihood). Restricted to
     # (0, 1/2), a formula misclassifying most labels is no better than one that says nothing
     # (near eps = 1/2 every formula fits alike): never the MAP, less mass than the others.
-    rng = np.random.default_rng(0)
-    X, y = [], []
-    for i in range(24):
-        t = rng.random((6, 2)) < 0.5
-        positive = i % 2 == 0
-        t[:, 0] = False if positive else t[:, 0]
-        if not positive:
-            t[int(rng.integers(6)), 0] = True
-        t[:, 1] = True
-        X.append(t.astype(int))
-        y.append(int(positive))
+    X, y = make_absence_problem()
+    X = [t.astype(int) for t in X]
     for likelihood in ("ci", "calibrated"):
         clf = BSIClassifier(likelihood=likelihood, flip_prior=(1, 9), inference="exact",
                             tol=0.0, global_candidates=[1], subtasks=[0],

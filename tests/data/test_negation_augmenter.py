@@ -5,6 +5,7 @@ import pickle
 import numpy as np
 import pandas as pd
 import pytest
+from poi_problems import make_absence_problem
 from sklearn.base import clone
 from sklearn.exceptions import NotFittedError
 from sklearn.pipeline import make_pipeline
@@ -121,19 +122,8 @@ def test_pickle_and_clone():
 
 def test_pipeline_learns_an_absence_pattern():
     """G(!p) is out of the template without negations, learnt with them."""
-    rng = np.random.default_rng(0)
-    names = ["p", "q"]
-    X, y = [], []
-    for i in range(24):
-        t = rng.random((6, 2)) < 0.5
-        positive = i % 2 == 0
-        t[:, 0] = False if positive else t[:, 0]
-        if not positive:
-            t[int(rng.integers(6)), 0] = True
-        t[:, 1] = True  # q always holds in every demonstration
-        X.append(pd.DataFrame(t, columns=names))
-        y.append(int(positive))
-    y = np.array(y)
+    arrays, y = make_absence_problem()  # q always holds in every demonstration
+    X = [pd.DataFrame(t, columns=["p", "q"]) for t in arrays]
     pipe = make_pipeline(NegationAugmenter(), BSIClassifier(random_state=0, n_jobs=1))
     pipe.fit(X, y)
     spec = pipe[-1].map_specification_
