@@ -30,14 +30,21 @@ _MAX_ITER = 100_000
 
 
 def _log_cf(a, b, x):
-    """Log of I_x(a, b)'s continued fraction, vectorised (converges where x < (a+1)/(a+b+2))."""
+    """Log of I_x(a, b)'s continued fraction, vectorised (converges where x < (a+1)/(a+b+2)).
+
+    Entries leave the iteration as they converge: far from ``x = a / (a + b)`` a few terms
+    suffice, near it about ``sqrt(a + b)``, so a table over every ``v`` costs little more than
+    its slowest entries.
+    """
+    a, b = a.astype(float).ravel(), b.astype(float).ravel()
+    out = np.empty(a.shape)
     qab, qap, qam = a + b, a + 1.0, a - 1.0
     c = np.ones_like(a)
     d = 1.0 - qab * x / qap
     d = np.where(np.abs(d) < _TINY, _TINY, d)
     d = 1.0 / d
     h = d.copy()
-    done = np.zeros(a.shape, dtype=bool)
+    live = np.arange(len(a))
     for m in range(1, _MAX_ITER + 1):
         m2 = 2.0 * m
         aa = m * (b - m) * x / ((qam + m2) * (a + m2))
@@ -46,7 +53,7 @@ def _log_cf(a, b, x):
         c = 1.0 + aa / c
         c = np.where(np.abs(c) < _TINY, _TINY, c)
         d = 1.0 / d
-        h = np.where(done, h, h * d * c)
+        h = h * d * c
         aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2))
         d = 1.0 + aa * d
         d = np.where(np.abs(d) < _TINY, _TINY, d)
@@ -54,10 +61,15 @@ def _log_cf(a, b, x):
         c = np.where(np.abs(c) < _TINY, _TINY, c)
         d = 1.0 / d
         step = d * c
-        h = np.where(done, h, h * step)
-        done |= np.abs(step - 1.0) < _EPS
-        if done.all():
-            return np.log(h)
+        h = h * step
+        done = np.abs(step - 1.0) < _EPS
+        if done.any():
+            out[live[done]] = np.log(h[done])
+            keep = ~done
+            if not keep.any():
+                return out
+            live, a, b, qab, qap, qam, c, d, h = (
+                v[keep] for v in (live, a, b, qab, qap, qam, c, d, h))
     raise RuntimeError("the incomplete Beta function's continued fraction did not converge")
 
 
