@@ -190,8 +190,8 @@ def add_arguments(parser):
                              "(default: %(default)s)")
     parser.add_argument("--flip-prior", nargs=2, type=float, default=None, metavar=("A", "B"),
                         help="with --likelihood ci or calibrated: the rate at which labels "
-                             "are wrong is unknown, Beta(A, B) distributed and integrated out "
-                             "(B > A: mostly right labels); prints its posterior mean and "
+                             "are wrong is unknown, Beta(A, B) distributed on (0, 1/2) (mostly "
+                             "right labels) and integrated out; prints its posterior mean and "
                              "interval")
     parser.add_argument("--inference", choices=["auto", "exact", "mcmc"], default="auto",
                         help="exact enumeration, MCMC, or auto: exact when the support is "
