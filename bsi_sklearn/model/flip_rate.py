@@ -29,6 +29,11 @@ _TINY = 1e-300
 _MAX_ITER = 100_000
 
 
+def _nonzero(v):
+    # Lentz's method: a vanishing denominator is replaced by a tiny one.
+    return np.where(np.abs(v) < _TINY, _TINY, v)
+
+
 def _log_cf(a, b, x):
     """Log of I_x(a, b)'s continued fraction, vectorised (converges where x < (a+1)/(a+b+2)).
 
@@ -36,30 +41,21 @@ def _log_cf(a, b, x):
     suffice, near it about ``sqrt(a + b)``, so a table over every ``v`` costs little more than
     its slowest entries.
     """
-    a, b = a.astype(float).ravel(), b.astype(float).ravel()
     out = np.empty(a.shape)
     qab, qap, qam = a + b, a + 1.0, a - 1.0
     c = np.ones_like(a)
-    d = 1.0 - qab * x / qap
-    d = np.where(np.abs(d) < _TINY, _TINY, d)
-    d = 1.0 / d
+    d = 1.0 / _nonzero(1.0 - qab * x / qap)
     h = d.copy()
     live = np.arange(len(a))
     for m in range(1, _MAX_ITER + 1):
         m2 = 2.0 * m
         aa = m * (b - m) * x / ((qam + m2) * (a + m2))
-        d = 1.0 + aa * d
-        d = np.where(np.abs(d) < _TINY, _TINY, d)
-        c = 1.0 + aa / c
-        c = np.where(np.abs(c) < _TINY, _TINY, c)
-        d = 1.0 / d
+        d = 1.0 / _nonzero(1.0 + aa * d)
+        c = _nonzero(1.0 + aa / c)
         h = h * d * c
         aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2))
-        d = 1.0 + aa * d
-        d = np.where(np.abs(d) < _TINY, _TINY, d)
-        c = 1.0 + aa / c
-        c = np.where(np.abs(c) < _TINY, _TINY, c)
-        d = 1.0 / d
+        d = 1.0 / _nonzero(1.0 + aa * d)
+        c = _nonzero(1.0 + aa / c)
         step = d * c
         h = h * step
         done = np.abs(step - 1.0) < _EPS
@@ -71,6 +67,12 @@ def _log_cf(a, b, x):
             live, a, b, qab, qap, qam, c, d, h = (
                 v[keep] for v in (live, a, b, qab, qap, qam, c, d, h))
     raise RuntimeError("the incomplete Beta function's continued fraction did not converge")
+
+
+def _log_direct(a, b, x):
+    # log I_x(a, b) = log[x^a (1 - x)^b / (a B(a, b))] + log CF(a, b, x), 1-D arrays, where the
+    # fraction converges (x < (a + 1) / (a + b + 2)).
+    return a * np.log(x) + b * np.log1p(-x) - betaln(a, b) - np.log(a) + _log_cf(a, b, x)
 
 
 def log_betainc(a, b, x):
@@ -96,21 +98,14 @@ def log_betainc(a, b, x):
     True
     """
     a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
-    a, b = a.astype(float), b.astype(float)
     x = float(x)
     direct = x < (a + 1.0) / (a + b + 2.0)
     out = np.empty(a.shape)
-    # I_x(a, b) = x^a (1 - x)^b / (a B(a, b)) * CF(a, b, x), where the fraction converges ...
     if direct.any():
-        aa, bb = a[direct], b[direct]
-        out[direct] = (aa * np.log(x) + bb * np.log1p(-x) - betaln(aa, bb) - np.log(aa)
-                       + _log_cf(aa, bb, x))
-    # ... and 1 - I_(1-x)(b, a) elsewhere (the complement is then under one half).
+        out[direct] = _log_direct(a[direct], b[direct], x)
+    # Elsewhere 1 - I_(1-x)(b, a), whose fraction converges (the complement is under one half).
     if (~direct).any():
-        aa, bb = a[~direct], b[~direct]
-        log_j = (bb * np.log1p(-x) + aa * np.log(x) - betaln(bb, aa) - np.log(bb)
-                 + _log_cf(bb, aa, 1.0 - x))
-        out[~direct] = np.log1p(-np.exp(log_j))
+        out[~direct] = np.log1p(-np.exp(_log_direct(b[~direct], a[~direct], 1.0 - x)))
     return out
 
 
