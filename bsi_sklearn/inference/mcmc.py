@@ -246,6 +246,13 @@ class ChainRun:
         run.pilot_updates = self.pilot_updates + int(updates) * len(self.betas)
         return run
 
+    def absorb(self, other):
+        """Count ``other``'s sweeps as this chain's burn-in and its block updates as work."""
+        sweep, _, _, _, updates, _ = other.loop.counters.tolist()
+        self.pilot_sweeps += int(sweep)
+        self.pilot_updates += int(updates) * len(other.betas)
+        return self
+
     def coldest(self):
         """The beta = 1 replica's hypothesis now, as one row (int64)."""
         r = int(self.loop.slot[0])
@@ -357,27 +364,32 @@ def _after_pilot(pilots, betas, demos, model, chain):
     return runs, [int(i) for i in np.flatnonzero(lp < floor)]
 
 
-def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
+def _run_rounds(runs, plan, demos, model, n_jobs, verbose, *, budget_rungs=None,
+                trial=False, desc="MCMC sweeps"):
     # Run the chains round by round (one round for a fixed n_samples) until the stopping rule
     # holds; returns their results, the unique states visited with their sample counts, the
     # last round's chains' shares and the probabilities they index, as the stopping rule
     # counted them (None, None where it did not: one round, or a posterior too diffuse to
     # list), the states' exact log posteriors, the rounds' record and the closure's states.
+    # `trial`: None unless the stopping rule holds after the first round. `budget_rungs`: the
+    # rungs a chain's later rounds are counted with in the closure's budget (default: its own).
     from sklearn.utils.parallel import Parallel, delayed
 
     bar = None
     if verbose:
         from tqdm.auto import tqdm
 
-        bar = tqdm(total=len(runs) * plan[-1], desc="MCMC sweeps", unit="sweep")
+        bar = tqdm(total=len(runs) * plan[-1], desc=desc, unit="sweep")
     scored = {}  # the exact log posterior of every state seen, by its row's bytes
     margin = negligible_margin(model.n_g, model.n)
     restarted = False
     record, done, near = [], 0, None
     # What the chains may still do after the first round (sampling_count's count): a plateau
     # of ties found whole by the closure saves it.
-    closure = Closure(demos, model, sampling_work=float(sum(
-        len(run.betas) for run in runs)) * (plan[-1] - plan[0]) * _sweep_work(demos, model))
+    rungs = (sum(len(run.betas) for run in runs) if budget_rungs is None
+             else budget_rungs * len(runs))
+    closure = Closure(demos, model, sampling_work=float(rungs) * (plan[-1] - plan[0])
+                      * _sweep_work(demos, model))
     # Chains are threads of this process (the kernels release the GIL), also when an outer
     # joblib backend such as dask distributes whole fits.
     with Parallel(n_jobs=n_jobs, backend="threading") as parallel:
@@ -427,6 +439,8 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
                 record.append(dict(detail, n_samples=done))
                 if stop:
                     break
+                if trial:
+                    return _closed(bar)
                 continue
             # They stopped finding mass when the states first found late hold little: found
             # is visited, or weighed from a visited state and so in the support
@@ -446,8 +460,9 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
             record.append(dict(detail, n_samples=done))
             if stop:
                 break
-    if bar is not None:
-        bar.close()
+            if trial:
+                return _closed(bar)
+    _closed(bar)
     stopping = {"rounds": record, "stopped_early": done < plan[-1],
                 "negligible_burn_in": int(skip),
                 "restarted": restarted, "lost_chains": [int(k) for k in np.flatnonzero(~live)]}
@@ -455,6 +470,11 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose):
     # found `near` traversed (none where no update ran, or once the closure is given up).
     return (results, visited, counts, (shares, probs), visited_lp, stopping, near, per_chain,
             closure.complete)
+
+
+def _closed(bar):
+    if bar is not None:
+        bar.close()
 
 
 def _scored_record(results, scored, demos, model):
@@ -527,7 +547,9 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     n_temperatures : "auto" or int, default="auto"
         Rungs of every chain's ladder (:func:`temperature_ladder`); ``"auto"`` with a
         burn-in of at least ``PILOT_MIN`` sweeps: the burn-in is a pilot on the default
-        ladder, which is then adapted (:func:`~._ladder.adapted_ladder`).
+        ladder, which is then adapted (:func:`~._ladder.adapted_ladder`); with
+        ``n_samples="auto"`` the first round runs on one rung, and is kept where the stopping
+        rule holds after it (else the rounds start over on the adapted ladder).
     n_jobs : int, default=None
         Chains run in threads of this process (the kernels release the GIL).
     verbose : int, default=0
@@ -557,13 +579,31 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         rejection = pilot_rejection(pilots, int(burn_in), n_jobs)
         ladder = {"default_betas": betas, "pilot_rejection": rejection,
                   "barrier": float(rejection.sum())}
-        betas = adapted_ladder(betas, rejection)
+        betas = ladder["adapted_betas"] = adapted_ladder(betas, rejection)
         runs, ladder["restarted"] = _after_pilot(pilots, betas, demos, model, chain)
     else:
         runs = [ChainRun(int(seed), demos, model, betas, optimum, burn_in=int(burn_in),
                          **chain) for seed in seeds]
+    out = None
+    if ladder is not None and len(plan) > 1:
+        # Tempering finds modes; once the pilot has searched, the chains may not need it. The
+        # first round runs untempered from the pilot's beta = 1 replicas, and is kept if the
+        # stopping rule holds after it; otherwise the rounds start over on the adapted ladder,
+        # the untempered round counted as burn-in. On a plateau of weakly determined clauses
+        # (100 activities) every rung samples nearly the cold posterior, and the swaps only
+        # slow the chains' agreement down (4,000 tempered sweeps against 500).
+        trial = [run.ladder_from(np.ones(1), burn_in=0, **chain) for run in runs]
+        out = _run_rounds(trial, plan, demos, model, n_jobs, verbose, budget_rungs=len(betas),
+                          trial=True, desc="MCMC sweeps (one rung)")
+        ladder["untempered"] = out is not None
+        if out is None:
+            runs = [run.absorb(t) for run, t in zip(runs, trial)]
+        else:
+            betas = np.ones(1)
+    if out is None:
+        out = _run_rounds(runs, plan, demos, model, n_jobs, verbose)
     (results, visited, counts, counted, visited_lp, stopping, near, per_chain,
-     complete) = _run_rounds(runs, plan, demos, model, n_jobs, verbose)
+     complete) = out
     # The support: the visited states, the optimum, what the last round found one block from
     # the visited states, and the neighbourhood of the most probable.
     support = np.concatenate([visited, optimum[None, :]])

@@ -93,7 +93,12 @@ def test_the_pilot_adapts_the_default_ladder_only():
     assert ladder["pilot_rejection"].shape == (len(default) - 1,)
     assert ladder["barrier"] == pytest.approx(ladder["pilot_rejection"].sum())
     assert ladder["restarted"] == []  # every pilot ends within the margin of the best
-    assert np.array_equal(diag["betas"], adapted_ladder(default, ladder["pilot_rejection"]))
+    adapted = adapted_ladder(default, ladder["pilot_rejection"])
+    assert np.array_equal(ladder["adapted_betas"], adapted)
+    # The first round ran on one rung and the stopping rule held after it (a peaked
+    # posterior): its samples are reported; otherwise the adapted ladder's.
+    assert ladder["untempered"]
+    assert np.array_equal(diag["betas"], [1.0])
     assert diag["swap_rate"].shape == (4, len(diag["betas"]) - 1)
     # The pilot's sweeps are burned sweeps.
     assert (diag["burn_in_per_chain"] >= 100).all()
@@ -104,13 +109,23 @@ def test_the_pilot_adapts_the_default_ladder_only():
     assert short["ladder"] is None and np.array_equal(short["betas"], default)
 
 
-# A peaked posterior (6 -> 4 rungs) and a flatter one (38 specifications, MAP 0.40; 6 -> 5).
-@pytest.mark.parametrize("seed, epsilon", [(3, None), (4, 0.05)])
-def test_adapted_sampler_is_reproducible_and_agrees_with_exact(seed, epsilon):
+# A peaked posterior and a flatter one (38 specifications, MAP 0.40), both reported from the
+# untempered first round, and one whose untempered round does not satisfy the stopping rule,
+# so that the rounds start over on the adapted ladder (6 -> 6 rungs).
+@pytest.mark.parametrize("seed, epsilon, untempered", [(3, None, True), (4, 0.05, True),
+                                                       (6, 0.05, False)])
+def test_adapted_sampler_is_reproducible_and_agrees_with_exact(seed, epsilon, untempered):
     truth, y01, model = _problem(seed, epsilon=epsilon)
     a = sample_posterior(truth, y01, model, [0, 1, 2, 3], n_jobs=1)
     b = sample_posterior(truth, y01, model, [0, 1, 2, 3], n_jobs=2)
-    assert len(a.diagnostics["betas"]) < len(a.diagnostics["ladder"]["default_betas"])
+    ladder = a.diagnostics["ladder"]
+    assert ladder["untempered"] is untempered
+    used = [1.0] if untempered else ladder["adapted_betas"]
+    assert np.array_equal(a.diagnostics["betas"], used)
+    assert len(ladder["adapted_betas"]) <= len(ladder["default_betas"])
+    # Burned: the pilot's sweeps, and the untempered round's where it was not kept.
+    burned = int(a.diagnostics["burn_in_per_chain"].min())
+    assert burned >= 100 if untempered else burned >= 100 + 500
     assert np.array_equal(a.diagnostics["betas"], b.diagnostics["betas"])
     assert np.array_equal(a.probabilities, b.probabilities)
     assert np.array_equal(a.structures, b.structures)
