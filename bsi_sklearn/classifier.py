@@ -166,8 +166,9 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
         and the burn-in (at least 20 sweeps) is a pilot on that ladder after which the chains
         keep its two ends and only as many rungs as the measured swap rejections call for
         (about ``2 Lambda``, ``Lambda`` their sum; 4 to 8 on the LFE template; see Notes);
-        with ``n_samples="auto"`` the first round then runs on one rung and is kept if the
-        chains already agree after it. An integer sets the number of rungs between 1 and
+        the first 500 recorded sweeps then run on one rung and are kept if the chains already
+        agree after them (a fixed ``n_samples`` above 500 records the rest on one rung too).
+        An integer sets the number of rungs between 1 and
         ``1 / L``, not adapted; 1 turns tempering off. Time grows linearly with the rungs that
         move.
     max_exact_hypotheses : int or None, default=None
@@ -310,9 +311,10 @@ class BSIClassifier(ClassifierMixin, BaseEstimator):
     equal steps of the summed rejections (the schedule of non-reversible parallel tempering,
     Syed et al. 2022), one ladder for every chain. Rungs whose replicas sit in the same state
     cost almost nothing, so the time saved is less than the rungs shed. Tempering is there to
-    find modes, and the pilot has searched: with ``n_samples="auto"`` the first round runs
-    untempered from the pilot's beta = 1 replicas and is reported if the stopping rule holds
-    after it; otherwise its sweeps are burn-in and the rounds run on the adapted ladder (on a
+    find modes, and the pilot has searched: the first round (500 sweeps) runs untempered
+    from the pilot's beta = 1 replicas and is kept if the stopping rule below holds after it
+    (a fixed ``n_samples`` records the rest untempered too, and is weighed as the rounds
+    are); otherwise its sweeps are burn-in and the chains record on the adapted ladder (on a
     100-activity event log the plateau of weakly determined clauses is sampled alike on every
     rung, and the swaps only slowed the chains' agreement: 364 s against 38 s).
     ``n_samples="auto"``

@@ -57,7 +57,13 @@ from bsi_sklearn.inference.diagnostics import (
     too_diffuse,
     weighted_inclusion,
 )
-from bsi_sklearn.inference.stopping import MAX_SAMPLES, inclusion_by_chain, rounds, should_stop
+from bsi_sklearn.inference.stopping import (
+    FIRST_ROUND,
+    MAX_SAMPLES,
+    inclusion_by_chain,
+    rounds,
+    should_stop,
+)
 from bsi_sklearn.model.clauses import n_clauses, pack_rows
 from bsi_sklearn.model.priors import draw_hypothesis, first_structure
 from bsi_sklearn.model.state_layout import join_state, split_state, split_states
@@ -365,7 +371,7 @@ def _after_pilot(pilots, betas, demos, model, chain):
 
 
 def _run_rounds(runs, plan, demos, model, n_jobs, verbose, *, budget_rungs=None,
-                trial=False, desc="MCMC sweeps"):
+                trial=False, done=0, report=False, desc="MCMC sweeps"):
     # Run the chains round by round (one round for a fixed n_samples) until the stopping rule
     # holds; returns their results, the unique states visited with their sample counts, the
     # last round's chains' shares and the probabilities they index, as the stopping rule
@@ -373,17 +379,20 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose, *, budget_rungs=None,
     # list), the states' exact log posteriors, the rounds' record and the closure's states.
     # `trial`: None unless the stopping rule holds after the first round. `budget_rungs`: the
     # rungs a chain's later rounds are counted with in the closure's budget (default: its own).
+    # `done`: sweeps the runs have recorded already. `report`: one round is weighed as the
+    # rounds of n_samples="auto" are (the closure's states join the support).
     from sklearn.utils.parallel import Parallel, delayed
 
     bar = None
     if verbose:
         from tqdm.auto import tqdm
 
-        bar = tqdm(total=len(runs) * plan[-1], desc=desc, unit="sweep")
+        bar = tqdm(total=len(runs) * plan[-1], initial=len(runs) * done, desc=desc,
+                   unit="sweep")
     scored = {}  # the exact log posterior of every state seen, by its row's bytes
     margin = negligible_margin(model.n_g, model.n)
     restarted = False
-    record, done, near = [], 0, None
+    record, near = [], None
     # What the chains may still do after the first round (sampling_count's count): a plateau
     # of ties found whole by the closure saves it.
     rungs = (sum(len(run.betas) for run in runs) if budget_rungs is None
@@ -423,7 +432,7 @@ def _run_rounds(runs, plan, demos, model, n_jobs, verbose, *, budget_rungs=None,
                 visited, counts, per_chain, visited_lp = _scored_record(results, scored,
                                                                         demos, model)
             shares = probs = None
-            if len(plan) == 1:
+            if len(plan) == 1 and not report:
                 break
             traces = np.stack([r.trace_lp for r in results])
             # They agree when each chain's share holds what they found together: what its
@@ -547,9 +556,10 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
     n_temperatures : "auto" or int, default="auto"
         Rungs of every chain's ladder (:func:`temperature_ladder`); ``"auto"`` with a
         burn-in of at least ``PILOT_MIN`` sweeps: the burn-in is a pilot on the default
-        ladder, which is then adapted (:func:`~._ladder.adapted_ladder`); with
-        ``n_samples="auto"`` the first round runs on one rung, and is kept where the stopping
-        rule holds after it (else the rounds start over on the adapted ladder).
+        ladder, which is then adapted (:func:`~._ladder.adapted_ladder`). The first round
+        (``FIRST_ROUND`` sweeps) then runs on one rung and is kept where the stopping rule
+        holds after it (else the rounds start over on the adapted ladder); a fixed
+        ``n_samples`` above it records the rest on the ladder so chosen.
     n_jobs : int, default=None
         Chains run in threads of this process (the kernels release the GIL).
     verbose : int, default=0
@@ -585,21 +595,31 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
         runs = [ChainRun(int(seed), demos, model, betas, optimum, burn_in=int(burn_in),
                          **chain) for seed in seeds]
     out = None
-    if ladder is not None and len(plan) > 1:
+    if ladder is not None:
+        ladder["untempered"] = False
+    if ladder is not None and (len(plan) > 1 or plan[0] > FIRST_ROUND):
         # Tempering finds modes; once the pilot has searched, the chains may not need it. The
         # first round runs untempered from the pilot's beta = 1 replicas, and is kept if the
-        # stopping rule holds after it; otherwise the rounds start over on the adapted ladder,
-        # the untempered round counted as burn-in. On a plateau of weakly determined clauses
-        # (100 activities) every rung samples nearly the cold posterior, and the swaps only
-        # slow the chains' agreement down (4,000 tempered sweeps against 500).
+        # stopping rule holds after it (a fixed n_samples: the rest of it runs on one rung);
+        # otherwise the rounds start over on the adapted ladder, the untempered round counted
+        # as burn-in. On a plateau of weakly determined clauses (100 activities) every rung
+        # samples nearly the cold posterior, and the swaps only slow the chains' agreement
+        # down (4,000 tempered sweeps against 500).
         trial = [run.ladder_from(np.ones(1), burn_in=0, **chain) for run in runs]
-        out = _run_rounds(trial, plan, demos, model, n_jobs, verbose, budget_rungs=len(betas),
-                          trial=True, desc="MCMC sweeps (one rung)")
+        out = _run_rounds(trial, plan if len(plan) > 1 else [FIRST_ROUND, plan[0]], demos,
+                          model, n_jobs, verbose, budget_rungs=len(betas), trial=True,
+                          desc="MCMC sweeps (one rung)")
         ladder["untempered"] = out is not None
         if out is None:
             runs = [run.absorb(t) for run, t in zip(runs, trial)]
         else:
             betas = np.ones(1)
+            if len(plan) == 1:  # weighed as the rounds are: on one rung, the closure's
+                # states complete plateaus of interchangeable subtasks that tempered chains
+                # would cross and untempered ones share out between them
+                out = _run_rounds(trial, plan, demos, model, n_jobs, verbose,
+                                  done=FIRST_ROUND, report=True,
+                                  desc="MCMC sweeps (one rung)")
     if out is None:
         out = _run_rounds(runs, plan, demos, model, n_jobs, verbose)
     (results, visited, counts, counted, visited_lp, stopping, near, per_chain,

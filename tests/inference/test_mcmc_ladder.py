@@ -162,3 +162,29 @@ def test_a_likelihood_of_steps_under_a_nat_gets_one_rung_at_beta_one():
     post = clf.posterior_
     sampled = clf.mcmc_diagnostics_["sample_frequencies"] @ post.clause_matrix()
     np.testing.assert_allclose(sampled, exact.posterior_.clause_marginals(), atol=0.02)
+
+
+@pytest.mark.parametrize("seed, epsilon, untempered", [(3, None, True), (6, 0.05, False)])
+def test_a_fixed_number_of_samples_is_recorded_on_the_ladder_the_first_round_chose(
+        seed, epsilon, untempered):
+    """A fixed ``n_samples`` above the first round: the first round on one rung decides, by
+    the stopping rule, whether the rest runs untempered; every chain records ``n_samples``."""
+    from bsi_sklearn.inference.stopping import FIRST_ROUND
+
+    truth, y01, model = _problem(seed, epsilon=epsilon)
+    res = sample_posterior(truth, y01, model, [0, 1, 2, 3], n_samples=2 * FIRST_ROUND)
+    diag = res.diagnostics
+    assert diag["ladder"]["untempered"] is untempered
+    assert diag["n_samples"] == 2 * FIRST_ROUND
+    assert np.array_equal(diag["betas"], [1.0] if untempered
+                          else diag["ladder"]["adapted_betas"])
+    exact = exact_posterior(truth, y01, model, tol=0.0)
+    rows = np.concatenate([res.tau_masks, res.w1_masks, res.structures], axis=1)
+    got = dict(zip(map(tuple, rows.astype(int).tolist()), res.probabilities))
+    ex_rows = np.concatenate([exact.tau_masks, exact.w1_masks, exact.structures], axis=1)
+    want = dict(zip(map(tuple, ex_rows.astype(int).tolist()), np.exp(exact.log_prob)))
+    assert total_variation(want, got) <= 0.02
+    # No more than the first round: no room for a trial, the adapted ladder as before.
+    short = sample_posterior(truth, y01, model, [0, 1], n_samples=FIRST_ROUND).diagnostics
+    assert not short["ladder"]["untempered"]
+    assert np.array_equal(short["betas"], short["ladder"]["adapted_betas"])
