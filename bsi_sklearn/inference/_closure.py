@@ -42,7 +42,7 @@ from bsi_sklearn.inference._exchanges import ExchangeWeigher
 from bsi_sklearn.inference._neighbour_weights import NeighbourWeigher
 
 __all__ = ["Closure", "found_states", "found_by_chain", "CLOSURE_WORK", "CLOSURE_BYTES",
-           "CLOSURE_FLOOR", "CLOSURE_EXPAND"]
+           "PER_SAMPLING", "CLOSURE_FLOOR", "CLOSURE_EXPAND"]
 
 #: The most work (:func:`~._neighbour_weights.neighbour_work`, clause-row operations) spent on
 #: weighing neighbours over a whole fit: a few seconds (the 344-state plateau above: 5.5e9,
@@ -70,6 +70,9 @@ EXCHANGE_LEVEL = 1e-9
 #: plateau found whole stops the chains rounds earlier. Other states stay within
 #: ``CLOSURE_WORK``, so posteriors without ties cost what they did.
 PLATEAU_SHARE = 0.25 * 1e10 / 7e8
+#: The closure's units per unit of the chains' work (:func:`~.mcmc.sampling_count`): the same
+#: time, measured as above.
+PER_SAMPLING = 1e10 / 7e8
 #: The memory the ties' lists may hold beyond ``CLOSURE_BYTES``, in bytes: every distinct key
 #: once (its int16 row's bytes and ``KEY_BYTES`` of object and dictionary entry), and
 #: ``REF_BYTES`` per entry of a list (two list slots and a float).

@@ -20,9 +20,10 @@ FILES = ("results.csv", "summary.csv", "claims.csv", "claims.md", "config.json",
 #: posterior (restricted to the states found, a chain missed 17-21 % of their mass, and the
 #: classifier warned that the chains disagree) but enough for them to agree on every clause's
 #: inclusion (split-R-hat 1.006-1.011): the samples report it, and nothing warns. The claims
-#: table's smaller grid (3 and 5 participants, 2 repeats) has chains that do disagree (one
-#: missed 22 % of the mass found, most of its samples repeated states), and that warns.
-DINNER_UNDER_SAMPLED = "MCMC chains disagree"
+#: table's smaller grid (3 and 5 participants, 2 repeats) had tempered chains that disagreed
+#: (one missed 22 % of the mass found, most of its samples repeated states) and warned; their
+#: first round now runs on one rung where the stopping rule allows it, the chains agree on
+#: every clause's inclusion, and nothing warns there either (the same claims, to 0.001).
 
 
 def _run_silently(args):
@@ -248,9 +249,8 @@ def test_same_seed_same_results_whatever_n_jobs(tmp_path, dinner_run):
 
 
 def test_prints_the_claims_table(tmp_path, capsys):
-    with pytest.warns(ConvergenceWarning, match=DINNER_UNDER_SAMPLED):
-        assert main(["reproduce", "dinner", "--quick", "--out", str(tmp_path), "--sizes", "3",
-                     "5", "--repeats", "2", "--no-supervised"]) == 0
+    assert _run_silently(["reproduce", "dinner", "--quick", "--out", str(tmp_path), "--sizes",
+                          "3", "5", "--repeats", "2", "--no-supervised"]) == 0
     captured = capsys.readouterr()
     assert "DIN-P2-top5" in captured.out and "claims pass" in captured.out
     assert "dinner fits" not in captured.err  # no progress bar off a terminal
