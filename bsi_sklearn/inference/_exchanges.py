@@ -14,7 +14,7 @@ list them. Exchanging the two subtasks' places is one step between them, of no c
 subtasks' places (each takes the other's parent and children; the eventual bits stay with the
 subtasks), and keeps those at or above a floor. The violation counts change only through the
 orders that involve one of the two, which are taken out and put back; the counts being whole
-numbers, the neighbour's log posterior is the one :func:`~.mcmc.score_states` computes, to the
+numbers, the neighbour's log posterior is the one :func:`~._rounds.score_states` computes, to the
 bit, without a pass over every conjunct. No random numbers.
 """
 
@@ -88,7 +88,7 @@ def exchange_neighbours(row, demos, model, floor):
     neighbours : ndarray of shape (m, n_cols), int16
         Distinct rows, none equal to ``row``.
     log_posteriors : ndarray of shape (m,)
-        Their exact log posteriors (as :func:`bsi_sklearn.inference.mcmc.score_states`).
+        Their exact log posteriors (as :func:`bsi_sklearn.inference._rounds.score_states`).
     """
     found, lps, _ = ExchangeWeigher(demos, model).within(row, floor)
     return found, lps

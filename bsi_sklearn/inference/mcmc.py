@@ -6,7 +6,10 @@ coordinate of every replica by an exact Gibbs update of its block, each candidat
 prior x likelihood^beta (:mod:`bsi_sklearn.inference._gibbs_moves`), then adjacent replicas
 propose to swap; only the beta = 1 replica is recorded. Hot replicas cross the valleys between
 modes that single-coordinate moves cannot (a valley of a few violated demonstrations costs
-``beta x |log eps|`` each), and swaps hand what they find down the ladder.
+``beta x |log eps|`` each), and swaps hand what they find down the ladder. The burn-in is
+that search (a pilot, after which the ladder keeps the rungs its swaps call for); the first
+recorded round then runs on one rung and is kept where the stopping rule holds after it, the
+ladder's rounds starting over otherwise (:mod:`bsi_sklearn.inference._rounds` runs them).
 
 :func:`sample_posterior` runs the chains, scores every visited state exactly, and returns an
 :class:`MCMCResult`: the reported posterior is the exact posterior restricted to the visited
@@ -28,15 +31,12 @@ from bsi_sklearn.inference._chain_kernel import (
     chain_kernel,
     make_buffers,
     make_loop,
-    score_rows,
     violation_rows,
 )
 from bsi_sklearn.inference._closure import (
     CLOSURE_WORK,
     PER_SAMPLING,
     Closure,
-    found_by_chain,
-    found_states,
 )
 from bsi_sklearn.inference._consistent_start import consistent_start
 from bsi_sklearn.inference._demo_moves import best_demo_move
@@ -48,8 +48,9 @@ from bsi_sklearn.inference._ladder import (
     temperature_ladder,
 )
 from bsi_sklearn.inference._local_search import beam_search, complete_support
-from bsi_sklearn.inference._negligible import common_burn_in, negligible_margin
+from bsi_sklearn.inference._negligible import negligible_margin
 from bsi_sklearn.inference._reach import visited_shares
+from bsi_sklearn.inference._rounds import run_rounds, score_states, sweep_work, unique_states
 from bsi_sklearn.inference.diagnostics import (
     LISTING_TOL,
     MISSED_WARN,
@@ -66,9 +67,7 @@ from bsi_sklearn.inference.diagnostics import (
 from bsi_sklearn.inference.stopping import (
     FIRST_ROUND,
     MAX_SAMPLES,
-    inclusion_by_chain,
     rounds,
-    should_stop,
 )
 from bsi_sklearn.model.clauses import n_clauses, pack_rows
 from bsi_sklearn.model.priors import draw_hypothesis, first_structure
@@ -113,21 +112,6 @@ class MCMCResult(NamedTuple):
     map_index: int = 0
 
 
-def unique_states(states, counts, return_inverse=False):
-    """Unique state rows (sorted canonically) and the number of samples of each.
-
-    With ``return_inverse``, also the index of every input row among the unique rows.
-    """
-    if len(states) == 0 or states.shape[1] == 0:
-        # Zero-width rows (empty template): every sample is the same hypothesis.
-        out = states[:1], np.array([int(np.sum(counts))], dtype=np.int64)[: len(states[:1])]
-        return (*out, np.zeros(len(states), dtype=np.int64)) if return_inverse else out
-    first, inverse = unique_rows(states)
-    total = np.bincount(inverse, weights=counts, minlength=len(first))
-    out = states[first], total.astype(np.int64)
-    return (*out, inverse) if return_inverse else out
-
-
 def deduplicate_demos(truth, y01):
     """Collapse demonstrations with identical clause-truth rows into weighted unique rows.
 
@@ -155,11 +139,6 @@ def _planes(weights):
     w = weights.astype(np.int64)
     n_planes = int(w.max(initial=0)).bit_length()
     return pack_rows(((w[None, :] >> np.arange(n_planes)[:, None]) & 1).astype(np.uint8))
-
-
-def score_states(states, demos, model):
-    """Exact unnormalised log posterior of every state row ``[tau, w1, parent]``."""
-    return score_rows(np.ascontiguousarray(states), demos, model)
 
 
 def deterministic_optimum(demos, model, width=BEAM_WIDTH):
@@ -351,13 +330,7 @@ def sampling_count(truth, y01, model, *, n_chains, n_samples, burn_in, n_tempera
     demos = deduplicate_demos(truth, y01)
     n_samples = MAX_SAMPLES if n_samples == "auto" else n_samples  # at most
     rungs = len(temperature_ladder(demos, model, n_temperatures))
-    return float(n_chains) * (int(n_samples) + int(burn_in)) * rungs * _sweep_work(demos, model)
-
-
-def _sweep_work(demos, model):
-    # One sweep of one replica, as sampling_count counts it: every candidate over every row.
-    n_g, n = model.n_g, model.n
-    return (n_g + n + n * (n + 1)) * demos.truth_t.shape[1]
+    return float(n_chains) * (int(n_samples) + int(burn_in)) * rungs * sweep_work(demos, model)
 
 
 def _after_pilot(pilots, betas, demos, model, chain):
@@ -365,7 +338,7 @@ def _after_pilot(pilots, betas, demos, model, chain):
     # unless its beta = 1 replica ended more than the negligible margin below the best
     # pilot's: then from that replica's state on every rung (restarted_at). Its samples from
     # where it is would provably hold no mass, and the round would be run again once they did
-    # (_run_rounds' restart: on event logs, chains stuck thousands of nats below another's
+    # (run_rounds' restart: on event logs, chains stuck thousands of nats below another's
     # mode). Returns the runs and the restarted chains' indices.
     rows = np.stack([p.coldest() for p in pilots])
     lp = score_states(rows, demos, model)
@@ -374,139 +347,6 @@ def _after_pilot(pilots, betas, demos, model, chain):
     runs = [p.ladder_from(betas, burn_in=0, **chain) if v >= floor
             else p.restarted_at(best, betas) for p, v in zip(pilots, lp.tolist())]
     return runs, [int(i) for i in np.flatnonzero(lp < floor)]
-
-
-def _run_rounds(runs, plan, demos, model, n_jobs, verbose, *, budget_rungs=None,
-                trial=False, done=0, report=False, closure=None, desc="MCMC sweeps"):
-    # Run the chains round by round (one round for a fixed n_samples) until the stopping rule
-    # holds; returns their results, the unique states visited with their sample counts, the
-    # last round's chains' shares and the probabilities they index, as the stopping rule
-    # counted them (None, None where it did not: one round, or a posterior too diffuse to
-    # list), the states' exact log posteriors, the rounds' record and the closure's states.
-    # `trial`: None unless the stopping rule holds after the first round. `budget_rungs`: the
-    # rungs a chain's later rounds are counted with in the closure's budget (default: its own).
-    # `done`: sweeps the runs have recorded already. `report`: one round is weighed as the
-    # rounds of n_samples="auto" are (the closure's states join the support). `closure`: the
-    # one to update (default: a new one, budgeted by the rounds after the first).
-    from sklearn.utils.parallel import Parallel, delayed
-
-    bar = None
-    if verbose:
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=len(runs) * plan[-1], initial=len(runs) * done, desc=desc,
-                   unit="sweep")
-    scored = {}  # the exact log posterior of every state seen, by its row's bytes
-    margin = negligible_margin(model.n_g, model.n)
-    restarted = False
-    record, near = [], None
-    # What the chains may still do after the first round (sampling_count's count): a plateau
-    # of ties found whole by the closure saves it.
-    if closure is None:
-        rungs = (sum(len(run.betas) for run in runs) if budget_rungs is None
-                 else budget_rungs * len(runs))
-        closure = Closure(demos, model, sampling_work=float(rungs) * (plan[-1] - plan[0])
-                          * _sweep_work(demos, model))
-    # Chains are threads of this process (the kernels release the GIL), also when an outer
-    # joblib backend such as dask distributes whole fits.
-    with Parallel(n_jobs=n_jobs, backend="threading") as parallel:
-        for total in plan:
-            parallel(delayed(run.advance)(total - done) for run in runs)
-            if bar is not None:
-                bar.update(len(runs) * (total - done))
-            done = total
-            # Samples provably without mass (far below the best found) are burn-in; a chain
-            # that stays there is restarted from the best state once, or left out
-            # (:mod:`._negligible`).
-            while True:
-                results = [run.result() for run in runs]
-                visited, counts, per_chain, visited_lp = _scored_record(results, scored,
-                                                                        demos, model)
-                skip, live = common_burn_in(per_chain, [r.counts for r in results],
-                                            visited_lp, margin)
-                if live.all() or restarted:
-                    break
-                # The chains left behind go on from the best state found, every chain's
-                # record so far is burn-in, and the round is run again.
-                best = visited[int(np.argmax(visited_lp))].astype(np.int64)
-                runs = [run.discard() if ok else run.restarted_at(best)
-                        for run, ok in zip(runs, live)]
-                restarted = True
-                parallel(delayed(run.advance)(total) for run in runs)
-                if bar is not None:
-                    bar.update(len(runs) * total)
-            if skip or not live.all():
-                results = [run.result(skip) for run, ok in zip(runs, live) if ok]
-                visited, counts, per_chain, visited_lp = _scored_record(results, scored,
-                                                                        demos, model)
-            shares = probs = None
-            if len(plan) == 1 and not report:
-                break
-            traces = np.stack([r.trace_lp for r in results])
-            # They agree when each chain's share holds what they found together: what its
-            # visited states lead to, or (past the closure's budget) what it reached, visited
-            # or weighed one block away (:mod:`._reach`); a posterior too diffuse to list,
-            # reported by the samples, when each clause's inclusion agrees across them (the
-            # closure, which weighs states exactly, is then not updated: it says nothing).
-            inclusion = sampled = first = None
-            if too_diffuse(visited_lp, counts, traces)[0]:
-                sampled = inclusion_rhat(visited, per_chain, [r.counts for r in results],
-                                         model.n_g, model.n)
-                stop, detail = should_stop(None, None, None, traces, sampled=sampled)
-                record.append(dict(detail, n_samples=done))
-                if stop:
-                    break
-                if trial:
-                    return _closed(bar)
-                continue
-            # They stopped finding mass when the states first found late hold little: found
-            # is visited, or weighed from a visited state and so in the support
-            # (:mod:`._closure`). Reach alone would not do: a walk's new state is always one
-            # block from its last, so every late state would count as reached early.
-            first = np.full(len(visited), np.iinfo(np.int64).max)
-            for r, rows in zip(results, per_chain):
-                np.minimum.at(first, rows, np.cumsum(r.counts) - r.counts)
-            near = closure.update(visited, visited_lp, first)
-            if near is None:  # the closure is past its budget: the support cannot be listed
-                shares, probs = visited_shares(visited, visited_lp, model, per_chain)
-                inclusion = inclusion_by_chain(visited, probs, shares, model.n_g, model.n)
-            else:
-                probs, first, keys = found_states(visited, visited_lp, first, near)
-                shares = found_by_chain(closure, visited, per_chain, keys)
-            stop, detail = should_stop(shares, probs, first, traces, inclusion)
-            record.append(dict(detail, n_samples=done))
-            if stop:
-                break
-            if trial:
-                return _closed(bar)
-    _closed(bar)
-    stopping = {"rounds": record, "stopped_early": done < plan[-1],
-                "negligible_burn_in": int(skip),
-                "restarted": restarted, "lost_chains": [int(k) for k in np.flatnonzero(~live)]}
-    # What the support holds whole: the neighbours above a floor of the states the update that
-    # found `near` traversed (none where no update ran, or once the closure is given up).
-    return (results, visited, counts, (shares, probs), visited_lp, stopping, near, per_chain,
-            closure.complete)
-
-
-def _closed(bar):
-    if bar is not None:
-        bar.close()
-
-
-def _scored_record(results, scored, demos, model):
-    # The chains' unique visited states, their sample counts, each chain's record as indices
-    # into them, and their exact log posteriors (scored once: ``scored`` caches by row bytes).
-    visited, counts, row_state = unique_states(
-        np.concatenate([r.states for r in results], axis=0),
-        np.concatenate([r.counts for r in results]), return_inverse=True)
-    new = [i for i in range(len(visited)) if visited[i].tobytes() not in scored]
-    if new:
-        lp_new = score_states(visited[new], demos, model)
-        scored.update(zip((visited[i].tobytes() for i in new), lp_new.tolist()))
-    visited_lp = np.array([scored[row.tobytes()] for row in visited])
-    ends = np.cumsum([len(r.states) for r in results])
-    return visited, counts, np.split(row_state, ends[:-1]), visited_lp
 
 
 def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
@@ -619,10 +459,10 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
             # A fixed n_samples is recorded whatever the closure finds: it may spend what the
             # rungs it saves would have cost, no more (a flat posterior of 2.4e9 dinner-table
             # specifications: 0.65 s a fit tempered, 4.2 s with the closure's own budget).
-            saved = ((len(betas) - 1) * plan[0] * len(runs) * _sweep_work(demos, model))
+            saved = ((len(betas) - 1) * plan[0] * len(runs) * sweep_work(demos, model))
             closure = Closure(demos, model, max_work=min(CLOSURE_WORK, PER_SAMPLING * saved),
                               sampling_work=saved)
-        out = _run_rounds(trial, plan if len(plan) > 1 else [FIRST_ROUND, plan[0]], demos,
+        out = run_rounds(trial, plan if len(plan) > 1 else [FIRST_ROUND, plan[0]], demos,
                           model, n_jobs, verbose, budget_rungs=len(betas), trial=True,
                           closure=closure, desc="MCMC sweeps (one rung)")
         ladder["untempered"] = out is not None
@@ -633,11 +473,11 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
             if len(plan) == 1:  # weighed as the rounds are: on one rung, the closure's
                 # states complete plateaus of interchangeable subtasks that tempered chains
                 # would cross and untempered ones share out between them
-                out = _run_rounds(trial, plan, demos, model, n_jobs, verbose,
+                out = run_rounds(trial, plan, demos, model, n_jobs, verbose,
                                   done=FIRST_ROUND, report=True, closure=closure,
                                   desc="MCMC sweeps (one rung)")
     if out is None:
-        out = _run_rounds(runs, plan, demos, model, n_jobs, verbose)
+        out = run_rounds(runs, plan, demos, model, n_jobs, verbose)
     (results, visited, counts, counted, visited_lp, stopping, near, per_chain,
      complete) = out
     # The support: the visited states, the optimum, what the last round found one block from
