@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 from bsi_sklearn.inference._negligible import NEGLIGIBLE_MASS, common_burn_in, negligible_margin
+from bsi_sklearn.inference._rounds import run_rounds
 from bsi_sklearn.inference.mcmc import (
     ChainRun,
     _after_pilot,
-    _run_rounds,
     deduplicate_demos,
     deterministic_optimum,
     score_states,
@@ -128,7 +128,7 @@ def test_a_chain_stuck_below_the_bound_goes_on_from_the_best_state():
     lp = score_states(optimum[None, :], demos, model)[0]
     assert lp - score_states(stuck[None, :], demos, model)[0] > negligible_margin(n_g, 0)
     runs = [ChainRun(s, demos, model, np.ones(1), optimum if s else stuck) for s in range(3)]
-    results, visited, counts, _, visited_lp, stopping, _, _, _ = _run_rounds(
+    results, visited, counts, _, visited_lp, stopping, _, _, _ = run_rounds(
         runs, [200], demos, model, 1, 0)
     assert stopping["restarted"] and stopping["lost_chains"] == []
     assert len(results) == 3 and all(len(r.trace_lp) == 200 for r in results)
