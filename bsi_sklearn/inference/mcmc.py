@@ -33,11 +33,7 @@ from bsi_sklearn.inference._chain_kernel import (
     make_loop,
     violation_rows,
 )
-from bsi_sklearn.inference._closure import (
-    CLOSURE_WORK,
-    PER_SAMPLING,
-    Closure,
-)
+from bsi_sklearn.inference._closure import CLOSURE_WORK, PER_SAMPLING, Closure
 from bsi_sklearn.inference._consistent_start import consistent_start
 from bsi_sklearn.inference._demo_moves import best_demo_move
 from bsi_sklearn.inference._ladder import (
@@ -64,11 +60,7 @@ from bsi_sklearn.inference.diagnostics import (
     too_diffuse,
     weighted_inclusion,
 )
-from bsi_sklearn.inference.stopping import (
-    FIRST_ROUND,
-    MAX_SAMPLES,
-    rounds,
-)
+from bsi_sklearn.inference.stopping import FIRST_ROUND, MAX_SAMPLES, rounds
 from bsi_sklearn.model.clauses import n_clauses, pack_rows
 from bsi_sklearn.model.priors import draw_hypothesis, first_structure
 from bsi_sklearn.model.state_layout import join_state, split_state, split_states
@@ -349,6 +341,40 @@ def _after_pilot(pilots, betas, demos, model, chain):
     return runs, [int(i) for i in np.flatnonzero(lp < floor)]
 
 
+def _untempered_first(runs, plan, betas, demos, model, chain, n_jobs, verbose):
+    # Tempering finds modes; once the pilot has searched, the chains may not need it. The
+    # first round runs untempered from the pilot's beta = 1 replicas, and is kept if the
+    # stopping rule holds after it (a fixed n_samples: the rest of it runs on one rung);
+    # otherwise the rounds start over on the adapted ladder, the untempered round counted as
+    # burn-in. On a plateau of weakly determined clauses (100 activities) every rung samples
+    # nearly the cold posterior, and the swaps only slow the chains' agreement down (4,000
+    # tempered sweeps against 500). Returns run_rounds' result (None where the ladder's
+    # rounds are to run), the runs and the ladder for them, and whether the round was kept.
+    if len(plan) == 1 and plan[0] <= FIRST_ROUND:  # no room for a round before the record
+        return None, runs, betas, False
+    trial = [run.ladder_from(np.ones(1), burn_in=0, **chain) for run in runs]
+    closure = None
+    if len(plan) == 1:
+        # A fixed n_samples is recorded whatever the closure finds: it may spend what the
+        # rungs it saves would have cost, no more (a flat posterior of 2.4e9 dinner-table
+        # specifications: 0.65 s a fit tempered, 4.2 s with the closure's own budget).
+        saved = (len(betas) - 1) * plan[0] * len(runs) * sweep_work(demos, model)
+        closure = Closure(demos, model, max_work=min(CLOSURE_WORK, PER_SAMPLING * saved),
+                          sampling_work=saved)
+    out = run_rounds(trial, plan if len(plan) > 1 else [FIRST_ROUND, plan[0]], demos, model,
+                     n_jobs, verbose, budget_rungs=len(betas), trial=True, closure=closure,
+                     desc="MCMC sweeps (one rung)")
+    if out is None:
+        return None, [run.absorb(t) for run, t in zip(runs, trial)], betas, False
+    if len(plan) == 1:
+        # Weighed as the rounds are: on one rung, the closure's states complete plateaus of
+        # interchangeable subtasks that tempered chains would cross and untempered ones share
+        # out between them.
+        out = run_rounds(trial, plan, demos, model, n_jobs, verbose, done=FIRST_ROUND,
+                         report=True, closure=closure, desc="MCMC sweeps (one rung)")
+    return out, trial, np.ones(1), True
+
+
 def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
                      n_temperatures="auto", n_jobs=None, verbose=0):
     """The MCMC posterior: tempered chains, the states they found scored exactly.
@@ -444,38 +470,8 @@ def sample_posterior(truth, y01, model, seeds, *, n_samples="auto", burn_in=100,
                          **chain) for seed in seeds]
     out = None
     if ladder is not None:
-        ladder["untempered"] = False
-    if ladder is not None and (len(plan) > 1 or plan[0] > FIRST_ROUND):
-        # Tempering finds modes; once the pilot has searched, the chains may not need it. The
-        # first round runs untempered from the pilot's beta = 1 replicas, and is kept if the
-        # stopping rule holds after it (a fixed n_samples: the rest of it runs on one rung);
-        # otherwise the rounds start over on the adapted ladder, the untempered round counted
-        # as burn-in. On a plateau of weakly determined clauses (100 activities) every rung
-        # samples nearly the cold posterior, and the swaps only slow the chains' agreement
-        # down (4,000 tempered sweeps against 500).
-        trial = [run.ladder_from(np.ones(1), burn_in=0, **chain) for run in runs]
-        closure = None
-        if len(plan) == 1:
-            # A fixed n_samples is recorded whatever the closure finds: it may spend what the
-            # rungs it saves would have cost, no more (a flat posterior of 2.4e9 dinner-table
-            # specifications: 0.65 s a fit tempered, 4.2 s with the closure's own budget).
-            saved = ((len(betas) - 1) * plan[0] * len(runs) * sweep_work(demos, model))
-            closure = Closure(demos, model, max_work=min(CLOSURE_WORK, PER_SAMPLING * saved),
-                              sampling_work=saved)
-        out = run_rounds(trial, plan if len(plan) > 1 else [FIRST_ROUND, plan[0]], demos,
-                          model, n_jobs, verbose, budget_rungs=len(betas), trial=True,
-                          closure=closure, desc="MCMC sweeps (one rung)")
-        ladder["untempered"] = out is not None
-        if out is None:
-            runs = [run.absorb(t) for run, t in zip(runs, trial)]
-        else:
-            betas = np.ones(1)
-            if len(plan) == 1:  # weighed as the rounds are: on one rung, the closure's
-                # states complete plateaus of interchangeable subtasks that tempered chains
-                # would cross and untempered ones share out between them
-                out = run_rounds(trial, plan, demos, model, n_jobs, verbose,
-                                  done=FIRST_ROUND, report=True, closure=closure,
-                                  desc="MCMC sweeps (one rung)")
+        out, runs, betas, ladder["untempered"] = _untempered_first(
+            runs, plan, betas, demos, model, chain, n_jobs, verbose)
     if out is None:
         out = run_rounds(runs, plan, demos, model, n_jobs, verbose)
     (results, visited, counts, counted, visited_lp, stopping, near, per_chain,
