@@ -58,7 +58,6 @@ def make_poi_problem(n_demos=50, n_threats=5, n_pois=5, chain=(0, 2, 4), n_negat
     return demos, np.array(labels), roles
 
 
-
 def make_absence_problem(n_demos=24, seed=0):
     """Demonstrations over ``p, q`` whose rule, ``G(!p)``, needs negations to be stated.
 

@@ -68,11 +68,10 @@ EXCHANGE_LEVEL = 1e-9
 #: to this share of the sampling the chains may still do (:func:`~.mcmc.sampling_count`, in
 #: the closure's units: it counts about 1e10 a second on a 2-core Xeon, the chains 7e8): a
 #: plateau found whole stops the chains rounds earlier. Other states stay within
-#: ``CLOSURE_WORK``, so posteriors without ties cost what they did.
-PLATEAU_SHARE = 0.25 * 1e10 / 7e8
-#: The closure's units per unit of the chains' work (:func:`~.mcmc.sampling_count`): the same
-#: time, measured as above.
+#: ``CLOSURE_WORK``, so posteriors without ties cost what they did. ``PER_SAMPLING``: the
+#: closure's units per unit of the chains' work, the same time.
 PER_SAMPLING = 1e10 / 7e8
+PLATEAU_SHARE = 0.25 * PER_SAMPLING
 #: The memory the ties' lists may hold beyond ``CLOSURE_BYTES``, in bytes: every distinct key
 #: once (its int16 row's bytes and ``KEY_BYTES`` of object and dictionary entry), and
 #: ``REF_BYTES`` per entry of a list (two list slots and a float).

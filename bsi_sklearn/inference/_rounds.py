@@ -49,7 +49,7 @@ def sweep_work(demos, model):
 
 
 def run_rounds(runs, plan, demos, model, n_jobs, verbose, *, budget_rungs=None,
-                trial=False, done=0, report=False, closure=None, desc="MCMC sweeps"):
+               trial=False, done=0, report=False, closure=None, desc="MCMC sweeps"):
     # Run the chains round by round (one round for a fixed n_samples) until the stopping rule
     # holds; returns their results, the unique states visited with their sample counts, the
     # last round's chains' shares and the probabilities they index, as the stopping rule
